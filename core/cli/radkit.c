@@ -1,0 +1,42 @@
+/* radkit: the command-line program.  Dispatches to one subcommand. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "rad_version.h"
+
+static const char usage[] =
+    "usage: radkit <command> [options]\n"
+    "\n"
+    "radkit is a research toolkit for Galerkin radiosity.\n"
+    "\n"
+    "commands:\n"
+    "  galerkin1d   solve the 1D model problem of the notes and report its errors\n"
+    "\n"
+    "options:\n"
+    "  -h, --help      this text; 'radkit <command> --help' explains a command\n"
+    "  --version       print the version\n"
+    "\n"
+    "Output is TSV: '#' lines (parameters, figures), a header row, data rows.\n"
+    "Exit status: 0 success, 1 the computation failed, 2 bad usage or input.\n";
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "-h") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0) {
+        printf("radkit %s\n", RAD_VERSION);
+        return 0;
+    }
+    if (strcmp(cmd, "galerkin1d") == 0)
+        return cli_galerkin1d(argc, argv);
+    fprintf(stderr, "radkit: unknown command '%s' (see 'radkit --help')\n", cmd);
+    return 2;
+}

@@ -1,0 +1,27 @@
+/* rad_sys: the few facts about the machine that radkit needs: a monotonic clock
+ * for phase timings, the physical memory for "too big for this method" checks,
+ * and the peak resident memory for the stats. */
+#ifndef RAD_SYS_H
+#define RAD_SYS_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Seconds on a monotonic clock (only differences are meaningful). */
+double rad_sys_seconds(void);
+
+/* Physical memory of the machine in bytes (0 if unknown).  The environment
+ * variable RADKIT_MEMORY_LIMIT (bytes) overrides it, so tests can exercise the
+ * "too big" path without a huge machine. */
+double rad_sys_memory_bytes(void);
+
+/* Peak resident set size of this process in bytes (0 if unknown). */
+double rad_sys_peak_rss_bytes(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

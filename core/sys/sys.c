@@ -1,0 +1,36 @@
+#include "rad_sys.h"
+
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <time.h>
+#include <unistd.h>
+
+double rad_sys_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+double rad_sys_memory_bytes(void)
+{
+    const char *env = getenv("RADKIT_MEMORY_LIMIT");
+    if (env && *env) {
+        char *end = NULL;
+        double v = strtod(env, &end);
+        if (end && *end == '\0' && v > 0)
+            return v;
+    }
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || size <= 0)
+        return 0.0;
+    return (double)pages * (double)size;
+}
+
+double rad_sys_peak_rss_bytes(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_SELF, &ru) != 0)
+        return 0.0;
+    return 1024.0 * (double)ru.ru_maxrss; /* Linux reports kilobytes */
+}

@@ -1,0 +1,126 @@
+#include "harness.h"
+
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define MAX_TESTS 1024
+
+typedef struct test_case {
+    const char *name, *file;
+    harness_fn fn;
+} test_case;
+
+static test_case tests[MAX_TESTS];
+static int test_count;
+static int current_failures;
+
+void harness_register(const char *name, const char *file, harness_fn fn)
+{
+    if (test_count < MAX_TESTS)
+        tests[test_count++] = (test_case){name, file, fn};
+}
+
+void harness_fail(const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stdout, "    %s:%d: ", file, line);
+    va_start(ap, fmt);
+    vfprintf(stdout, fmt, ap);
+    va_end(ap);
+    fputc('\n', stdout);
+    current_failures++;
+}
+
+const char *harness_radkit(void)
+{
+    const char *p = getenv("RADKIT_BIN");
+    return p && *p ? p : "build/radkit";
+}
+
+const char *harness_root(void)
+{
+    const char *p = getenv("RADKIT_ROOT");
+    return p && *p ? p : ".";
+}
+
+int harness_count_lines(const char *s)
+{
+    int lines = 0;
+    for (const char *p = s; p && *p; p++)
+        if (*p == '\n' || p[1] == '\0')
+            lines++;
+    return lines;
+}
+
+static char *slurp(int fd)
+{
+    size_t cap = 4096, len = 0;
+    char *buf = malloc(cap);
+    lseek(fd, 0, SEEK_SET);
+    for (;;) {
+        if (len + 1 >= cap) {
+            cap *= 2;
+            buf = realloc(buf, cap);
+        }
+        ssize_t got = read(fd, buf + len, cap - len - 1);
+        if (got <= 0)
+            break;
+        len += (size_t)got;
+    }
+    buf[len] = '\0';
+    return buf;
+}
+
+int harness_run(const char *const argv[], char **out, char **err)
+{
+    char out_name[] = "/tmp/radkit-test-out-XXXXXX", err_name[] = "/tmp/radkit-test-err-XXXXXX";
+    int fo = mkstemp(out_name), fe = mkstemp(err_name);
+    unlink(out_name);
+    unlink(err_name);
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int devnull = open("/dev/null", O_RDONLY);
+        dup2(devnull, 0);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    *out = slurp(fo);
+    *err = slurp(fe);
+    close(fo);
+    close(fe);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int main(int argc, char **argv)
+{
+    int passed = 0, failed = 0;
+    for (int t = 0; t < test_count; t++) {
+        int selected = argc < 2;
+        for (int a = 1; a < argc; a++)
+            selected |= strstr(tests[t].name, argv[a]) != NULL;
+        if (!selected)
+            continue;
+        current_failures = 0;
+        tests[t].fn();
+        if (current_failures == 0) {
+            passed++;
+            printf("PASS %s\n", tests[t].name);
+        } else {
+            failed++;
+            printf("FAIL %s (%s)\n", tests[t].name, tests[t].file);
+        }
+        fflush(stdout);
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed == 0 && passed > 0 ? 0 : 1;
+}

@@ -1,0 +1,57 @@
+/* A small test harness: tests register themselves, CHECK records failures
+ * without stopping the test, and the runner's last line reads
+ * "N passed, N failed" (counting tests).  `unit NAME...` runs only the tests
+ * whose name contains one of the given strings. */
+#ifndef RAD_TEST_HARNESS_H
+#define RAD_TEST_HARNESS_H
+
+#include <math.h>
+#include <stddef.h>
+
+typedef void (*harness_fn)(void);
+void harness_register(const char *name, const char *file, harness_fn fn);
+void harness_fail(const char *file, int line, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+#define TEST(name)                                                                  \
+    static void name(void);                                                         \
+    __attribute__((constructor)) static void harness_reg_##name(void)               \
+    {                                                                               \
+        harness_register(#name, __FILE__, name);                                    \
+    }                                                                               \
+    static void name(void)
+
+#define CHECK(cond)                                                                 \
+    do {                                                                            \
+        if (!(cond))                                                                \
+            harness_fail(__FILE__, __LINE__, "CHECK(%s)", #cond);                   \
+    } while (0)
+
+#define CHECK_MSG(cond, ...)                                                        \
+    do {                                                                            \
+        if (!(cond))                                                                \
+            harness_fail(__FILE__, __LINE__, __VA_ARGS__);                          \
+    } while (0)
+
+/* |got - want| <= rel * |want| + abs */
+#define CHECK_NEAR(got, want, rel, abs_)                                            \
+    do {                                                                            \
+        double g_ = (got), w_ = (want);                                             \
+        if (!(fabs(g_ - w_) <= (rel) * fabs(w_) + (abs_)))                          \
+            harness_fail(__FILE__, __LINE__, "%s = %.17g, want %s = %.17g (diff %.3g)", \
+                         #got, g_, #want, w_, fabs(g_ - w_));                       \
+    } while (0)
+
+/* Run a program (argv[0] is a path), capturing stdout and stderr (malloc'd,
+ * NUL-terminated; the caller frees).  Returns the exit status, or -1 if it did
+ * not exit normally (a crash counts as a failure in every caller). */
+int harness_run(const char *const argv[], char **out, char **err);
+
+/* The radkit binary under test ($RADKIT_BIN) and the source tree ($RADKIT_ROOT). */
+const char *harness_radkit(void);
+const char *harness_root(void);
+
+/* Number of lines in a string (a final line without '\n' counts). */
+int harness_count_lines(const char *s);
+
+#endif

@@ -1,0 +1,139 @@
+/* End to end: the radkit program's galerkin1d subcommand, its output format
+ * (DESIGN.md, "The command line") and its answers to bad input. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+
+static int run(const char *const args[], char **out, char **err)
+{
+    const char *argv[32] = {harness_radkit()};
+    int k = 0;
+    while (args[k] && k < 30) {
+        argv[k + 1] = args[k];
+        k++;
+    }
+    argv[k + 1] = NULL;
+    return harness_run(argv, out, err);
+}
+
+/* Value of a "# key = value" header line, or NULL. */
+static const char *header_value(const char *out, const char *key, char *buf, size_t size)
+{
+    char pattern[128];
+    snprintf(pattern, sizeof pattern, "# %s = ", key);
+    const char *p = strstr(out, pattern);
+    if (!p)
+        return NULL;
+    p += strlen(pattern);
+    size_t len = strcspn(p, "\n");
+    if (len >= size)
+        len = size - 1;
+    memcpy(buf, p, len);
+    buf[len] = '\0';
+    return buf;
+}
+
+TEST(cli_help_explains_every_option)
+{
+    char *out, *err;
+    CHECK(run((const char *[]){"--help", NULL}, &out, &err) == 0);
+    CHECK(strstr(out, "galerkin1d") != NULL);
+    free(out);
+    free(err);
+    CHECK(run((const char *[]){"galerkin1d", "--help", NULL}, &out, &err) == 0);
+    const char *opts[] = {"--n", "--problem", "--basis", "--assembly", "gauss:K", "midpoint",
+                          "exact", "seed", "exp", "p0", "p1", "--no-check"};
+    for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
+        CHECK_MSG(strstr(out, opts[k]) != NULL, "help does not mention %s", opts[k]);
+    free(out);
+    free(err);
+    CHECK(run((const char *[]){"--version", NULL}, &out, &err) == 0);
+    CHECK(strncmp(out, "radkit ", 7) == 0);
+    free(out);
+    free(err);
+}
+
+TEST(cli_galerkin1d_p0_output_format)
+{
+    char *out, *err, buf[128];
+    CHECK(run((const char *[]){"galerkin1d", "--n", "5", NULL}, &out, &err) == 0);
+    CHECK(strcmp(err, "") == 0);
+    CHECK(strstr(out, "\ni\tx\ty\ty_exact\n") != NULL);
+    const char *keys[] = {"problem", "basis", "assembly", "n", "err_l2", "err_linf", "err_nodal",
+                          "err_coef", "galerkin_residual", "rcond", "cond1_estimate", "solve_s",
+                          "assemble_s"};
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+        CHECK_MSG(header_value(out, keys[k], buf, sizeof buf) != NULL, "no '# %s' line", keys[k]);
+    /* Seed, P0, exact: the coefficients are the cell means of y = x, i.e. x. */
+    const char *row = strstr(out, "\ni\tx\ty\ty_exact\n") + 1;
+    int rows = 0;
+    for (const char *line = strchr(row, '\n') + 1; *line; line = strchr(line, '\n') + 1) {
+        int i;
+        double x, y, ye;
+        CHECK(sscanf(line, "%d\t%lf\t%lf\t%lf", &i, &x, &y, &ye) == 4);
+        CHECK(i == rows);
+        CHECK_NEAR(x, (rows + 0.5) / 5.0, 1e-15, 0.0);
+        CHECK_NEAR(y, x, 0.0, 1e-14);
+        rows++;
+    }
+    CHECK(rows == 5);
+    CHECK(atof(header_value(out, "galerkin_residual", buf, sizeof buf)) < 1e-13);
+    free(out);
+    free(err);
+}
+
+TEST(cli_galerkin1d_p1_and_quadrature)
+{
+    char *out, *err, buf[128];
+    CHECK(run((const char *[]){"galerkin1d", "--n=8", "--problem", "exp", "--basis", "p1",
+                               "--assembly", "gauss:2", NULL}, &out, &err) == 0);
+    CHECK(harness_count_lines(strstr(out, "\ni\t") + 1) == 1 + 9);
+    CHECK(strcmp(header_value(out, "assembly", buf, sizeof buf), "gauss:2") == 0);
+    double coef = atof(header_value(out, "err_coef", buf, sizeof buf));
+    CHECK_MSG(coef > 1e-6 && coef < 1e-2, "err_coef = %g", coef); /* quadrature error is seen */
+    free(out);
+    free(err);
+}
+
+/* Every bad input: exit 2, nothing on stdout, one line on stderr naming it. */
+static void expect_usage_error(const char *const args[], const char *needle)
+{
+    char *out, *err;
+    int code = run(args, &out, &err);
+    CHECK_MSG(code == 2, "exit %d for %s %s", code, args[1], args[2] ? args[2] : "");
+    CHECK(strcmp(out, "") == 0);
+    CHECK_MSG(harness_count_lines(err) == 1, "stderr has %d lines: %s", harness_count_lines(err), err);
+    CHECK_MSG(strstr(err, needle) != NULL, "stderr '%s' does not name '%s'", err, needle);
+    free(out);
+    free(err);
+}
+
+TEST(cli_galerkin1d_rejects_bad_input)
+{
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "0", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "-3", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "abc", NULL}, "abc");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "12abc", NULL}, "12abc");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "99999999999999999999999", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", NULL}, "--n");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--problem", "heat", NULL}, "heat");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--basis", "p2", NULL}, "p2");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--assembly", "gauss:0", NULL}, "gauss:0");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--assembly", "simpson", NULL}, "simpson");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--frobnicate", NULL}, "--frobnicate");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "100000", NULL}, "dense");
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "2000000000", NULL}, "--n");
+    expect_usage_error((const char *[]){"frobnicate", NULL}, "frobnicate");
+}
+
+TEST(cli_galerkin1d_refuses_what_memory_cannot_hold)
+{
+    /* 3000 unknowns need 69 MiB: refuse on a machine said to have 64 MiB. */
+    setenv("RADKIT_MEMORY_LIMIT", "67108864", 1);
+    expect_usage_error((const char *[]){"galerkin1d", "--n", "3000", NULL}, "GiB");
+    unsetenv("RADKIT_MEMORY_LIMIT");
+}
