@@ -13,12 +13,13 @@ SAN    ?= 0
 DEBUG  ?= 0
 WERROR ?= 0
 
+# BUILD may be set on the command line to keep several trees apart.
 ifeq ($(SAN),1)
-  BUILD := build/san
+  BUILD ?= build/san
 else ifeq ($(DEBUG),1)
-  BUILD := build/debug
+  BUILD ?= build/debug
 else
-  BUILD := build
+  BUILD ?= build
 endif
 
 OPT      := $(if $(filter 1,$(DEBUG)),-O0 -g3,-O2 -g)

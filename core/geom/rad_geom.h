@@ -1,0 +1,45 @@
+/* rad_geom: 3D vectors and triangle basics shared by every module.
+ * Small vector operations are static inline so hot loops pay nothing for them.
+ * Triangles are one-sided: the front is the side the counter-clockwise winding's
+ * normal (b - a) x (c - a) points to. */
+#ifndef RAD_GEOM_H
+#define RAD_GEOM_H
+
+#include <math.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_vec3 {
+    double x, y, z;
+} rad_vec3;
+
+static inline rad_vec3 rad_vec3_make(double x, double y, double z) { rad_vec3 v = {x, y, z}; return v; }
+static inline rad_vec3 rad_vec3_add(rad_vec3 a, rad_vec3 b) { return rad_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline rad_vec3 rad_vec3_sub(rad_vec3 a, rad_vec3 b) { return rad_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline rad_vec3 rad_vec3_scale(rad_vec3 a, double s) { return rad_vec3_make(a.x * s, a.y * s, a.z * s); }
+static inline double rad_vec3_dot(rad_vec3 a, rad_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline rad_vec3 rad_vec3_cross(rad_vec3 a, rad_vec3 b)
+{
+    return rad_vec3_make(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline double rad_vec3_norm(rad_vec3 a) { return sqrt(rad_vec3_dot(a, a)); }
+static inline int rad_vec3_is_finite(rad_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+/* Area of triangle abc (>= 0). */
+double rad_geom_triangle_area(rad_vec3 a, rad_vec3 b, rad_vec3 c);
+/* Unit normal of the counter-clockwise winding; (0,0,0) for a degenerate triangle. */
+rad_vec3 rad_geom_triangle_normal(rad_vec3 a, rad_vec3 b, rad_vec3 c);
+rad_vec3 rad_geom_triangle_centroid(rad_vec3 a, rad_vec3 b, rad_vec3 c);
+/* Point of the triangle at barycentric-like coordinates: a + s (b - a) + t (c - a). */
+rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, double t);
+/* A triangle is degenerate when its area is below rel_tol times the square of
+ * its longest edge (zero-area, collinear or sliver beyond use), or it has a
+ * non-finite coordinate.  rel_tol = 1e-12 is the library's default. */
+int rad_geom_triangle_is_degenerate(rad_vec3 a, rad_vec3 b, rad_vec3 c, double rel_tol);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,51 @@
+/* Triangle area, normal, centroid and degeneracy.  The cross product is taken
+ * from the vertex opposite the longest edge, which keeps the area accurate for
+ * slivers (the two shorter edges have the least cancellation). */
+#include "rad_geom.h"
+
+static rad_vec3 stable_cross(rad_vec3 a, rad_vec3 b, rad_vec3 c)
+{
+    rad_vec3 ab = rad_vec3_sub(b, a), bc = rad_vec3_sub(c, b), ca = rad_vec3_sub(a, c);
+    double lab = rad_vec3_dot(ab, ab), lbc = rad_vec3_dot(bc, bc), lca = rad_vec3_dot(ca, ca);
+    /* (b-a) x (c-a) = (c-b) x (a-b) = (a-c) x (b-c): all equal the CCW normal. */
+    if (lab >= lbc && lab >= lca)
+        return rad_vec3_cross(ca, bc); /* from c: (a-c) x (b-c) */
+    if (lbc >= lab && lbc >= lca)
+        return rad_vec3_cross(ab, rad_vec3_scale(ca, -1.0)); /* from a */
+    return rad_vec3_cross(bc, ab); /* from b: (c-b) x (a-b) */
+}
+
+double rad_geom_triangle_area(rad_vec3 a, rad_vec3 b, rad_vec3 c)
+{
+    return 0.5 * rad_vec3_norm(stable_cross(a, b, c));
+}
+
+rad_vec3 rad_geom_triangle_normal(rad_vec3 a, rad_vec3 b, rad_vec3 c)
+{
+    rad_vec3 n = stable_cross(a, b, c);
+    double len = rad_vec3_norm(n);
+    if (!(len > 0.0) || !isfinite(len))
+        return rad_vec3_make(0.0, 0.0, 0.0);
+    return rad_vec3_scale(n, 1.0 / len);
+}
+
+rad_vec3 rad_geom_triangle_centroid(rad_vec3 a, rad_vec3 b, rad_vec3 c)
+{
+    return rad_vec3_scale(rad_vec3_add(rad_vec3_add(a, b), c), 1.0 / 3.0);
+}
+
+rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, double t)
+{
+    return rad_vec3_add(a, rad_vec3_add(rad_vec3_scale(rad_vec3_sub(b, a), s),
+                                        rad_vec3_scale(rad_vec3_sub(c, a), t)));
+}
+
+int rad_geom_triangle_is_degenerate(rad_vec3 a, rad_vec3 b, rad_vec3 c, double rel_tol)
+{
+    if (!rad_vec3_is_finite(a) || !rad_vec3_is_finite(b) || !rad_vec3_is_finite(c))
+        return 1;
+    rad_vec3 ab = rad_vec3_sub(b, a), bc = rad_vec3_sub(c, b), ca = rad_vec3_sub(a, c);
+    double longest = fmax(rad_vec3_dot(ab, ab), fmax(rad_vec3_dot(bc, bc), rad_vec3_dot(ca, ca)));
+    double area = rad_geom_triangle_area(a, b, c);
+    return !(longest > 0.0) || !(area > rel_tol * longest);
+}
