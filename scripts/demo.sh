@@ -1,0 +1,48 @@
+#!/bin/sh
+# make demo: the 1D model problem of the notes at a few n, a short table of its
+# errors, and a convergence plot (build/demo/convergence_1d.png).
+set -eu
+RADKIT=${1:-build/radkit}
+out=build/demo
+mkdir -p "$out"
+
+echo "radkit demo: the 1D model problem y = f + K y (papers/galerkin-1d.md)"
+echo "exact Galerkin solutions (closed-form assembly) against the exact solution;"
+echo "residual = Galerkin residual recomputed from the definitions alone"
+echo
+printf '%-5s %-3s %6s %12s %12s %12s %12s %10s\n' problem basis n err_l2 err_linf err_nodal residual seconds
+for problem in seed exp; do
+  for basis in p0 p1; do
+    dat="$out/${problem}_${basis}.dat"
+    printf 'n\th\terr_l2\terr_linf\n' > "$dat"
+    for n in 4 16 64 256 1024; do
+      "$RADKIT" galerkin1d --n "$n" --problem "$problem" --basis "$basis" |
+        awk -F' = ' -v n="$n" -v p="$problem" -v b="$basis" -v dat="$dat" '
+          /^# /{ v[substr($1, 3)] = $2 }
+          END {
+            printf "%-7s %-5s %6d %12.3e %12.3e %12.3e %12.3e %10.4f\n", p, b, n, v["err_l2"],
+                   v["err_linf"], v["err_nodal"], v["galerkin_residual"], v["assemble_s"] + v["solve_s"]
+            printf "%d\t%.17g\t%s\t%s\n", n, 1.0 / n, v["err_l2"], v["err_linf"] >> dat }'
+    done
+  done
+done
+
+gnuplot <<GP
+set terminal pngcairo size 900,650 enhanced font ",11"
+set output "$out/convergence_1d.png"
+set logscale xy
+set format xy "10^{%L}"
+set grid
+set key top left
+set xlabel "h = 1/n"
+set ylabel "L2 error"
+set title "1D model problem: Galerkin L2 error (exact assembly)"
+plot "$out/exp_p0.dat" using 2:3 skip 1 with linespoints title "exp, P0", \
+     "$out/exp_p1.dat" using 2:3 skip 1 with linespoints title "exp, P1", \
+     "$out/seed_p0.dat" using 2:3 skip 1 with linespoints title "seed, P0 (y = x)", \
+     0.3*x with lines dashtype 2 title "slope 1", 0.3*x**2 with lines dashtype 3 title "slope 2"
+GP
+echo
+echo "seed, P1 is exact (y = x lies in the P1 space): its errors are round-off."
+echo "plot: $out/convergence_1d.png"
+echo "full study: make experiments (figures in experiments/convergence_1d/figures/)"
