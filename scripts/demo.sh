@@ -40,7 +40,7 @@ set title "1D model problem: Galerkin L2 error (exact assembly)"
 plot "$out/exp_p0.dat" using 2:3 skip 1 with linespoints title "exp, P0", \
      "$out/exp_p1.dat" using 2:3 skip 1 with linespoints title "exp, P1", \
      "$out/seed_p0.dat" using 2:3 skip 1 with linespoints title "seed, P0 (y = x)", \
-     0.3*x with lines dashtype 2 title "slope 1", 0.3*x**2 with lines dashtype 3 title "slope 2"
+     1.5*x with lines dashtype 2 lc "black" title "slope 1 (guide)", 0.02*x**2 with lines dashtype 3 lc "black" title "slope 2 (guide)"
 GP
 echo
 echo "seed, P1 is exact (y = x lies in the P1 space): its errors are round-off."
