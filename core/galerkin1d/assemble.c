@@ -11,7 +11,8 @@
  * error, i.e. O(h^3) per diagonal entry, which perturbs (M - A)/h by O(h^2)
  * whatever K is.  gauss-split:K integrates each diagonal cell as two triangles
  * (t < x and t > x) with a collapsed Gauss product rule (Duffy 1982), on which
- * the kernel is smooth, and recovers the order of the rule. */
+ * the kernel is smooth, and recovers the order of the rule.
+ * References: the Galerkin method [atkinson1997]; the collapsed rule [duffy1982]. */
 #include "rad_galerkin1d.h"
 
 #include <stdlib.h>

@@ -8,7 +8,8 @@
  *       is y = x (the homogeneous part A cos x + B sin x must vanish).
  * exp:  manufactured with y = e^x: K e^x = w solves -w'' = e^x, w(0)=w(1)=0,
  *       so w = 1 + (e-1) x - e^x and f = y - K y = 2 e^x - 1 - (e-1) x.
- * Both claims are checked numerically in tests/test_galerkin1d.c. */
+ * Both claims are checked numerically in tests/test_galerkin1d.c.
+ * Reference for the Galerkin method on second-kind equations: [atkinson1997]. */
 #include "rad_galerkin1d.h"
 
 #include <math.h>

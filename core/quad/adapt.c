@@ -5,7 +5,7 @@
  * 2. While the summed error exceeds max(abs_tol, rel_tol |sum|), bisect the
  *    interval with the largest error.
  * 3. Stop with RAD_ENUMERIC when the interval cap is reached.
- * Nodes and weights: Piessens, de Doncker-Kapenga, Ueberhuber, Kahaner,
+ * Nodes and weights [piessens1983]: Piessens, de Doncker-Kapenga, Ueberhuber, Kahaner,
  * QUADPACK (1983), routine QK15 (public domain), to 33 digits. */
 #include "rad_quad.h"
 
