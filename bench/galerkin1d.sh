@@ -31,4 +31,4 @@ for basis in p0 p1; do
     done
   done
 done
-column -t -s "$(printf '\t')" "$out"
+grep -v "^#" "$out" | column -t -s "$(printf '\t')"
