@@ -33,3 +33,23 @@ TEST(geom_degenerate_triangles)
     rad_vec3 n = rad_geom_triangle_normal(a, b, c);
     CHECK(n.x == 0.0 && n.y == 0.0 && n.z == 0.0);
 }
+
+TEST(geom_normal_follows_winding_whichever_edge_is_longest)
+{
+    /* The cross product is taken at a different vertex depending on which edge
+     * is longest; every choice must give the plain (b-a) x (c-a) direction. */
+    rad_vec3 tris[3][3] = {
+        {{0, 0, 0}, {5.3, 0, 0}, {2.1, 1.7, 0}},   /* ab longest */
+        {{0, 0, 0}, {1.2, 0, 0}, {-2.9, 3.4, 0}},  /* bc longest */
+        {{0, 0, 0}, {2.2, 0.4, 0}, {0.3, 4.6, 0}}, /* ca longest */
+    };
+    for (int k = 0; k < 3; k++) {
+        rad_vec3 *t = tris[k];
+        rad_vec3 plain = rad_vec3_cross(rad_vec3_sub(t[1], t[0]), rad_vec3_sub(t[2], t[0]));
+        rad_vec3 n = rad_geom_triangle_normal(t[0], t[1], t[2]);
+        CHECK_MSG(n.z > 0.999 && plain.z > 0.0, "case %d: normal z = %g", k, n.z);
+        CHECK_NEAR(rad_geom_triangle_area(t[0], t[1], t[2]), 0.5 * rad_vec3_norm(plain), 1e-14, 0.0);
+        rad_vec3 flipped = rad_geom_triangle_normal(t[0], t[2], t[1]);
+        CHECK_MSG(flipped.z < -0.999, "case %d flipped: normal z = %g", k, flipped.z);
+    }
+}
