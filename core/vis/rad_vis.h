@@ -1,0 +1,142 @@
+/* rad_vis: visibility between points and triangles, over Embree 3.
+ *
+ * A rad_vis holds one Embree scene built from the caller's flat arrays
+ * (double vertex positions xyz[3*v], int triangle indices tri[3*t]).  Embree
+ * intersects in single precision, so rad_vis keeps a float copy of the vertices
+ * in a buffer it shares with Embree: every ray test sees the triangles moved by
+ * up to half a float ulp of the largest coordinate (about 6e-8 relative).  The
+ * ray epsilon (below) is therefore scaled to the scene's extent AND to its
+ * largest absolute coordinate, so a scene far from the origin still gets an
+ * epsilon larger than that rounding.
+ *
+ * Queries:
+ *  - rad_vis_occluded: batched point-to-point occlusion of open segments;
+ *  - rad_vis_pair_fraction: the visible fraction of a triangle pair from
+ *    stratified samples, ignoring hits on the two triangles themselves;
+ *  - rad_vis_pair_can_block: a conservative shaft test, so that pairs nothing
+ *    can block trace no rays;
+ *  - rad_vis_intersect: closest hits of rays (primary rays for rad_render).
+ * Every query may be called concurrently from several OpenMP threads on one
+ * rad_vis (Embree allows concurrent queries on a committed scene); each call
+ * adds its work to the caller's rad_vis_stats, so give each thread its own.
+ *
+ * Threads: Embree (built on TBB in Debian) would otherwise start one worker per
+ * core for its BVH build and keep them spinning beside OpenMP's.  rad_vis creates
+ * its device with "threads=N,set_affinity=0" (N = build_threads, default 1): the
+ * build runs on N threads and all ray queries run on the calling (OpenMP) threads,
+ * so the two thread pools never compete.  Building the BVH of 10^5 triangles on
+ * one thread takes tens of milliseconds, negligible next to the ray work. */
+#ifndef RAD_VIS_H
+#define RAD_VIS_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_vis rad_vis;
+
+typedef struct rad_vis_params {
+    /* Ray epsilon relative to the scene scale L = max(bounding-box diagonal,
+     * largest |coordinate|): rays start eps = eps_rel * L after their origin and
+     * stop eps before their end.  Default 1e-5 (about 170 float ulps of L). */
+    double eps_rel;
+    /* Stratified samples of a triangle pair: each triangle is cut into
+     * strata_per_edge^2 congruent sub-triangles and one point is taken in each;
+     * every point of one triangle is joined to every point of the other, so a
+     * pair costs strata_per_edge^4 rays.  Default 3 (81 rays). */
+    int strata_per_edge;
+    /* 0: the point is the stratum's centroid (deterministic midpoint rule);
+     * 1: a point drawn uniformly in the stratum from a hash of (triangle,
+     * stratum, seed), still deterministic for any thread count.  Default 0. */
+    int jitter;
+    unsigned seed;
+    /* Threads Embree may use to build the BVH (see the header comment).  Default 1. */
+    int build_threads;
+    /* Rays per Embree call in rad_vis_occluded: 1 (rtcOccluded1 in a loop), 4, 8
+     * or 16 (rtcOccludedN packets).  Default 1, the faster one here (bench/vis.sh). */
+    int packet;
+    /* Shaft-test tolerance relative to L (see rad_vis_pair_can_block).  Default 1e-9. */
+    double shaft_tol_rel;
+} rad_vis_params;
+
+void rad_vis_params_default(rad_vis_params *params);
+
+/* Work counters; the caller owns them and sums per-thread copies. */
+typedef struct rad_vis_stats {
+    unsigned long long rays;          /* rays traced */
+    unsigned long long pairs_traced;  /* pair queries that traced rays */
+    unsigned long long pairs_skipped; /* pair queries answered without rays */
+} rad_vis_stats;
+
+/* Build the Embree scene.  xyz (3 * nverts doubles) and tri (3 * ntris ints,
+ * 0-based) are copied; the caller may free them afterwards.  params may be NULL
+ * for the defaults.  RAD_EINPUT for a non-finite coordinate or an index out of
+ * range (naming the triangle), RAD_EINVAL for bad parameters, RAD_EDEP if
+ * Embree fails (with Embree's message). */
+rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
+                          const rad_vis_params *params, rad_vis **out);
+void rad_vis_destroy(rad_vis *vis);
+
+/* The absolute ray epsilon in scene units, and the scene scale L it is made from. */
+double rad_vis_epsilon(const rad_vis *vis);
+double rad_vis_scale(const rad_vis *vis);
+size_t rad_vis_triangle_count(const rad_vis *vis);
+
+/* Nonzero when no triangle can block any segment between two points of the
+ * scene: every vertex lies on or in front of every triangle's plane (within the
+ * shaft tolerance).  A convex closed enclosure seen from inside is the typical
+ * case; then rad_vis_pair_fraction traces no rays at all. */
+int rad_vis_is_unoccluded(const rad_vis *vis);
+
+/* Batched occlusion of the segments from[3k..3k+2] -> to[3k..3k+2], k < n:
+ * blocked[k] = 1 if some triangle crosses the segment shortened by the epsilon
+ * at both ends, else 0.  Runs on the calling thread (call it from inside your
+ * own OpenMP loop to parallelise). */
+rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
+                            unsigned char *blocked, rad_vis_stats *stats);
+
+/* The sample points rad_vis_pair_fraction uses on triangle t (strata_per_edge^2
+ * points, xyz interleaved, written to pts which must hold 3 * that many doubles). */
+rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts);
+/* Number of sample points per triangle (strata_per_edge^2). */
+int rad_vis_sample_count(const rad_vis *vis);
+
+/* Conservative test: 0 when no triangle other than i and j can cross any
+ * segment joining an interior point of triangle i to an interior point of j,
+ * 1 when one might.  Such a segment lies in the convex hull of the two
+ * triangles (the shaft); a triangle k can cross it only if k reaches into the
+ * hull, so k is dismissed when all its vertices lie outside (or on) one face
+ * plane of the hull, tested through a bounding-volume hierarchy of triangle
+ * boxes.  Conservative: a dismissed triangle provably cannot cross such a
+ * segment (up to the tolerance tol = shaft_tol_rel * L, i.e. geometry reaching
+ * into the hull by less than tol is ignored); a triangle that is not dismissed
+ * may still miss every segment (the test never looks at k's interior against
+ * the hull's, only its vertices against one plane at a time).  A flat hull
+ * (coplanar pair) always answers 1. */
+int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j);
+
+/* Visible fraction of the pair (i, j): the share of the strata_per_edge^4
+ * sample segments (every sample of i to every sample of j) that no triangle
+ * other than i and j blocks.  1 without tracing when rad_vis_is_unoccluded or
+ * !rad_vis_pair_can_block.  Hits on i and j themselves are ignored (by
+ * primitive id in an Embree context filter, and by the epsilon). */
+rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double *fraction,
+                                 rad_vis_stats *stats);
+
+/* Closest hits of n rays org[3k..] + t dir[3k..], t in (tnear, inf): tri[k] is
+ * the triangle hit (-1 for none), t_hit[k] the distance in units of |dir|, and
+ * (u[k], v[k]) the barycentric weights of the triangle's second and third
+ * vertices at the hit (the first has 1 - u - v).  Any output pointer but tri may
+ * be NULL. */
+rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, const double *dir,
+                             double tnear, int *tri, double *t_hit, double *u, double *v,
+                             rad_vis_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

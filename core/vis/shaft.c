@@ -1,0 +1,349 @@
+/* rad_vis: tests that prove a pair (or the whole scene) needs no rays.
+ *
+ * Shaft test of a pair (i, j), after Haines and Wallace's shaft culling
+ * \cite{haines1994shaft}, with the shaft taken as the exact convex hull of the
+ * two triangles:
+ * 1. Every segment from a point of i to a point of j lies in the convex hull H
+ *    of their six vertices.  A face plane of H contains three of the six points
+ *    and has all six on one side; it is therefore the plane of i, the plane of
+ *    j, or a plane through an edge of one triangle and a vertex of the other:
+ *    20 candidates.  Keep each candidate (oriented outward) whose six points all
+ *    lie on its inner side within tol; the kept planes bound H exactly.  The six
+ *    planes of the pair's bounding box are added; they are redundant for H but
+ *    reject hierarchy nodes cheaply.
+ * 2. A segment joining interior points of i and j meets a face plane of H only
+ *    at its end points unless both triangles lie in that plane (a coplanar pair:
+ *    then no plane is kept but those of the box, and the test answers 1).  So a
+ *    triangle k whose three vertices lie on or outside one kept plane (signed
+ *    distance >= -tol) cannot cross the open segment: it is dismissed.
+ * 3. Walk a bounding-volume hierarchy of triangle boxes (median split on the
+ *    longest axis, leaves of at most 4): a node whose box lies on or outside one
+ *    kept plane is skipped whole; the first triangle of a leaf other than i and
+ *    j that is not dismissed makes the answer 1.
+ * Cost: O(log n) nodes for pairs with nothing near their shaft, O(n) at worst.
+ *
+ * Whole-scene test (the effects plan's "no occlusion in a convex enclosure"):
+ * no triangle k can cross a segment between two points of the scene if every
+ * vertex lies on or in front of k's plane, because such a segment stays in the
+ * closed front half-space and touches k's plane at most at an end point.
+ * Coplanar triangles share a plane, so the distinct planes are checked (a
+ * refined box has 6); if their count times the vertex count exceeds a work
+ * budget the scene is assumed occluded, which is the conservative answer. */
+#include "vis_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { LEAF_SIZE = 4 };
+
+/* ---- bounding-volume hierarchy over triangle boxes -------------------------- */
+
+typedef struct build_ctx {
+    rad_vis *vis;
+    double *cen; /* centroids, 3 per triangle */
+    int cap;
+} build_ctx;
+
+static void tri_box(const rad_vis *vis, int t, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (int v = 0; v < 3; v++) {
+        const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * (size_t)t + v];
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], p[c]);
+            hi[c] = fmax(hi[c], p[c]);
+        }
+    }
+}
+
+/* Partial sort of order[first..first+count) so that the element at the middle
+ * has the median centroid coordinate on `axis` (quickselect, deterministic). */
+static void select_median(int *order, const double *cen, int axis, int first, int count)
+{
+    int lo = first, hi = first + count - 1, mid = first + count / 2;
+    while (lo < hi) {
+        double pivot = cen[3 * order[(lo + hi) / 2] + axis];
+        int a = lo, b = hi;
+        while (a <= b) {
+            while (cen[3 * order[a] + axis] < pivot)
+                a++;
+            while (cen[3 * order[b] + axis] > pivot)
+                b--;
+            if (a <= b) {
+                int tmp = order[a];
+                order[a] = order[b];
+                order[b] = tmp;
+                a++;
+                b--;
+            }
+        }
+        if (mid <= b)
+            hi = b;
+        else if (mid >= a)
+            lo = a;
+        else
+            break;
+    }
+}
+
+static int build_node(build_ctx *bc, int first, int count)
+{
+    rad_vis *vis = bc->vis;
+    int id = vis->nnodes++;
+    vis_node *node = &vis->nodes[id];
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int c = 0; c < 3; c++) {
+        node->lo[c] = INFINITY;
+        node->hi[c] = -INFINITY;
+    }
+    for (int k = first; k < first + count; k++) {
+        double lo[3], hi[3];
+        tri_box(vis, vis->order[k], lo, hi);
+        for (int c = 0; c < 3; c++) {
+            node->lo[c] = fmin(node->lo[c], lo[c]);
+            node->hi[c] = fmax(node->hi[c], hi[c]);
+            clo[c] = fmin(clo[c], bc->cen[3 * vis->order[k] + c]);
+            chi[c] = fmax(chi[c], bc->cen[3 * vis->order[k] + c]);
+        }
+    }
+    node->first = first;
+    node->count = count;
+    node->left = node->right = -1;
+    if (count <= LEAF_SIZE)
+        return id;
+    int axis = 0;
+    for (int c = 1; c < 3; c++)
+        if (chi[c] - clo[c] > chi[axis] - clo[axis])
+            axis = c;
+    select_median(vis->order, bc->cen, axis, first, count);
+    int half = count / 2;
+    int left = build_node(bc, first, half);
+    int right = build_node(bc, first + half, count - half);
+    /* build_node may not reallocate: nodes was sized for the worst case. */
+    vis->nodes[id].left = left;
+    vis->nodes[id].right = right;
+    return id;
+}
+
+int vis_bvh_build(rad_vis *vis)
+{
+    size_t n = vis->ntris;
+    vis->nnodes = 0;
+    if (n == 0)
+        return 1;
+    /* A median-split tree with leaves of >= 1 triangle has fewer than 2n nodes. */
+    vis->nodes = malloc(2 * n * sizeof *vis->nodes);
+    vis->order = malloc(n * sizeof *vis->order);
+    double *cen = malloc(3 * n * sizeof *cen);
+    if (!vis->nodes || !vis->order || !cen) {
+        free(cen);
+        return 0;
+    }
+    for (size_t t = 0; t < n; t++) {
+        vis->order[t] = (int)t;
+        for (int c = 0; c < 3; c++)
+            cen[3 * t + c] = (vis->xyz[3 * (size_t)vis->tri[3 * t] + c] +
+                              vis->xyz[3 * (size_t)vis->tri[3 * t + 1] + c] +
+                              vis->xyz[3 * (size_t)vis->tri[3 * t + 2] + c]) / 3.0;
+    }
+    build_ctx bc = {vis, cen, (int)(2 * n)};
+    build_node(&bc, 0, (int)n);
+    free(cen);
+    return 1;
+}
+
+/* ---- the shaft of a pair ---------------------------------------------------- */
+
+typedef struct plane {
+    rad_vec3 n; /* outward unit normal */
+    double d;   /* signed distance of x: dot(n, x) - d */
+} plane;
+
+enum { MAX_PLANES = 26 };
+
+/* Try the plane through a, b, c as a face of the hull of pts[6]. */
+static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6], double tol,
+                      plane *out, int *count)
+{
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
+    double len = rad_vec3_norm(n);
+    if (!(len > 0.0))
+        return;
+    n = rad_vec3_scale(n, 1.0 / len);
+    double d = rad_vec3_dot(n, a), dmin = INFINITY, dmax = -INFINITY;
+    for (int k = 0; k < 6; k++) {
+        double s = rad_vec3_dot(n, pts[k]) - d;
+        dmin = fmin(dmin, s);
+        dmax = fmax(dmax, s);
+    }
+    if (dmax <= tol && dmin >= -tol)
+        return; /* all six in the plane: the hull is flat, this plane bounds nothing */
+    if (dmax <= tol) {
+        /* all on the negative side: n already points outward */
+    } else if (dmin >= -tol) {
+        n = rad_vec3_scale(n, -1.0);
+        d = -d;
+    } else {
+        return; /* points on both sides: not a hull face */
+    }
+    out[(*count)++] = (plane){n, d};
+}
+
+/* Builds the shaft's planes; returns the count, or -1 for a flat hull. */
+static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl)
+{
+    rad_vec3 pts[6];
+    for (int v = 0; v < 3; v++) {
+        pts[v] = vis_vertex(vis, i, v);
+        pts[3 + v] = vis_vertex(vis, j, v);
+    }
+    int count = 0;
+    try_plane(pts[0], pts[1], pts[2], pts, vis->tol, pl, &count);
+    try_plane(pts[3], pts[4], pts[5], pts, vis->tol, pl, &count);
+    for (int side = 0; side < 2; side++) {
+        const rad_vec3 *e = pts + 3 * side, *o = pts + 3 * (1 - side);
+        for (int k = 0; k < 3; k++)
+            for (int v = 0; v < 3; v++)
+                try_plane(e[k], e[(k + 1) % 3], o[v], pts, vis->tol, pl, &count);
+    }
+    if (count == 0)
+        return -1;
+    for (int c = 0; c < 3; c++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int k = 0; k < 6; k++) {
+            double x = c == 0 ? pts[k].x : c == 1 ? pts[k].y : pts[k].z;
+            lo = fmin(lo, x);
+            hi = fmax(hi, x);
+        }
+        rad_vec3 e = rad_vec3_make(c == 0, c == 1, c == 2);
+        pl[count++] = (plane){e, hi};
+        pl[count++] = (plane){rad_vec3_scale(e, -1.0), -lo};
+    }
+    return count;
+}
+
+/* Nonzero when the box lies on or outside some plane. */
+static int box_outside(const vis_node *node, const plane *pl, int count, double tol)
+{
+    for (int p = 0; p < count; p++) {
+        /* The smallest signed distance over the box is at the corner against n. */
+        double x = pl[p].n.x > 0 ? node->lo[0] : node->hi[0];
+        double y = pl[p].n.y > 0 ? node->lo[1] : node->hi[1];
+        double z = pl[p].n.z > 0 ? node->lo[2] : node->hi[2];
+        if (pl[p].n.x * x + pl[p].n.y * y + pl[p].n.z * z - pl[p].d >= -tol)
+            return 1;
+    }
+    return 0;
+}
+
+static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int count)
+{
+    rad_vec3 v[3] = {vis_vertex(vis, k, 0), vis_vertex(vis, k, 1), vis_vertex(vis, k, 2)};
+    for (int p = 0; p < count; p++) {
+        int out = 1;
+        for (int c = 0; c < 3 && out; c++)
+            out = rad_vec3_dot(pl[p].n, v[c]) - pl[p].d >= -vis->tol;
+        if (out)
+            return 1;
+    }
+    return 0;
+}
+
+int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
+{
+    if (!vis || i >= vis->ntris || j >= vis->ntris)
+        return 1;
+    if (vis->unoccluded)
+        return 0;
+    plane pl[MAX_PLANES];
+    int count = shaft_planes(vis, i, j, pl);
+    if (count < 0)
+        return 1;
+    int stack[128], top = 0;
+    if (vis->nnodes > 0)
+        stack[top++] = 0;
+    while (top > 0) {
+        const vis_node *node = &vis->nodes[stack[--top]];
+        if (box_outside(node, pl, count, vis->tol))
+            continue;
+        if (node->left < 0) {
+            for (int m = node->first; m < node->first + node->count; m++) {
+                size_t k = (size_t)vis->order[m];
+                if (k != i && k != j && !triangle_outside(vis, k, pl, count))
+                    return 1;
+            }
+        } else {
+            if (top + 2 > (int)(sizeof stack / sizeof stack[0]))
+                return 1; /* deeper than a median split can make: answer safely */
+            stack[top++] = node->right;
+            stack[top++] = node->left;
+        }
+    }
+    return 0;
+}
+
+/* ---- the whole scene -------------------------------------------------------- */
+
+static int cmp_plane(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    for (int c = 0; c < 4; c++)
+        if (x[c] != y[c])
+            return x[c] < y[c] ? -1 : 1;
+    return 0;
+}
+
+int vis_compute_unoccluded(const rad_vis *vis)
+{
+    size_t n = vis->ntris;
+    if (n == 0)
+        return 1;
+    /* Each triangle's plane (unit normal, offset), rounded to group coplanar ones. */
+    double *pl = malloc(4 * n * sizeof *pl);
+    if (!pl)
+        return 0;
+    size_t m = 0;
+    const double quantum = 1e-9; /* relative rounding that merges equal planes */
+    for (size_t t = 0; t < n; t++) {
+        rad_vec3 a = vis_vertex(vis, t, 0), b = vis_vertex(vis, t, 1), c = vis_vertex(vis, t, 2);
+        rad_vec3 nn = rad_geom_triangle_normal(a, b, c);
+        if (rad_vec3_norm(nn) == 0.0)
+            continue; /* a degenerate triangle blocks nothing of positive measure */
+        double d = rad_vec3_dot(nn, a) / vis->scale;
+        pl[4 * m + 0] = round(nn.x / quantum) * quantum;
+        pl[4 * m + 1] = round(nn.y / quantum) * quantum;
+        pl[4 * m + 2] = round(nn.z / quantum) * quantum;
+        pl[4 * m + 3] = round(d / quantum) * quantum;
+        m++;
+    }
+    qsort(pl, m, 4 * sizeof *pl, cmp_plane);
+    size_t distinct = 0;
+    for (size_t k = 0; k < m; k++)
+        if (k == 0 || cmp_plane(pl + 4 * k, pl + 4 * (distinct - 1)) != 0) {
+            memmove(pl + 4 * distinct, pl + 4 * k, 4 * sizeof *pl);
+            distinct++;
+        }
+    const double budget = 4e8; /* plane-vertex tests we are willing to spend */
+    int result = 1;
+    if ((double)distinct * (double)vis->nverts > budget)
+        result = 0;
+    /* The rounded plane is within ~1e-9 L of the true one, far inside 1e3 tol. */
+    double slack = vis->tol + 4.0 * quantum * vis->scale;
+    for (size_t p = 0; p < distinct && result; p++) {
+        rad_vec3 nn = rad_vec3_make(pl[4 * p], pl[4 * p + 1], pl[4 * p + 2]);
+        double d = pl[4 * p + 3] * vis->scale;
+        for (size_t v = 0; v < vis->nverts; v++) {
+            const double *x = vis->xyz + 3 * v;
+            if (nn.x * x[0] + nn.y * x[1] + nn.z * x[2] - d < -slack) {
+                result = 0;
+                break;
+            }
+        }
+    }
+    free(pl);
+    return result;
+}

@@ -1,0 +1,332 @@
+/* rad_vis: the Embree scene and the point-to-point and closest-hit queries.
+ *
+ * 1. Copy the caller's vertices to double (for our exact tests) and to float
+ *    (for Embree) and its indices to unsigned; both float and index buffers are
+ *    handed to Embree with rtcSetSharedGeometryBuffer, padded by 16 bytes so
+ *    Embree's SSE loads of the last element stay inside the allocation.
+ * 2. The scene scale L = max(box diagonal, largest |coordinate|) fixes the ray
+ *    epsilon eps = eps_rel L and the shaft tolerance tol = shaft_tol_rel L.
+ * 3. One triangle geometry with mask VIS_MASK_OCCLUDER in a ROBUST scene (no
+ *    leaks through shared edges of a blocker's triangles) that allows context
+ *    filter functions (the pair query's own-triangle filter).
+ * 4. Occlusion of a segment p -> q is one ray with origin p, direction q - p,
+ *    tnear = eps / |q - p| and tfar = 1 - eps / |q - p|: the open segment
+ *    shortened by eps at both ends.  Segments shorter than 2 eps are visible.
+ * Embree 3 API: see the Embree 3 manual \cite{embree3manual, wald2014embree}. */
+#include "vis_internal.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void rad_vis_params_default(rad_vis_params *params)
+{
+    params->eps_rel = 1e-5;
+    params->strata_per_edge = 3;
+    params->jitter = 0;
+    params->seed = 0x5eedu;
+    params->build_threads = 1;
+    params->packet = 1;
+    params->shaft_tol_rel = 1e-9;
+}
+
+static rad_status check_params(const rad_vis_params *p)
+{
+    if (!(p->eps_rel > 0.0 && p->eps_rel < 0.01))
+        return RAD_ERROR(RAD_EINVAL, "visibility: ray epsilon %g (relative) must lie in (0, 0.01)",
+                         p->eps_rel);
+    if (p->strata_per_edge < 1 || p->strata_per_edge > 64)
+        return RAD_ERROR(RAD_EINVAL, "visibility: %d strata per edge; use 1 to 64",
+                         p->strata_per_edge);
+    if (p->build_threads < 1 || p->build_threads > 1024)
+        return RAD_ERROR(RAD_EINVAL, "visibility: %d build threads", p->build_threads);
+    if (p->packet != 1 && p->packet != 4 && p->packet != 8 && p->packet != 16)
+        return RAD_ERROR(RAD_EINVAL, "visibility: packet size %d; use 1, 4, 8 or 16", p->packet);
+    if (!(p->shaft_tol_rel >= 0.0 && p->shaft_tol_rel < 0.01))
+        return RAD_ERROR(RAD_EINVAL, "visibility: shaft tolerance %g must lie in [0, 0.01)",
+                         p->shaft_tol_rel);
+    return RAD_OK;
+}
+
+static rad_status embree_status(RTCDevice device, const char *what)
+{
+    enum RTCError code = rtcGetDeviceError(device);
+    if (code == RTC_ERROR_NONE)
+        return RAD_OK;
+    if (code == RTC_ERROR_OUT_OF_MEMORY)
+        return RAD_ERROR(RAD_ENOMEM, "visibility: Embree ran out of memory (%s)", what);
+    return RAD_ERROR(RAD_EDEP, "visibility: Embree error %d during %s", (int)code, what);
+}
+
+void rad_vis_destroy(rad_vis *vis)
+{
+    if (!vis)
+        return;
+    if (vis->scene)
+        rtcReleaseScene(vis->scene);
+    if (vis->device)
+        rtcReleaseDevice(vis->device);
+    free(vis->fverts);
+    free(vis->findex);
+    free(vis->xyz);
+    free(vis->tri);
+    free(vis->nodes);
+    free(vis->order);
+    free(vis);
+}
+
+rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
+                          const rad_vis_params *params, rad_vis **out)
+{
+    rad_status status = RAD_OK;
+    rad_vis *vis = NULL;
+    if (!out || (!xyz && nverts) || (!tri && ntris))
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument");
+    *out = NULL;
+    if (nverts > (size_t)INT32_MAX || ntris > (size_t)INT32_MAX / 3)
+        return RAD_ERROR(RAD_ETOOBIG, "visibility: %zu vertices and %zu triangles exceed the "
+                         "32-bit index range", nverts, ntris);
+    rad_vis_params p;
+    if (params)
+        p = *params;
+    else
+        rad_vis_params_default(&p);
+    if ((status = check_params(&p)) != RAD_OK)
+        return status;
+
+    vis = calloc(1, sizeof *vis);
+    if (!vis)
+        return RAD_ERROR(RAD_ENOMEM, "visibility: no memory");
+    vis->params = p;
+    vis->nverts = nverts;
+    vis->ntris = ntris;
+    /* +4 floats / +4 indices: Embree may read 16 bytes from the last element. */
+    vis->fverts = malloc((3 * nverts + 4) * sizeof *vis->fverts);
+    vis->findex = malloc((3 * ntris + 4) * sizeof *vis->findex);
+    vis->xyz = malloc((3 * nverts + 1) * sizeof *vis->xyz);
+    vis->tri = malloc((3 * ntris + 1) * sizeof *vis->tri);
+    if (!vis->fverts || !vis->findex || !vis->xyz || !vis->tri) {
+        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for %zu vertices", nverts);
+        goto fail;
+    }
+    memset(vis->fverts + 3 * nverts, 0, 4 * sizeof *vis->fverts);
+    memset(vis->findex + 3 * ntris, 0, 4 * sizeof *vis->findex);
+
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double maxabs = 0.0;
+    for (size_t k = 0; k < 3 * nverts; k++) {
+        if (!isfinite(xyz[k])) {
+            status = RAD_ERROR(RAD_EINPUT, "visibility: vertex %zu has a non-finite coordinate", k / 3);
+            goto fail;
+        }
+        vis->xyz[k] = xyz[k];
+        vis->fverts[k] = (float)xyz[k];
+        lo[k % 3] = fmin(lo[k % 3], xyz[k]);
+        hi[k % 3] = fmax(hi[k % 3], xyz[k]);
+        maxabs = fmax(maxabs, fabs(xyz[k]));
+    }
+    for (size_t k = 0; k < 3 * ntris; k++) {
+        if (tri[k] < 0 || (size_t)tri[k] >= nverts) {
+            status = RAD_ERROR(RAD_EINPUT, "visibility: triangle %zu refers to vertex %d, "
+                               "outside 0..%zu", k / 3, tri[k], nverts ? nverts - 1 : 0);
+            goto fail;
+        }
+        vis->tri[k] = tri[k];
+        vis->findex[k] = (unsigned)tri[k];
+    }
+    double diag = 0.0;
+    if (nverts)
+        diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    vis->scale = fmax(diag, maxabs);
+    if (!(vis->scale > 0.0))
+        vis->scale = 1.0; /* an empty or single-point scene: any scale will do */
+    vis->eps = p.eps_rel * vis->scale;
+    vis->tol = p.shaft_tol_rel * vis->scale;
+
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d,set_affinity=0", p.build_threads);
+    vis->device = rtcNewDevice(config);
+    if (!vis->device) {
+        status = RAD_ERROR(RAD_EDEP, "visibility: Embree could not create a device (%d)",
+                           (int)rtcGetDeviceError(NULL));
+        goto fail;
+    }
+    vis->scene = rtcNewScene(vis->device);
+    if ((status = embree_status(vis->device, "scene creation")) != RAD_OK)
+        goto fail;
+    rtcSetSceneFlags(vis->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    if (ntris > 0) {
+        RTCGeometry geom = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (!geom) {
+            status = embree_status(vis->device, "geometry creation");
+            if (status == RAD_OK)
+                status = RAD_ERROR(RAD_EDEP, "visibility: Embree geometry creation failed");
+            goto fail;
+        }
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                   vis->fverts, 0, 3 * sizeof(float), nverts);
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                   vis->findex, 0, 3 * sizeof(unsigned), ntris);
+        rtcSetGeometryMask(geom, VIS_MASK_OCCLUDER);
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(vis->scene, geom, 0);
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(vis->scene);
+    if ((status = embree_status(vis->device, "the BVH build")) != RAD_OK)
+        goto fail;
+
+    if (!vis_bvh_build(vis)) {
+        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy");
+        goto fail;
+    }
+    vis->unoccluded = vis_compute_unoccluded(vis);
+    *out = vis;
+    return RAD_OK;
+fail:
+    rad_vis_destroy(vis);
+    return status;
+}
+
+double rad_vis_epsilon(const rad_vis *vis) { return vis ? vis->eps : 0.0; }
+double rad_vis_scale(const rad_vis *vis) { return vis ? vis->scale : 0.0; }
+size_t rad_vis_triangle_count(const rad_vis *vis) { return vis ? vis->ntris : 0; }
+int rad_vis_is_unoccluded(const rad_vis *vis) { return vis ? vis->unoccluded : 0; }
+
+/* Ray setup of one segment: returns 0 when the segment is too short to test. */
+static int segment_ray(const rad_vis *vis, const double *p, const double *q, float org[3],
+                       float dir[3], float *tnear, float *tfar)
+{
+    double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 2.0 * vis->eps))
+        return 0;
+    for (int c = 0; c < 3; c++) {
+        org[c] = (float)p[c];
+        dir[c] = (float)d[c];
+    }
+    *tnear = (float)(vis->eps / len);
+    *tfar = (float)(1.0 - vis->eps / len);
+    return 1;
+}
+
+static void occluded_single(const rad_vis *vis, struct RTCIntersectContext *ctx, size_t n,
+                            const double *from, const double *to, unsigned char *blocked,
+                            unsigned long long *rays)
+{
+    for (size_t k = 0; k < n; k++) {
+        struct RTCRay ray;
+        float org[3], dir[3], tn, tf;
+        blocked[k] = 0;
+        if (!segment_ray(vis, from + 3 * k, to + 3 * k, org, dir, &tn, &tf))
+            continue;
+        ray.org_x = org[0]; ray.org_y = org[1]; ray.org_z = org[2];
+        ray.dir_x = dir[0]; ray.dir_y = dir[1]; ray.dir_z = dir[2];
+        ray.tnear = tn;
+        ray.tfar = tf;
+        ray.time = 0.0f;
+        ray.mask = VIS_MASK_OCCLUDER;
+        ray.id = 0;
+        ray.flags = 0;
+        rtcOccluded1(vis->scene, ctx, &ray);
+        (*rays)++;
+        blocked[k] = ray.tfar < 0.0f; /* Embree sets tfar = -inf on a hit */
+    }
+}
+
+/* One packet function per width; Embree's RTCRayW is a structure of arrays. */
+#define VIS_OCCLUDED_PACKET(W)                                                          \
+    static void occluded_packet##W(const rad_vis *vis, struct RTCIntersectContext *ctx, \
+                                   size_t n, const double *from, const double *to,      \
+                                   unsigned char *blocked, unsigned long long *rays)    \
+    {                                                                                   \
+        for (size_t base = 0; base < n; base += W) {                                    \
+            struct RTCRay##W ray;                                                       \
+            int valid[W];                                                               \
+            int any = 0;                                                                \
+            for (int l = 0; l < W; l++) {                                               \
+                size_t k = base + (size_t)l;                                            \
+                float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, tn = 0, tf = 0;           \
+                valid[l] = k < n && segment_ray(vis, from + 3 * k, to + 3 * k, org,     \
+                                                dir, &tn, &tf) ? -1 : 0;                \
+                ray.org_x[l] = org[0]; ray.org_y[l] = org[1]; ray.org_z[l] = org[2];    \
+                ray.dir_x[l] = dir[0]; ray.dir_y[l] = dir[1]; ray.dir_z[l] = dir[2];    \
+                ray.tnear[l] = tn;                                                      \
+                ray.tfar[l] = tf;                                                       \
+                ray.time[l] = 0.0f;                                                     \
+                ray.mask[l] = VIS_MASK_OCCLUDER;                                        \
+                ray.id[l] = (unsigned)l;                                                \
+                ray.flags[l] = 0;                                                       \
+                any += valid[l] != 0;                                                   \
+            }                                                                           \
+            if (any)                                                                    \
+                rtcOccluded##W(valid, vis->scene, ctx, &ray);                           \
+            *rays += (unsigned long long)any;                                           \
+            for (int l = 0; l < W && base + (size_t)l < n; l++)                         \
+                blocked[base + (size_t)l] = valid[l] && ray.tfar[l] < 0.0f;             \
+        }                                                                               \
+    }
+VIS_OCCLUDED_PACKET(4)
+VIS_OCCLUDED_PACKET(8)
+VIS_OCCLUDED_PACKET(16)
+
+rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
+                            unsigned char *blocked, rad_vis_stats *stats)
+{
+    if (!vis || (n && (!from || !to || !blocked)))
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the occlusion query");
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    unsigned long long rays = 0;
+    switch (vis->params.packet) {
+    case 4: occluded_packet4(vis, &ctx, n, from, to, blocked, &rays); break;
+    case 8: occluded_packet8(vis, &ctx, n, from, to, blocked, &rays); break;
+    case 16: occluded_packet16(vis, &ctx, n, from, to, blocked, &rays); break;
+    default: occluded_single(vis, &ctx, n, from, to, blocked, &rays); break;
+    }
+    if (stats)
+        stats->rays += rays;
+    return RAD_OK;
+}
+
+rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, const double *dir,
+                             double tnear, int *tri, double *t_hit, double *u, double *v,
+                             rad_vis_stats *stats)
+{
+    if (!vis || (n && (!org || !dir || !tri)))
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the intersection query");
+    if (!(tnear >= 0.0) || !isfinite(tnear))
+        return RAD_ERROR(RAD_EINVAL, "visibility: tnear %g must be finite and >= 0", tnear);
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t k = 0; k < n; k++) {
+        struct RTCRayHit rh;
+        memset(&rh, 0, sizeof rh);
+        rh.ray.org_x = (float)org[3 * k];
+        rh.ray.org_y = (float)org[3 * k + 1];
+        rh.ray.org_z = (float)org[3 * k + 2];
+        rh.ray.dir_x = (float)dir[3 * k];
+        rh.ray.dir_y = (float)dir[3 * k + 1];
+        rh.ray.dir_z = (float)dir[3 * k + 2];
+        rh.ray.tnear = (float)tnear;
+        rh.ray.tfar = INFINITY;
+        rh.ray.mask = VIS_MASK_OCCLUDER;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(vis->scene, &ctx, &rh);
+        int hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        tri[k] = hit ? (int)rh.hit.primID : -1;
+        if (t_hit)
+            t_hit[k] = hit ? rh.ray.tfar : INFINITY;
+        if (u)
+            u[k] = hit ? rh.hit.u : 0.0;
+        if (v)
+            v[k] = hit ? rh.hit.v : 0.0;
+    }
+    if (stats)
+        stats->rays += n;
+    return RAD_OK;
+}

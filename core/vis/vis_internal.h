@@ -1,0 +1,48 @@
+/* Internal to rad_vis: the object's layout, shared by its source files. */
+#ifndef VIS_INTERNAL_H
+#define VIS_INTERNAL_H
+
+#include <embree3/rtcore.h>
+
+#include "rad_geom.h"
+#include "rad_vis.h"
+
+/* Every triangle of the scene carries this mask; every ray sets it too, so a
+ * later caller can add geometry (e.g. emitters seen only by primary rays) on
+ * other bits without rad_vis's occlusion rays seeing it. */
+#define VIS_MASK_OCCLUDER 0x1u
+
+/* A node of the bounding-volume hierarchy used by the shaft test. */
+typedef struct vis_node {
+    double lo[3], hi[3];
+    int left, right; /* children, or -1 for a leaf */
+    int first, count; /* leaf: order[first .. first+count) */
+} vis_node;
+
+struct rad_vis {
+    RTCDevice device;
+    RTCScene scene;
+    float *fverts;      /* the float copy Embree reads (shared buffer) */
+    unsigned *findex;   /* the index copy Embree reads (shared buffer) */
+    double *xyz;        /* the double copy our own tests use */
+    int *tri;
+    size_t nverts, ntris;
+    rad_vis_params params;
+    double scale, eps, tol;
+    int unoccluded;
+    vis_node *nodes;
+    int nnodes;
+    int *order;         /* triangle indices in BVH leaf order */
+};
+
+static inline rad_vec3 vis_vertex(const rad_vis *vis, size_t t, int corner)
+{
+    const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * t + corner];
+    return rad_vec3_make(p[0], p[1], p[2]);
+}
+
+/* shaft.c */
+int vis_bvh_build(rad_vis *vis);
+int vis_compute_unoccluded(const rad_vis *vis);
+
+#endif

@@ -1,0 +1,413 @@
+/* rad_vis against an analytic occluder configuration and an independent
+ * brute-force ray-triangle test (Moller-Trumbore in double, written here). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "rad_geom.h"
+#include "rad_vis.h"
+
+/* Scene: bottom unit square z = 0 facing +z (triangles 0, 1), top unit square
+ * z = D facing -z (triangles 2, 3), and a centred occluder square of side S at
+ * z = D/2 (triangles 4, 5), shifted by `shift` in x (0: centred). */
+#define D 1.385
+#define S 0.4137
+
+static void occluder_scene(double scale, double shift, double xyz[36], int tri[18])
+{
+    const double lo = 0.5 - S / 2, hi = 0.5 + S / 2;
+    const double v[12][3] = {
+        {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+        {0, 0, D}, {1, 0, D}, {1, 1, D}, {0, 1, D},
+        {lo + shift, lo, D / 2}, {hi + shift, lo, D / 2}, {hi + shift, hi, D / 2}, {lo + shift, hi, D / 2},
+    };
+    const int t[18] = {0, 1, 2, 0, 2, 3, /* bottom, normal +z */
+                       4, 6, 5, 4, 7, 6, /* top, normal -z */
+                       8, 9, 10, 8, 10, 11};
+    for (int k = 0; k < 12; k++)
+        for (int c = 0; c < 3; c++)
+            xyz[3 * k + c] = v[k][c] * scale;
+    memcpy(tri, t, sizeof t);
+}
+
+/* Moller-Trumbore: does the open segment p -> q cross triangle (a, b, c)? */
+static int segment_hits(const double *p, const double *q, const double *a, const double *b,
+                        const double *c)
+{
+    double d[3], e1[3], e2[3], s[3], h[3], qq[3];
+    for (int k = 0; k < 3; k++) {
+        d[k] = q[k] - p[k];
+        e1[k] = b[k] - a[k];
+        e2[k] = c[k] - a[k];
+        s[k] = p[k] - a[k];
+    }
+    h[0] = d[1] * e2[2] - d[2] * e2[1];
+    h[1] = d[2] * e2[0] - d[0] * e2[2];
+    h[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+    if (fabs(det) < 1e-300)
+        return 0;
+    double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+    const double slack = 1e-12; /* closed triangles: a shared edge cannot leak */
+    if (u < -slack || u > 1 + slack)
+        return 0;
+    qq[0] = s[1] * e1[2] - s[2] * e1[1];
+    qq[1] = s[2] * e1[0] - s[0] * e1[2];
+    qq[2] = s[0] * e1[1] - s[1] * e1[0];
+    double v = (d[0] * qq[0] + d[1] * qq[1] + d[2] * qq[2]) / det;
+    if (v < -slack || u + v > 1 + slack)
+        return 0;
+    double t = (e2[0] * qq[0] + e2[1] * qq[1] + e2[2] * qq[2]) / det;
+    return t > 1e-9 && t < 1 - 1e-9;
+}
+
+/* Brute-force visible fraction of pair (i, j) on rad_vis's own samples. */
+static double brute_fraction(const rad_vis *vis, const double *xyz, const int *tri, int ntri,
+                             int i, int j)
+{
+    int m = rad_vis_sample_count(vis);
+    double *pi = malloc(6 * (size_t)m * sizeof *pi), *pj = pi + 3 * m;
+    rad_vis_triangle_samples(vis, (size_t)i, pi);
+    rad_vis_triangle_samples(vis, (size_t)j, pj);
+    long visible = 0;
+    for (int a = 0; a < m; a++)
+        for (int b = 0; b < m; b++) {
+            int hit = 0;
+            for (int k = 0; k < ntri && !hit; k++)
+                if (k != i && k != j)
+                    hit = segment_hits(pi + 3 * a, pj + 3 * b, xyz + 3 * tri[3 * k],
+                                       xyz + 3 * tri[3 * k + 1], xyz + 3 * tri[3 * k + 2]);
+            visible += !hit;
+        }
+    free(pi);
+    return (double)visible / ((double)m * m);
+}
+
+TEST(vis_point_queries_on_the_occluder_scene)
+{
+    double xyz[36];
+    int tri[18];
+    occluder_scene(1.0, 0.0, xyz, tri);
+    for (int packet = 1; packet <= 16; packet *= 2) {
+        if (packet == 2)
+            continue;
+        rad_vis_params p;
+        rad_vis_params_default(&p);
+        p.packet = packet;
+        rad_vis *vis = NULL;
+        CHECK(rad_vis_create(xyz, 12, tri, 6, &p, &vis) == RAD_OK);
+        if (!vis)
+            return;
+        CHECK(!rad_vis_is_unoccluded(vis));
+        /* Axis: blocked.  Corner to corner: free.  Then 203 random segments
+         * between the two squares against the brute-force test. */
+        enum { N = 205 };
+        double from[3 * N], to[3 * N];
+        unsigned char blocked[N];
+        double axis_from[3] = {0.5, 0.5, 0}, axis_to[3] = {0.5, 0.5, D};
+        double corner_from[3] = {0, 0, 0}, corner_to[3] = {0, 0, D};
+        memcpy(from, axis_from, sizeof axis_from);
+        memcpy(to, axis_to, sizeof axis_to);
+        memcpy(from + 3, corner_from, sizeof corner_from);
+        memcpy(to + 3, corner_to, sizeof corner_to);
+        unsigned long long seed = 12345;
+        for (int k = 2; k < N; k++)
+            for (int c = 0; c < 3; c++) {
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                double r1 = (double)(seed >> 11) * 0x1.0p-53;
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                double r2 = (double)(seed >> 11) * 0x1.0p-53;
+                from[3 * k + c] = c == 2 ? 0.0 : r1;
+                to[3 * k + c] = c == 2 ? D : r2;
+            }
+        rad_vis_stats st = {0};
+        CHECK(rad_vis_occluded(vis, N, from, to, blocked, &st) == RAD_OK);
+        CHECK(blocked[0] == 1);
+        CHECK(blocked[1] == 0);
+        CHECK(st.rays == N);
+        int nblocked = 0, mismatches = 0;
+        for (int k = 0; k < N; k++) {
+            int want = 0;
+            for (int t = 0; t < 6 && !want; t++)
+                want = segment_hits(from + 3 * k, to + 3 * k, xyz + 3 * tri[3 * t],
+                                    xyz + 3 * tri[3 * t + 1], xyz + 3 * tri[3 * t + 2]);
+            nblocked += want;
+            mismatches += want != blocked[k];
+        }
+        CHECK_MSG(mismatches == 0, "packet %d: %d of %d segments disagree with brute force",
+                  packet, mismatches, N);
+        CHECK(nblocked > 10 && nblocked < N - 10); /* the test sees both outcomes */
+        rad_vis_destroy(vis);
+    }
+}
+
+TEST(vis_pair_fraction_matches_brute_force_and_analytic_value)
+{
+    double xyz[36];
+    int tri[18];
+    occluder_scene(1.0, 0.0, xyz, tri);
+    rad_vis_params p;
+    rad_vis_params_default(&p);
+    p.strata_per_edge = 5;
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 12, tri, 6, &p, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++) {
+            double f = -1;
+            rad_vis_stats st = {0};
+            CHECK(rad_vis_pair_can_block(vis, (size_t)i, (size_t)j));
+            CHECK(rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &f, &st) == RAD_OK);
+            CHECK(st.rays == 625 && st.pairs_traced == 1);
+            double want = brute_fraction(vis, xyz, tri, 6, i, j);
+            CHECK_NEAR(f, want, 0.0, 1e-15);
+            CHECK(want > 0.1 && want < 0.99);
+            double g = -1; /* symmetric */
+            CHECK(rad_vis_pair_fraction(vis, (size_t)j, (size_t)i, &g, NULL) == RAD_OK);
+            CHECK_NEAR(g, f, 0.0, 1e-15);
+        }
+    rad_vis_destroy(vis);
+
+    /* Square to square: a segment from (x1,y1,0) to (x2,y2,D) crosses the
+     * occluder plane at the midpoint; per axis the midpoint of two uniforms is
+     * triangular on [0,1], so P(|m - 1/2| < S/2) = 1 - (1 - S)^2 and the blocked
+     * fraction is that squared.  The four triangle pairs have equal weight. */
+    p.strata_per_edge = 12;
+    p.jitter = 1;
+    CHECK(rad_vis_create(xyz, 12, tri, 6, &p, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    double sum = 0.0;
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++) {
+            double f = 0;
+            CHECK(rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &f, NULL) == RAD_OK);
+            sum += f / 4.0;
+        }
+    double per_axis = 1.0 - (1.0 - S) * (1.0 - S);
+    CHECK_NEAR(1.0 - sum, per_axis * per_axis, 0.0, 5e-3);
+    rad_vis_destroy(vis);
+}
+
+TEST(vis_unblockable_pairs_trace_no_rays)
+{
+    double xyz[36];
+    int tri[18];
+    /* Two facing squares alone: a convex configuration, nothing can block. */
+    occluder_scene(1.0, 0.0, xyz, tri);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 8, tri, 4, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    CHECK(rad_vis_is_unoccluded(vis));
+    rad_vis_stats st = {0};
+    double f = 0;
+    CHECK(rad_vis_pair_fraction(vis, 0, 3, &f, &st) == RAD_OK);
+    CHECK(f == 1.0 && st.rays == 0 && st.pairs_skipped == 1);
+    rad_vis_destroy(vis);
+
+    /* The occluder moved aside by 2.5: the scene is no longer convex, but the
+     * shaft between the squares is empty. */
+    occluder_scene(1.0, 2.5, xyz, tri);
+    CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    CHECK(!rad_vis_is_unoccluded(vis));
+    memset(&st, 0, sizeof st);
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++) {
+            CHECK(!rad_vis_pair_can_block(vis, (size_t)i, (size_t)j));
+            CHECK(rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &f, &st) == RAD_OK);
+            CHECK(f == 1.0);
+        }
+    CHECK(st.rays == 0 && st.pairs_skipped == 4);
+    /* The occluder and the bottom square: shaft between them is empty too. */
+    CHECK(!rad_vis_pair_can_block(vis, 0, 4));
+    rad_vis_destroy(vis);
+
+    /* Moved by only 0.45: it still reaches into the shaft of some pairs. */
+    occluder_scene(1.0, 0.45, xyz, tri);
+    CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    int blockable = 0;
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++)
+            blockable += rad_vis_pair_can_block(vis, (size_t)i, (size_t)j);
+    CHECK(blockable > 0);
+    rad_vis_destroy(vis);
+}
+
+TEST(vis_shaft_test_is_conservative_on_random_scenes)
+{
+    /* 40 random small triangles around two fixed ones: whenever the shaft test
+     * says "nothing can block", the brute-force fraction must be exactly 1. */
+    enum { NT = 42 };
+    double xyz[9 * NT];
+    int tri[3 * NT];
+    unsigned long long seed = 987654321;
+    for (int k = 0; k < 9 * NT; k++) {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        xyz[k] = 3.1 * ((double)(seed >> 11) * 0x1.0p-53) - 0.7;
+    }
+    for (int k = 0; k < 3 * NT; k++)
+        tri[k] = k;
+    for (int t = 2; t < NT; t++) /* shrink the clutter to 0.12 of its size */
+        for (int v = 1; v < 3; v++)
+            for (int c = 0; c < 3; c++)
+                xyz[9 * t + 3 * v + c] = xyz[9 * t + c] + 0.12 * (xyz[9 * t + 3 * v + c] - xyz[9 * t + c]);
+    rad_vis_params p;
+    rad_vis_params_default(&p);
+    p.strata_per_edge = 3;
+    p.jitter = 1;
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 3 * NT, tri, NT, &p, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    int skipped = 0, traced = 0, wrong = 0, mismatch = 0;
+    for (int i = 0; i < NT; i++)
+        for (int j = i + 1; j < NT; j++) {
+            double f = 0, want = brute_fraction(vis, xyz, tri, NT, i, j);
+            rad_vis_stats st = {0};
+            rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &f, &st);
+            if (st.rays == 0) {
+                skipped++;
+                wrong += want != 1.0;
+            } else {
+                traced++;
+                mismatch += fabs(f - want) > 2.5 / 81.0; /* float rays may differ on grazing ones */
+            }
+        }
+    CHECK_MSG(wrong == 0, "%d skipped pairs are in fact blocked", wrong);
+    CHECK_MSG(mismatch == 0, "%d traced pairs differ from brute force", mismatch);
+    CHECK_MSG(skipped > 30 && traced > 30, "skipped %d, traced %d", skipped, traced);
+    rad_vis_destroy(vis);
+}
+
+TEST(vis_epsilon_scales_with_the_scene)
+{
+    double scales[3] = {1e-3, 1.0, 1e3}, fr[3][4];
+    double xyz[36];
+    int tri[18];
+    for (int s = 0; s < 3; s++) {
+        occluder_scene(scales[s], 0.0, xyz, tri);
+        rad_vis *vis = NULL;
+        CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+        if (!vis)
+            return;
+        double L = rad_vis_scale(vis);
+        CHECK_NEAR(rad_vis_epsilon(vis), 1e-5 * L, 1e-15, 0.0);
+        CHECK_NEAR(L, scales[s] * sqrt(2.0 + D * D), 1e-12, 0.0);
+        for (int i = 0; i < 2; i++)
+            for (int j = 2; j < 4; j++)
+                CHECK(rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &fr[s][2 * i + j - 2], NULL) == RAD_OK);
+        /* A point just above the bottom square's centre, by 10 eps, still sees
+         * the occluder; a segment of 1.5 eps is too short to be blocked. */
+        double e = rad_vis_epsilon(vis);
+        double a[3] = {0.5 * scales[s], 0.5 * scales[s], 10 * e};
+        double b[3] = {0.5 * scales[s], 0.5 * scales[s], D * scales[s]};
+        unsigned char bl = 9;
+        rad_vis_occluded(vis, 1, a, b, &bl, NULL);
+        CHECK(bl == 1);
+        rad_vis_destroy(vis);
+    }
+    for (int k = 0; k < 4; k++) {
+        CHECK(fr[0][k] < 1.0);
+        CHECK_NEAR(fr[0][k], fr[1][k], 0.0, 1e-15);
+        CHECK_NEAR(fr[2][k], fr[1][k], 0.0, 1e-15);
+    }
+}
+
+TEST(vis_parallel_queries_match_serial)
+{
+    double xyz[36];
+    int tri[18];
+    occluder_scene(1.0, 0.1, xyz, tri);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    double serial[36], parallel[36];
+    unsigned long long rays_serial = 0, rays_parallel = 0;
+    for (int k = 0; k < 36; k++) {
+        rad_vis_stats st = {0};
+        rad_vis_pair_fraction(vis, (size_t)(k / 6), (size_t)(k % 6), &serial[k], &st);
+        rays_serial += st.rays;
+    }
+#pragma omp parallel for num_threads(2) reduction(+ : rays_parallel) schedule(dynamic)
+    for (int k = 0; k < 36; k++) {
+        rad_vis_stats st = {0};
+        rad_vis_pair_fraction(vis, (size_t)(k / 6), (size_t)(k % 6), &parallel[k], &st);
+        rays_parallel += st.rays;
+    }
+    for (int k = 0; k < 36; k++)
+        CHECK(serial[k] == parallel[k]);
+    CHECK(rays_serial == rays_parallel && rays_serial > 0);
+    rad_vis_destroy(vis);
+}
+
+TEST(vis_closest_hit_barycentrics)
+{
+    double xyz[36];
+    int tri[18];
+    occluder_scene(1.0, 0.0, xyz, tri);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    /* Straight down at (0.8125, 0.3125) from z = 0.5, below the occluder: hits
+     * bottom triangle 0 = (0,0,0),(1,0,0),(1,1,0) where x = u + v, y = v.
+     * Straight up from the centre: hits the occluder. */
+    double org[6] = {0.8125, 0.3125, 0.5, 0.5, 0.5, 0.5}, dir[6] = {0, 0, -2.0, 0, 0, 1.0};
+    int t[2];
+    double th[2], u[2], v[2];
+    CHECK(rad_vis_intersect(vis, 2, org, dir, 0.0, t, th, u, v, NULL) == RAD_OK);
+    CHECK(t[0] == 0);
+    CHECK_NEAR(th[0], 0.25, 1e-6, 0.0);
+    CHECK_NEAR(u[0], 0.5, 0.0, 1e-6);
+    CHECK_NEAR(v[0], 0.3125, 0.0, 1e-6);
+    CHECK(t[1] == 4 || t[1] == 5); /* the centre is over the occluder */
+    CHECK_NEAR(th[1], D / 2 - 0.5, 1e-6, 0.0);
+    double up[3] = {0, 0, 1}, above[3] = {0.5, 0.5, D + 0.25};
+    CHECK(rad_vis_intersect(vis, 1, above, up, 0.0, t, NULL, NULL, NULL, NULL) == RAD_OK);
+    CHECK(t[0] == -1);
+    rad_vis_destroy(vis);
+}
+
+TEST(vis_rejects_bad_input)
+{
+    double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, NAN};
+    int tri[3] = {0, 1, 2}, bad[3] = {0, 1, 3};
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 3, tri, 1, NULL, &vis) == RAD_EINPUT);
+    CHECK(vis == NULL);
+    xyz[8] = 0.0;
+    CHECK(rad_vis_create(xyz, 3, bad, 1, NULL, &vis) == RAD_EINPUT);
+    CHECK(strstr(rad_error_message(), "triangle 0") != NULL);
+    rad_vis_params p;
+    rad_vis_params_default(&p);
+    p.packet = 3;
+    CHECK(rad_vis_create(xyz, 3, tri, 1, &p, &vis) == RAD_EINVAL);
+    rad_vis_params_default(&p);
+    p.eps_rel = 0.0;
+    CHECK(rad_vis_create(xyz, 3, tri, 1, &p, &vis) == RAD_EINVAL);
+    rad_vis_destroy(NULL);
+}
+
+TEST(vis_geom_normal_follows_the_winding_in_every_branch)
+{
+    /* rad_geom_triangle_normal takes its cross product from the vertex opposite
+     * the longest edge; each of the three choices must give the winding's
+     * normal (b - a) x (c - a).  Here the longest edge is ab, bc, ca in turn. */
+    rad_vec3 tris[3][3] = {
+        {{0, 0, 0}, {2.385, 0, 0}, {1.1, 0.7, 0}},   /* ab longest */
+        {{0.2, 0.1, 0}, {2.385, 0, 0}, {0, 1.9, 0}}, /* bc longest */
+        {{0, 0, 0}, {1, 0, 0}, {1, 1.3, 0}},         /* ca longest */
+    };
+    for (int k = 0; k < 3; k++) {
+        rad_vec3 n = rad_geom_triangle_normal(tris[k][0], tris[k][1], tris[k][2]);
+        CHECK_MSG(n.z > 0.999, "case %d: normal z = %g, want +1", k, n.z);
+    }
+}
