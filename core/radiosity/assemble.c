@@ -1,0 +1,142 @@
+/* Dense assembly of the symmetric coupling G_ij = A_i F_ij V_ij.
+ *
+ * 1. Areas first (one pass), so a degenerate triangle fails before any work.
+ * 2. Rows i in parallel (OpenMP, dynamic schedule: row i has n-1-i pairs);
+ *    for j > i one rad_ff_compute gives G = A_i F_ij; pairs flagged
+ *    NOT_FACING are zero with no integration.
+ * 3. With a visibility structure, a pair with G > 0 is multiplied by its
+ *    visible fraction (rad_vis_pair_fraction, which traces no rays when the
+ *    shaft between the two triangles is empty).
+ * 4. G_ij and G_ji receive the same value: reciprocity is exact by
+ *    construction.  Counters are summed by OpenMP reductions, so the result and
+ *    the counts do not depend on the number of threads. */
+#include "rad_radiosity.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "rad_geom.h"
+#include "rad_sys.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+void rad_assembly_params_default(rad_assembly_params *params)
+{
+    memset(params, 0, sizeof *params);
+    params->rule.scheme = RAD_FF_AUTO;
+    params->rule.order = 0;
+    params->ff = rad_ff_defaults();
+}
+
+static void load_triangle(const double *xyz, const int *tri, int k, rad_vec3 t[3])
+{
+    for (int v = 0; v < 3; v++) {
+        const double *p = xyz + 3 * (size_t)tri[3 * (size_t)k + v];
+        t[v] = rad_vec3_make(p[0], p[1], p[2]);
+    }
+}
+
+rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
+                                  const rad_assembly_params *params, double *G, double *areas,
+                                  rad_assembly_stats *stats)
+{
+    rad_assembly_params p;
+    if (params)
+        p = *params;
+    else
+        rad_assembly_params_default(&p);
+    if (!xyz || !tri || n < 1 || !G || !areas)
+        return RAD_ERROR(RAD_EINVAL, "assembly: bad arguments (n = %d)", n);
+    double t0 = rad_sys_seconds();
+    rad_assembly_stats st;
+    memset(&st, 0, sizeof st);
+
+    for (int k = 0; k < n; k++) {
+        rad_vec3 t[3];
+        load_triangle(xyz, tri, k, t);
+        if (rad_geom_triangle_is_degenerate(t[0], t[1], t[2], p.ff.degenerate_rel_tol))
+            return RAD_ERROR(RAD_EINPUT, "assembly: triangle %d is degenerate (zero area or "
+                                         "collinear vertices)", k);
+        areas[k] = rad_geom_triangle_area(t[0], t[1], t[2]);
+    }
+    size_t nn = (size_t)n;
+    for (size_t k = 0; k < nn; k++)
+        G[k + k * nn] = 0.0;
+
+    long long not_facing = 0, tested = 0, out_of_range = 0, evals = 0;
+    unsigned long long rays = 0;
+    long long rows_done = 0;
+    rad_status first_error = RAD_OK;
+    int bad_i = -1, bad_j = -1;
+    char bad_message[512] = ""; /* messages are thread-local: copy the worker's */
+#ifdef _OPENMP
+    if (p.threads > 0)
+        omp_set_num_threads(p.threads);
+#endif
+
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : not_facing, tested, out_of_range, evals, rays)
+    for (int i = 0; i < n; i++) {
+        rad_vec3 ti[3], tj[3];
+        load_triangle(xyz, tri, i, ti);
+        rad_vis_stats vs = {0, 0, 0};
+        for (int j = i + 1; j < n; j++) {
+            load_triangle(xyz, tri, j, tj);
+            rad_ff_result r;
+            rad_status s = rad_ff_compute(ti, tj, p.rule, &p.ff, &r);
+            double g = r.G;
+            if (s == RAD_OK && vis && g > 0.0) {
+                double frac = 1.0;
+                s = rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &frac, &vs);
+                g *= frac;
+                tested++;
+            }
+            if (s == RAD_OK && !isfinite(g))
+                s = RAD_ENUMERIC;
+            if (s != RAD_OK) {
+#pragma omp critical(rad_assembly_error)
+                if (first_error == RAD_OK) {
+                    first_error = s;
+                    bad_i = i;
+                    bad_j = j;
+                    snprintf(bad_message, sizeof bad_message, "%s", rad_error_message());
+                }
+                g = 0.0;
+            }
+            not_facing += (r.flags & RAD_FF_FLAG_NOT_FACING) != 0;
+            out_of_range += (r.flags & RAD_FF_FLAG_OUT_OF_RANGE) != 0;
+            evals += r.evals;
+            G[(size_t)i + (size_t)j * nn] = g;
+            G[(size_t)j + (size_t)i * nn] = g;
+        }
+        rays += vs.rays;
+        long long done;
+#pragma omp atomic capture
+        done = ++rows_done;
+        if (p.progress && (done % 64 == 0 || done == n)) {
+            /* pairs done = sum over finished rows, approximated by rows from the top */
+            double frac = 1.0 - (double)(n - done) * (double)(n - done) / ((double)n * (double)n);
+#pragma omp critical(rad_assembly_progress)
+            p.progress(frac, p.progress_ctx);
+        }
+    }
+
+    st.pairs = (long long)n * (n - 1) / 2;
+    st.pairs_not_facing = not_facing;
+    st.pairs_occlusion_tested = tested;
+    st.pairs_out_of_range = out_of_range;
+    st.kernel_evals = evals;
+    st.rays = rays;
+    st.seconds = rad_sys_seconds() - t0;
+    if (stats)
+        *stats = st;
+    if (first_error == RAD_ENUMERIC)
+        return RAD_ERROR(RAD_ENUMERIC, "assembly: the coupling of triangles %d and %d is not finite",
+                         bad_i, bad_j);
+    if (first_error != RAD_OK)
+        return RAD_ERROR(first_error, "assembly: triangles %d and %d: %s", bad_i, bad_j,
+                         bad_message);
+    return RAD_OK;
+}

@@ -1,0 +1,3 @@
+# rad_radiosity assembles in parallel with OpenMP.
+CFLAGS  += -fopenmp
+LDFLAGS += -fopenmp

@@ -1,0 +1,64 @@
+/* rad_radiosity: dense Galerkin radiosity assembly, the step of the data flow
+ * between form factors and the solver (DESIGN.md).
+ *
+ * For P0 elements on triangles the Galerkin system is
+ *     B_i = E_i + rho_i sum_j F_ij B_j,
+ * and radkit assembles the symmetric coupling G_ij = A_i F_ij V_ij once per
+ * unordered pair {i, j} (V_ij the visible fraction): reciprocity
+ * A_i F_ij = A_j F_ji then holds exactly in the assembled system, and every pair
+ * costs one form factor instead of two.  G is dense, column-major, with zero
+ * diagonal (a flat triangle does not see itself).
+ *
+ * Departure from DESIGN.md: the assembly lives here, not in rad_dense, so that
+ * the linear-algebra module does not depend on form factors and visibility. */
+#ifndef RAD_RADIOSITY_H
+#define RAD_RADIOSITY_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+#include "rad_ff.h"
+#include "rad_vis.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_assembly_params {
+    rad_ff_rule rule;   /* form-factor scheme per pair (default auto) */
+    rad_ff_params ff;   /* its parameters (auto's tolerance among them) */
+    int threads;        /* OpenMP threads; 0 = the OpenMP default */
+    /* Called from one thread now and then with the fraction of pairs done
+     * (0..1); NULL for none.  Must not call back into the library. */
+    void (*progress)(double done, void *ctx);
+    void *progress_ctx;
+} rad_assembly_params;
+
+void rad_assembly_params_default(rad_assembly_params *params);
+
+/* Work done by one assembly. */
+typedef struct rad_assembly_stats {
+    long long pairs;             /* unordered pairs considered, n (n-1)/2 */
+    long long pairs_not_facing;  /* zero without integration (facing away, coplanar) */
+    long long pairs_occlusion_tested; /* pairs handed to visibility */
+    long long pairs_out_of_range;     /* form-factor estimates flagged outside [0,1] */
+    long long kernel_evals;
+    unsigned long long rays;
+    double seconds;
+} rad_assembly_stats;
+
+/* Assemble G (n x n, column-major, caller-owned) and the areas (n) of the
+ * triangles tri[3k..3k+2] over the vertices xyz.  `vis` may be NULL: no
+ * occlusion (the effects plan found that nothing can block).  Otherwise each
+ * pair with a nonzero unoccluded form factor is multiplied by
+ * rad_vis_pair_fraction (which itself skips pairs its shaft test clears).
+ * RAD_EINPUT for a degenerate triangle (naming it), RAD_ENUMERIC if a form
+ * factor is not finite. */
+rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
+                                  const rad_assembly_params *params, double *G, double *areas,
+                                  rad_assembly_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
