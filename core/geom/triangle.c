@@ -9,10 +9,10 @@ static rad_vec3 stable_cross(rad_vec3 a, rad_vec3 b, rad_vec3 c)
     double lab = rad_vec3_dot(ab, ab), lbc = rad_vec3_dot(bc, bc), lca = rad_vec3_dot(ca, ca);
     /* (b-a) x (c-a) = (c-b) x (a-b) = (a-c) x (b-c): all equal the CCW normal. */
     if (lab >= lbc && lab >= lca)
-        return rad_vec3_cross(ca, bc); /* from c: (a-c) x (b-c) */
+        return rad_vec3_cross(bc, ca); /* from c: (a-c) x (b-c) = ca x (-bc) = bc x ca */
     if (lbc >= lab && lbc >= lca)
         return rad_vec3_cross(ab, rad_vec3_scale(ca, -1.0)); /* from a */
-    return rad_vec3_cross(bc, ab); /* from b: (c-b) x (a-b) */
+    return rad_vec3_cross(ab, bc); /* from b: (c-b) x (a-b) = bc x (-ab) = ab x bc */
 }
 
 double rad_geom_triangle_area(rad_vec3 a, rad_vec3 b, rad_vec3 c)
