@@ -5,7 +5,9 @@
  * - A globally adaptive Gauss-Kronrod (7,15) integrator on an interval with
  *   optional breakpoints, used as the independent reference for every closed form
  *   in radkit (QUADPACK's QAG/QAGP strategy, Piessens et al. 1983).
- * Triangle rules arrive with the form-factor module. */
+ * - Triangle rules (tri.c): the fully symmetric Witherden-Vincent rules of
+ *   degree 1-10 (tabled, source cited there) and collapsed (Duffy) Gauss
+ *   product rules of any order (computed). */
 #ifndef RAD_QUAD_H
 #define RAD_QUAD_H
 
@@ -51,6 +53,29 @@ rad_quad_adapt_params rad_quad_adapt_defaults(void);
 rad_status rad_quad_adapt(rad_quad_fn f, void *ctx, double a, double b,
                           const double *breaks, int nbreaks,
                           const rad_quad_adapt_params *params, rad_quad_result *out);
+
+/* ---- triangle rules ------------------------------------------------------
+ * A triangle rule is n points (s[i], t[i]) of the unit triangle s, t >= 0,
+ * s + t <= 1 (the point a + s (b - a) + t (c - a) of triangle abc) with weights
+ * summing to 1: sum_i w[i] f(p_i) approximates the MEAN of f over the triangle. */
+
+#define RAD_QUAD_TRI_MAX_DEGREE 10  /* highest tabled symmetric degree */
+#define RAD_QUAD_TRI_MAX_POINTS 25  /* most points of a tabled symmetric rule */
+#define RAD_QUAD_TRI_DUFFY_MAX 64   /* most Gauss points per direction of a collapsed rule */
+
+/* Number of points of the smallest symmetric rule exact to degree >= `degree`
+ * (0 if there is none, i.e. degree > RAD_QUAD_TRI_MAX_DEGREE or < 0); the
+ * degree it actually reaches goes to *exact_degree when that is not NULL. */
+int rad_quad_tri_symmetric_count(int degree, int *exact_degree);
+
+/* The smallest symmetric rule exact to degree >= `degree` (Witherden-Vincent,
+ * positive weights, interior points).  s, t, w need RAD_QUAD_TRI_MAX_POINTS
+ * entries; *npoints receives the count.  RAD_EINVAL if no rule exists. */
+rad_status rad_quad_tri_symmetric(int degree, double *s, double *t, double *w, int *npoints);
+
+/* Collapsed Gauss product rule with k points per direction (k*k points,
+ * 1 <= k <= RAD_QUAD_TRI_DUFFY_MAX), exact to total degree 2k - 2. */
+rad_status rad_quad_tri_duffy(int k, double *s, double *t, double *w);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,190 @@
+/* Entry point of rad_ff: validation, the normalised pair, the facing test,
+ * adjacency, the dispatch to a scheme, and the rule names.
+ *
+ * 1. Reject non-finite or degenerate triangles (RAD_EINPUT).
+ * 2. Normalise: translate ti[0] to the origin, divide by the longest edge L.
+ * 3. Facing test: the clamped kernel vanishes identically when every vertex of
+ *    one triangle lies behind or on the other's plane (within plane_rel_tol):
+ *    the pair faces away or is coplanar, and G = 0 exactly, without integration.
+ * 4. Detect shared vertices (rad_ff_adjacency_detect) and run the scheme.
+ * 5. Scale G back by L^2, F12 = G / A1, F21 = G / A2, flag values outside [0,1]. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ff_internal.h"
+
+rad_ff_params rad_ff_defaults(void)
+{
+    rad_ff_params p = {.adjacency_rel_tol = 1e-10,
+                       .plane_rel_tol = 1e-12,
+                       .degenerate_rel_tol = 1e-12,
+                       .exact_rel_tol = 1e-14,
+                       .tol = 1e-6};
+    return p;
+}
+
+double rad_ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny, long *guarded)
+{
+    return ff_kernel(x, nx, y, ny, guarded);
+}
+
+static double longest_edge(const rad_vec3 t[3])
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; k++)
+        m = fmax(m, rad_vec3_norm(rad_vec3_sub(t[(k + 1) % 3], t[k])));
+    return m;
+}
+
+rad_ff_adjacency rad_ff_adjacency_detect(const rad_vec3 ti[3], const rad_vec3 tj[3],
+                                         double rel_tol, int map_i[3])
+{
+    double tol = rel_tol * fmin(longest_edge(ti), longest_edge(tj));
+    int shared = 0;
+    for (int a = 0; a < 3; a++) {
+        map_i[a] = -1;
+        double best = tol;
+        for (int b = 0; b < 3; b++) {
+            double d = rad_vec3_norm(rad_vec3_sub(ti[a], tj[b]));
+            if (d <= best) {
+                best = d;
+                map_i[a] = b;
+            }
+        }
+        shared += map_i[a] >= 0;
+    }
+    return shared == 0 ? RAD_FF_DISJOINT
+           : shared == 1 ? RAD_FF_SHARE_VERTEX
+           : shared == 2 ? RAD_FF_SHARE_EDGE
+                         : RAD_FF_SHARE_ALL;
+}
+
+/* Largest signed distance of t's vertices in front of the plane (o, n). */
+static double max_front(const rad_vec3 t[3], rad_vec3 n, rad_vec3 o)
+{
+    double m = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        m = fmax(m, rad_vec3_dot(n, rad_vec3_sub(t[k], o)));
+    return m;
+}
+
+static const char *scheme_name[] = {"vertex", "centroid", "gauss", "analytic", "ss", "exact", "auto"};
+
+void rad_ff_rule_format(rad_ff_rule rule, char *buf, size_t size)
+{
+    if (rule.scheme == RAD_FF_GAUSS || rule.scheme == RAD_FF_ANALYTIC || rule.scheme == RAD_FF_SS)
+        snprintf(buf, size, "%s:%d", scheme_name[rule.scheme], rule.order);
+    else
+        snprintf(buf, size, "%s", scheme_name[rule.scheme]);
+}
+
+rad_status rad_ff_rule_parse(const char *text, rad_ff_rule *rule)
+{
+    if (!text || !*text)
+        return RAD_ERROR(RAD_EINVAL, "empty rule (expected vertex, centroid, gauss:P, analytic:P, ss:N, exact or auto)");
+    const char *colon = strchr(text, ':');
+    size_t len = colon ? (size_t)(colon - text) : strlen(text);
+    for (int s = 0; s <= RAD_FF_AUTO; s++) {
+        if (strlen(scheme_name[s]) != len || strncmp(scheme_name[s], text, len) != 0)
+            continue;
+        int needs_order = s == RAD_FF_GAUSS || s == RAD_FF_ANALYTIC || s == RAD_FF_SS;
+        rule->scheme = (rad_ff_scheme)s;
+        rule->order = 0;
+        if (!needs_order) {
+            if (colon)
+                return RAD_ERROR(RAD_EINVAL, "rule '%s' takes no order (got '%s')", scheme_name[s], text);
+            return RAD_OK;
+        }
+        const char *what = s == RAD_FF_SS ? "N" : "P";
+        if (!colon || !colon[1])
+            return RAD_ERROR(RAD_EINVAL, "rule '%s' needs an order: %s:%s", text, scheme_name[s], what);
+        char *end = NULL;
+        long v = strtol(colon + 1, &end, 10);
+        if (*end != '\0')
+            return RAD_ERROR(RAD_EINVAL, "rule '%s': order '%s' is not a whole number", text, colon + 1);
+        long lo = s == RAD_FF_SS ? 1 : 0, hi = s == RAD_FF_SS ? RAD_FF_SS_MAX : RAD_FF_MAX_DEGREE;
+        if (v < lo || v > hi)
+            return RAD_ERROR(RAD_EINVAL, "rule '%s': unsupported order %ld (%s:%s takes %ld to %ld)", text,
+                             v, scheme_name[s], what, lo, hi);
+        rule->order = (int)v;
+        return RAD_OK;
+    }
+    return RAD_ERROR(RAD_EINVAL,
+                     "unknown rule '%s' (expected vertex, centroid, gauss:P, analytic:P, ss:N, exact or auto)",
+                     text);
+}
+
+rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
+                          const rad_ff_params *params, rad_ff_result *out)
+{
+    rad_ff_params p = params ? *params : rad_ff_defaults();
+    memset(out, 0, sizeof *out);
+    out->rel_error = NAN;
+    out->used = rule;
+    const rad_vec3 *t[2] = {ti, tj};
+    for (int k = 0; k < 2; k++) {
+        for (int v = 0; v < 3; v++)
+            if (!rad_vec3_is_finite(t[k][v]))
+                return RAD_ERROR(RAD_EINPUT, "triangle %d, vertex %d: non-finite coordinate", k + 1, v + 1);
+        if (rad_geom_triangle_is_degenerate(t[k][0], t[k][1], t[k][2], p.degenerate_rel_tol))
+            return RAD_ERROR(RAD_EINPUT, "triangle %d is degenerate (zero area or collinear vertices)", k + 1);
+    }
+    if ((rule.scheme == RAD_FF_GAUSS || rule.scheme == RAD_FF_ANALYTIC) &&
+        (rule.order < 0 || rule.order > RAD_FF_MAX_DEGREE))
+        return RAD_ERROR(RAD_EINVAL, "unsupported degree %d (0 to %d)", rule.order, RAD_FF_MAX_DEGREE);
+    if (rule.scheme == RAD_FF_SS && (rule.order < 1 || rule.order > RAD_FF_SS_MAX))
+        return RAD_ERROR(RAD_EINVAL, "unsupported ss order %d (1 to %d)", rule.order, RAD_FF_SS_MAX);
+    if (rule.scheme == RAD_FF_AUTO && !(p.tol > 0.0 && p.tol < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "auto: tolerance must lie in (0, 1), got %g", p.tol);
+
+    ff_pair pr;
+    double L = fmax(longest_edge(ti), longest_edge(tj));
+    rad_vec3 o = ti[0];
+    for (int k = 0; k < 2; k++) {
+        for (int v = 0; v < 3; v++)
+            pr.p[k][v] = rad_vec3_scale(rad_vec3_sub(t[k][v], o), 1.0 / L);
+        pr.n[k] = rad_geom_triangle_normal(pr.p[k][0], pr.p[k][1], pr.p[k][2]);
+        pr.A[k] = rad_geom_triangle_area(pr.p[k][0], pr.p[k][1], pr.p[k][2]);
+    }
+    out->A1 = rad_geom_triangle_area(ti[0], ti[1], ti[2]);
+    out->A2 = rad_geom_triangle_area(tj[0], tj[1], tj[2]);
+    pr.adj = rad_ff_adjacency_detect(ti, tj, p.adjacency_rel_tol, pr.map);
+    out->adjacency = pr.adj;
+
+    /* Facing test (step 3). */
+    if (max_front(pr.p[1], pr.n[0], pr.p[0][0]) <= p.plane_rel_tol ||
+        max_front(pr.p[0], pr.n[1], pr.p[1][0]) <= p.plane_rel_tol) {
+        out->flags |= RAD_FF_FLAG_NOT_FACING;
+        out->rel_error = 0.0;
+        return RAD_OK;
+    }
+
+    ff_value v = {0};
+    rad_status st = RAD_OK;
+    switch (rule.scheme) {
+    case RAD_FF_VERTEX: v = ff_vertex(&pr); break;
+    case RAD_FF_CENTROID: v = ff_centroid(&pr); break;
+    case RAD_FF_GAUSS: st = ff_gauss(&pr, rule.order, &v); break;
+    case RAD_FF_ANALYTIC: st = ff_analytic(&pr, rule.order, &v); break;
+    case RAD_FF_SS: st = ff_ss(&pr, rule.order, &v); break;
+    case RAD_FF_EXACT: v = ff_exact(&pr, &p); break;
+    case RAD_FF_AUTO: st = ff_auto(&pr, &p, &v, &out->used); break;
+    default: return RAD_ERROR(RAD_EINVAL, "unknown form-factor scheme %d", (int)rule.scheme);
+    }
+    if (st != RAD_OK)
+        return st;
+    out->G = v.G * L * L;
+    out->F12 = v.G / pr.A[0];
+    out->F21 = v.G / pr.A[1];
+    out->rel_error = v.rel_error;
+    out->evals = v.evals;
+    out->guarded = v.guarded;
+    out->flags |= v.flags;
+    if (v.guarded > 0)
+        out->flags |= RAD_FF_FLAG_GUARDED;
+    if (!(out->F12 >= 0.0 && out->F12 <= 1.0) || !(out->F21 >= 0.0 && out->F21 <= 1.0))
+        out->flags |= RAD_FF_FLAG_OUT_OF_RANGE;
+    return RAD_OK;
+}
