@@ -1,0 +1,193 @@
+/* Dense assembly of G = A F V against identities: closed-scene row sums,
+ * the regular tetrahedron, exact reciprocity, thread-count independence, and
+ * occlusion by a blocker that covers all, none or some of a pair's shaft. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "rad_radiosity.h"
+
+/* An inward-facing box [0,sx] x [0,sy] x [0,sz]: 6 faces, 2 triangles each.
+ * Each face is o + a u + b v with u x v pointing into the box. */
+static int make_box(double sx, double sy, double sz, double *xyz, int *tri)
+{
+    double faces[6][9] = {
+        {0, 0, 0, sx, 0, 0, 0, sy, 0},   /* z = 0, normal +z */
+        {0, 0, sz, 0, sy, 0, sx, 0, 0},  /* z = sz, normal -z */
+        {0, 0, 0, 0, sy, 0, 0, 0, sz},   /* x = 0, normal +x */
+        {sx, 0, 0, 0, 0, sz, 0, sy, 0},  /* x = sx, normal -x */
+        {0, 0, 0, 0, 0, sz, sx, 0, 0},   /* y = 0, normal +y */
+        {0, sy, 0, sx, 0, 0, 0, 0, sz},  /* y = sy, normal -y */
+    };
+    int nv = 0, nt = 0;
+    for (int f = 0; f < 6; f++) {
+        double *o = faces[f], *u = faces[f] + 3, *v = faces[f] + 6;
+        for (int k = 0; k < 3; k++) {
+            xyz[3 * nv + k] = o[k];
+            xyz[3 * (nv + 1) + k] = o[k] + u[k];
+            xyz[3 * (nv + 2) + k] = o[k] + u[k] + v[k];
+            xyz[3 * (nv + 3) + k] = o[k] + v[k];
+        }
+        int t[6] = {nv, nv + 1, nv + 2, nv, nv + 2, nv + 3};
+        memcpy(tri + 3 * nt, t, sizeof t);
+        nv += 4;
+        nt += 2;
+    }
+    return nt;
+}
+
+static double row_sum_error(const double *G, const double *areas, int n)
+{
+    double worst = 0.0;
+    for (int i = 0; i < n; i++) {
+        double s = 0.0;
+        for (int j = 0; j < n; j++)
+            s += G[i + j * n];
+        worst = fmax(worst, fabs(s / areas[i] - 1.0));
+    }
+    return worst;
+}
+
+TEST(radiosity_closed_box_rows_sum_to_one)
+{
+    double xyz[24 * 3], G[144], areas[12];
+    int tri[36];
+    int n = make_box(1.7, 2.385, 0.93, xyz, tri);
+    rad_assembly_params p;
+    rad_assembly_params_default(&p);
+    CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+    rad_assembly_stats st;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G, areas, &st) == RAD_OK);
+    double err = row_sum_error(G, areas, n);
+    CHECK_MSG(err < 1e-11, "exact: worst |row sum - 1| = %.3g", err);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            CHECK(G[i + j * n] == G[j + i * n]); /* reciprocity, bit for bit */
+    /* The two triangles of one face are coplanar: no coupling, no integration. */
+    CHECK(G[0 + 1 * n] == 0.0);
+    CHECK(st.pairs == 66 && st.pairs_not_facing >= 6);
+    CHECK(st.rays == 0);
+
+    CHECK(rad_ff_rule_parse("auto", &p.rule) == RAD_OK);
+    p.ff.tol = 1e-6;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G, areas, &st) == RAD_OK);
+    err = row_sum_error(G, areas, n);
+    CHECK_MSG(err < 1e-5, "auto 1e-6: worst |row sum - 1| = %.3g", err);
+}
+
+TEST(radiosity_tetrahedron_faces_see_a_third)
+{
+    /* A regular tetrahedron, faces wound to face inward. */
+    double s = 2.385, xyz[12] = {s, s, s, s, -s, -s, -s, s, -s, -s, -s, s};
+    int tri[12] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
+    /* Orient each face so its normal points at the centre (the origin). */
+    for (int f = 0; f < 4; f++) {
+        int *t = tri + 3 * f;
+        double a[3], b[3], c[3], n[3], g[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = xyz[3 * t[1] + k] - xyz[3 * t[0] + k];
+            b[k] = xyz[3 * t[2] + k] - xyz[3 * t[0] + k];
+            g[k] = -xyz[3 * t[0] + k];
+        }
+        n[0] = a[1] * b[2] - a[2] * b[1];
+        n[1] = a[2] * b[0] - a[0] * b[2];
+        n[2] = a[0] * b[1] - a[1] * b[0];
+        (void)c;
+        if (n[0] * g[0] + n[1] * g[1] + n[2] * g[2] < 0) {
+            int tmp = t[1];
+            t[1] = t[2];
+            t[2] = tmp;
+        }
+    }
+    double G[16], areas[4];
+    rad_assembly_params p;
+    rad_assembly_params_default(&p);
+    rad_ff_rule_parse("exact", &p.rule);
+    CHECK(rad_radiosity_assemble(xyz, tri, 4, NULL, &p, G, areas, NULL) == RAD_OK);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            if (i != j)
+                CHECK_NEAR(G[i + 4 * j] / areas[i], 1.0 / 3.0, 1e-12, 0.0);
+}
+
+TEST(radiosity_assembly_does_not_depend_on_threads)
+{
+    double xyz[24 * 3], G1[144], G2[144], areas[12];
+    int tri[36];
+    int n = make_box(1.3, 0.77, 2.1, xyz, tri);
+    rad_assembly_params p;
+    rad_assembly_params_default(&p);
+    rad_ff_rule_parse("gauss:4", &p.rule);
+    p.threads = 1;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G1, areas, NULL) == RAD_OK);
+    p.threads = 2;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G2, areas, NULL) == RAD_OK);
+    CHECK(memcmp(G1, G2, sizeof G1) == 0);
+}
+
+/* Two parallel squares facing each other (z = 0 up, z = 1 down), split in two
+ * triangles each, and a blocker square at z = 0.5 facing down. */
+static int plates(double blocker_half, double blocker_dx, double *xyz, int *tri)
+{
+    double v[12][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                       {0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+    double c = 0.5 + blocker_dx, h = blocker_half;
+    double b[4][3] = {{c - h, 0.5 - h, 0.5}, {c - h, 0.5 + h, 0.5}, {c + h, 0.5 + h, 0.5}, {c + h, 0.5 - h, 0.5}};
+    memcpy(v[8], b, sizeof b);
+    memcpy(xyz, v, sizeof v);
+    int t[24] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 8, 10, 11};
+    memcpy(tri, t, sizeof t);
+    return blocker_half > 0 ? 6 : 4;
+}
+
+TEST(radiosity_occlusion_all_none_some)
+{
+    double xyz[36], G[36], Gfree[36], areas[6];
+    int tri[24];
+    rad_assembly_params p;
+    rad_assembly_params_default(&p);
+    rad_ff_rule_parse("gauss:6", &p.rule);
+    /* Without a blocker: the unoccluded coupling (Howell C-11 gives F = 0.1998). */
+    int n = plates(0.0, 0.0, xyz, tri);
+    CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, Gfree, areas, NULL) == RAD_OK);
+    double F = (Gfree[0 + 2 * n] + Gfree[0 + 3 * n] + Gfree[1 + 2 * n] + Gfree[1 + 3 * n]) / (areas[0] + areas[1]);
+    CHECK_NEAR(F, 0.19982, 1e-3, 0.0);
+
+    /* A blocker wider than the plates, between them: nothing passes. */
+    n = plates(2.0, 0.0, xyz, tri);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 12, tri, (size_t)n, NULL, &vis) == RAD_OK);
+    rad_assembly_stats st;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++)
+            CHECK(G[i + j * n] == 0.0);
+    CHECK(st.rays > 0);
+    rad_vis_destroy(vis);
+
+    /* A blocker far to the side: the shaft is empty, no rays, G unchanged. */
+    n = plates(0.2, 5.0, xyz, tri);
+    CHECK(rad_vis_create(xyz, 12, tri, (size_t)n, NULL, &vis) == RAD_OK);
+    CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
+    for (int i = 0; i < 2; i++)
+        for (int j = 2; j < 4; j++)
+            CHECK_NEAR(G[i + j * n], Gfree[i + j * 4], 1e-15, 0.0);
+    rad_vis_destroy(vis);
+
+    /* A small centred blocker: some light passes, less than without it. */
+    n = plates(0.2, 0.0, xyz, tri);
+    CHECK(rad_vis_create(xyz, 12, tri, (size_t)n, NULL, &vis) == RAD_OK);
+    CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
+    double Fb = (G[0 + 2 * n] + G[0 + 3 * n] + G[1 + 2 * n] + G[1 + 3 * n]) / (areas[0] + areas[1]);
+    CHECK_MSG(Fb > 0.3 * F && Fb < 0.98 * F, "blocked F = %g, free F = %g", Fb, F);
+    rad_vis_destroy(vis);
+}
+
+TEST(radiosity_assembly_rejects_degenerate_triangles)
+{
+    double xyz[9] = {0, 0, 0, 1, 1, 1, 2, 2, 2}, G[1], areas[1];
+    int tri[3] = {0, 1, 2};
+    CHECK(rad_radiosity_assemble(xyz, tri, 1, NULL, NULL, G, areas, NULL) == RAD_EINPUT);
+    CHECK(strstr(rad_error_message(), "triangle 0") != NULL);
+}
