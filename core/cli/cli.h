@@ -15,15 +15,38 @@ typedef struct cli_option {
 } cli_option;
 
 /* Parse argv[first..argc) against a NULL-name-terminated option table.
- * Accepts "--name value" and "--name=value".  Unknown options, missing
- * values and stray arguments are RAD_EINVAL with a message naming them. */
+ * Accepts "--name value" and "--name=value".  An entry with the empty name ""
+ * takes the one positional argument (a word not starting with '-'; its value
+ * must start NULL).  Unknown options, missing values, a second positional and
+ * stray arguments are RAD_EINVAL with a message naming them. */
 rad_status cli_parse(const char *command, int argc, char **argv, int first,
                      const cli_option *options);
 
 /* Parse a whole positive integer in [1, max]; RAD_EINVAL names the option. */
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 
+/* The options every scene-reading command shares: --scale, --drop-degenerate,
+ * --rho, --emission and the five effect overrides.  cli_scene_options_add
+ * appends their entries to a table (room for CLI_SCENE_OPTION_COUNT);
+ * cli_scene_options_apply turns the parsed text into parameters. */
+#define CLI_SCENE_OPTION_COUNT 9
+typedef struct cli_scene_options {
+    const char *scale, *rho, *emission;
+    const char *mode[5]; /* occlusion, colour, facing-away, singular, clustering */
+    int drop_degenerate;
+} cli_scene_options;
+
+struct rad_scene_params;
+struct rad_effects_params;
+void cli_scene_options_init(cli_scene_options *o);
+int cli_scene_options_add(cli_scene_options *o, cli_option *table);
+rad_status cli_scene_options_apply(const char *command, const cli_scene_options *o,
+                                   struct rad_scene_params *scene, struct rad_effects_params *effects);
+/* Help text lines for the shared options. */
+extern const char cli_scene_options_help[];
+
 int cli_galerkin1d(int argc, char **argv);
+int cli_solve(int argc, char **argv);
 int cli_info(int argc, char **argv);
 
 #endif

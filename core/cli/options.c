@@ -7,13 +7,24 @@
 rad_status cli_parse(const char *command, int argc, char **argv, int first,
                      const cli_option *options)
 {
+    const cli_option *positional = NULL;
+    for (const cli_option *o = options; o->name; o++)
+        if (o->name[0] == '\0')
+            positional = o;
     for (int i = first; i < argc; i++) {
         const char *arg = argv[i];
+        if (positional && arg[0] != '-') {
+            if (*positional->value)
+                return RAD_ERROR(RAD_EINVAL, "%s: more than one %s given ('%s' and '%s')", command,
+                                 "argument", *positional->value, arg);
+            *positional->value = arg;
+            continue;
+        }
         const char *eq = strchr(arg, '=');
         size_t len = eq ? (size_t)(eq - arg) : strlen(arg);
         const cli_option *match = NULL;
         for (const cli_option *o = options; o->name; o++)
-            if (strlen(o->name) == len && strncmp(o->name, arg, len) == 0)
+            if (o->name[0] && strlen(o->name) == len && strncmp(o->name, arg, len) == 0)
                 match = o;
         if (!match)
             return RAD_ERROR(RAD_EINVAL, "%s: unknown %s '%s' (see 'radkit %s --help')", command,

@@ -1,0 +1,103 @@
+/* The options shared by the commands that read a scene (info, solve). */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "cli.h"
+#include "rad_scene.h"
+
+const char cli_scene_options_help[] =
+    "  --scale S          multiply every coordinate by S > 0 (e.g. 0.001 for mm -> m)\n"
+    "  --drop-degenerate  drop zero-area triangles (counted) instead of failing\n"
+    "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
+    "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
+    "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
+    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M\n"
+    "                     override one decision of the effects plan: M is auto\n"
+    "                     (decide from the scene, the default), on or off\n";
+
+static const char *const mode_option[5] = {"--occlusion", "--colour", "--facing-away",
+                                           "--singular", "--clustering"};
+
+void cli_scene_options_init(cli_scene_options *o)
+{
+    o->scale = o->rho = o->emission = NULL;
+    for (int k = 0; k < 5; k++)
+        o->mode[k] = "auto";
+    o->drop_degenerate = 0;
+}
+
+int cli_scene_options_add(cli_scene_options *o, cli_option *t)
+{
+    int n = 0;
+    t[n++] = (cli_option){"--scale", &o->scale, NULL};
+    t[n++] = (cli_option){"--drop-degenerate", NULL, &o->drop_degenerate};
+    t[n++] = (cli_option){"--rho", &o->rho, NULL};
+    t[n++] = (cli_option){"--emission", &o->emission, NULL};
+    for (int k = 0; k < 5; k++)
+        t[n++] = (cli_option){mode_option[k], &o->mode[k], NULL};
+    return n;
+}
+
+/* "r g b" or "v" (grey) -> three doubles; RAD_EINVAL names the option. */
+static rad_status parse_rgb(const char *command, const char *option, const char *text,
+                            int below_one, double out[3])
+{
+    double v[3];
+    int n = 0;
+    const char *p = text;
+    while (n < 3) {
+        char *end = NULL;
+        errno = 0;
+        double x = strtod(p, &end);
+        if (end == p)
+            break;
+        v[n++] = x;
+        p = end;
+    }
+    while (*p == ' ' || *p == '\t')
+        p++;
+    if ((n != 1 && n != 3) || *p != '\0')
+        return RAD_ERROR(RAD_EINVAL, "%s: %s needs one or three numbers, got '%s'", command, option, text);
+    if (n == 1)
+        v[1] = v[2] = v[0];
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(v[k]) || v[k] < 0.0 || (below_one && v[k] >= 1.0))
+            return RAD_ERROR(RAD_EINVAL, "%s: %s values must be %s, got '%s'", command, option,
+                             below_one ? "in [0, 1)" : "finite and >= 0", text);
+        out[k] = v[k];
+    }
+    return RAD_OK;
+}
+
+rad_status cli_scene_options_apply(const char *command, const cli_scene_options *o,
+                                   struct rad_scene_params *sp, struct rad_effects_params *ep)
+{
+    rad_status st;
+    if (o->scale) {
+        char *end = NULL;
+        double s = strtod(o->scale, &end);
+        if (end == o->scale || *end != '\0' || !isfinite(s) || !(s > 0.0))
+            return RAD_ERROR(RAD_EINVAL, "%s: --scale must be a number > 0, got '%s'", command, o->scale);
+        sp->scale = s;
+    }
+    sp->drop_degenerate = o->drop_degenerate;
+    if (o->rho) {
+        if ((st = parse_rgb(command, "--rho", o->rho, 1, sp->rho)) != RAD_OK)
+            return st;
+        sp->has_rho = 1;
+        for (int k = 0; k < 3; k++)
+            sp->default_rho[k] = sp->rho[k];
+    }
+    if (o->emission) {
+        if ((st = parse_rgb(command, "--emission", o->emission, 0, sp->emission)) != RAD_OK)
+            return st;
+        sp->has_emission = 1;
+    }
+    rad_effect_mode *modes[5] = {&ep->occlusion, &ep->colour, &ep->facing_away, &ep->singular,
+                                 &ep->clustering};
+    for (int k = 0; k < 5; k++)
+        if ((st = rad_scene_effect_mode_parse(mode_option[k], o->mode[k], modes[k])) != RAD_OK)
+            return st;
+    return RAD_OK;
+}
