@@ -90,6 +90,11 @@ typedef struct rad_ff_params {
     double degenerate_rel_tol;/* rad_geom_triangle_is_degenerate threshold (1e-12) */
     double exact_rel_tol;     /* relative tolerance of each adaptive outer integral of
                                  `exact` (1e-14) */
+    double exact_far_ratio;   /* exact uses a converged product Gauss rule instead of
+                                 the contour integral when the centroid distance
+                                 exceeds this times the longest edge (5) */
+    double auto_near_ratio;   /* auto treats disjoint pairs closer than this times the
+                                 longest edge as near (exact) (0.5) */
     double tol;               /* relative accuracy auto aims for (1e-6) */
 } rad_ff_params;
 
