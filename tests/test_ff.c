@@ -523,6 +523,8 @@ TEST(ff_hard_cases_no_nan_inf_or_negative)
             CHECK_MSG(out == !!(o.flags & RAD_FF_FLAG_OUT_OF_RANGE), "case %d rule %s: flag", k, rules[r]);
         }
         CHECK_MSG(ex.F12 <= 1 + 1e-12 && ex.F21 <= 1 + 1e-12, "case %d: exact F12 %g", k, ex.F12);
+        CHECK_MSG(ex.rel_error <= 1e-10 && !(ex.flags & RAD_FF_FLAG_NOT_CONVERGED),
+                  "case %d: exact's own estimate %.3g", k, ex.rel_error);
         rad_ff_result au = ff(c[k][0], c[k][1], "auto");
         CHECK_MSG(fabs(au.G - ex.G) <= 1e-6 * ex.G, "case %d: auto %.17g exact %.17g (%s)", k, au.G, ex.G,
                   "auto misses its tolerance");

@@ -29,6 +29,10 @@
  *    product rule converges geometrically: exact returns the degree-20 rule
  *    when it agrees with the degree-16 rule to 1e-14 (their difference is the
  *    error estimate), and falls back to the contour integral otherwise.
+ * 7. Slivers and other pairs whose G is tiny against the contour terms lose
+ *    digits the same way; when the estimate of step 5 exceeds
+ *    exact_retry_rel on an unclamped disjoint pair, analytic:40 checked
+ *    against analytic:28 replaces the contour value if it is better.
  * Cost: counted as inner closed-form evaluations.  Relative accuracy is near
  * 1e-14 for touching pairs; for pairs far apart it degrades like
  * eps * D / size because of cancellation between edge pairs.
@@ -148,5 +152,24 @@ ff_value ff_exact(const ff_pair *pr, const rad_ff_params *params)
     if (v.G < 0.0 && -v.G <= err)
         v.G = 0.0;
     v.rel_error = fabs(v.G) > 0.0 ? err / fabs(v.G) : err;
+    /* Step 7: cancellation left too few digits (slivers, G far below the
+     * contour terms).  On an unclamped disjoint pair analytic:P converges
+     * geometrically; take analytic:40 if it agrees with analytic:28 better
+     * than the contour's own bound. */
+    if (v.rel_error > params->exact_retry_rel && pr->adj == RAD_FF_DISJOINT && ni == 3 && nj == 3) {
+        ff_value lo, hi;
+        if (ff_analytic(pr, 28, &lo) == RAD_OK && ff_analytic(pr, 40, &hi) == RAD_OK) {
+            v.evals += lo.evals + hi.evals;
+            double diff = fabs(hi.G - lo.G);
+            if (hi.G > 0.0 && diff < v.rel_error * hi.G) {
+                v.G = hi.G;
+                v.rel_error = diff / hi.G;
+            }
+        }
+    }
+    /* The estimate is a pessimistic bound (|K15 - G7| per interval): flag
+     * only when even the bound is loose. */
+    if (v.rel_error > params->exact_flag_rel)
+        v.flags |= RAD_FF_FLAG_NOT_CONVERGED;
     return v;
 }
