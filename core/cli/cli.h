@@ -48,5 +48,6 @@ extern const char cli_scene_options_help[];
 int cli_galerkin1d(int argc, char **argv);
 int cli_solve(int argc, char **argv);
 int cli_info(int argc, char **argv);
+int cli_ff(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@ static const char usage[] =
     "  galerkin1d   solve the 1D model problem of the notes and report its errors\n"
     "  info         load and validate a scene; its figures, adjacency and effects plan\n"
     "  solve        dense Galerkin radiosity on a scene: radiosity per triangle\n"
+    "  ff           the form factor between two triangles by a chosen quadrature rule\n"
     "\n"
     "options:\n"
     "  -h, --help      this text; 'radkit <command> --help' explains a command\n"
@@ -43,6 +44,8 @@ int main(int argc, char **argv)
         return cli_info(argc, argv);
     if (strcmp(cmd, "solve") == 0)
         return cli_solve(argc, argv);
+    if (strcmp(cmd, "ff") == 0)
+        return cli_ff(argc, argv);
     fprintf(stderr, "radkit: unknown command '%s' (see 'radkit --help')\n", cmd);
     return 2;
 }

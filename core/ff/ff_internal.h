@@ -48,6 +48,8 @@ ff_value ff_centroid(const ff_pair *pr);
 rad_status ff_gauss(const ff_pair *pr, int degree, ff_value *v);
 rad_status ff_analytic(const ff_pair *pr, int degree, ff_value *v);
 rad_status ff_ss(const ff_pair *pr, int n, ff_value *v);
+/* int_z0^z1 ln sqrt(z^2 + h^2) dz in closed form (h >= 0), exact's inner integral. */
+double ff_log_segment(double z0, double z1, double h);
 ff_value ff_exact(const ff_pair *pr, const rad_ff_params *params);
 rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, rad_ff_rule *used);
 /* Points and weights (summing to 1) of the degree-P rule used by gauss:P and

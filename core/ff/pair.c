@@ -21,6 +21,11 @@ rad_ff_params rad_ff_defaults(void)
                        .plane_rel_tol = 1e-12,
                        .degenerate_rel_tol = 1e-12,
                        .exact_rel_tol = 1e-14,
+                       .exact_far_ratio = 5.0,
+                       .exact_retry_rel = 1e-12,
+                       .exact_flag_rel = 1e-10,
+                       .auto_near_ratio = 0.5,
+                       .auto_min_ratio = 0.05,
                        .tol = 1e-6};
     return p;
 }

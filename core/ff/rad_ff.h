@@ -90,6 +90,16 @@ typedef struct rad_ff_params {
     double degenerate_rel_tol;/* rad_geom_triangle_is_degenerate threshold (1e-12) */
     double exact_rel_tol;     /* relative tolerance of each adaptive outer integral of
                                  `exact` (1e-14) */
+    double exact_retry_rel;   /* exact falls back to a checked analytic:40 when its
+                                 contour estimate exceeds this (1e-12) */
+    double exact_flag_rel;    /* exact flags not_converged when its estimate (a
+                                 pessimistic bound) exceeds this (1e-10) */
+    double exact_far_ratio;   /* exact uses a converged product Gauss rule instead of
+                                 the contour integral when the centroid distance
+                                 exceeds this times the longest edge (5) */
+    double auto_near_ratio;   /* auto uses analytic:P instead of gauss:P for disjoint
+                                 pairs closer than this times the longest edge (0.5) */
+    double auto_min_ratio;    /* ... and exact for pairs closer than this (0.05) */
     double tol;               /* relative accuracy auto aims for (1e-6) */
 } rad_ff_params;
 
