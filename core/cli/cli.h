@@ -24,5 +24,6 @@ rad_status cli_parse(const char *command, int argc, char **argv, int first,
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 
 int cli_galerkin1d(int argc, char **argv);
+int cli_info(int argc, char **argv);
 
 #endif

@@ -12,6 +12,7 @@ static const char usage[] =
     "\n"
     "commands:\n"
     "  galerkin1d   solve the 1D model problem of the notes and report its errors\n"
+    "  info         load and validate a scene; its figures, adjacency and effects plan\n"
     "\n"
     "options:\n"
     "  -h, --help      this text; 'radkit <command> --help' explains a command\n"
@@ -37,6 +38,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "galerkin1d") == 0)
         return cli_galerkin1d(argc, argv);
+    if (strcmp(cmd, "info") == 0)
+        return cli_info(argc, argv);
     fprintf(stderr, "radkit: unknown command '%s' (see 'radkit --help')\n", cmd);
     return 2;
 }

@@ -1,0 +1,255 @@
+/* radkit info: load and validate a scene, print its figures, adjacency,
+ * closedness and convexity, and the effects plan with reasons. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "rad_geom.h"
+#include "rad_mesh.h"
+#include "rad_scene.h"
+#include "rad_version.h"
+
+static const char help[] =
+    "usage: radkit info SCENE [--scale S] [--drop-degenerate] [--rho \"r g b\"]\n"
+    "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
+    "                         [--facing-away M] [--singular M] [--clustering M]\n"
+    "\n"
+    "Load SCENE (OBJ+MTL, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
+    "\n"
+    "  --scale S          multiply every coordinate by S > 0 (e.g. 0.001 for mm -> m)\n"
+    "  --drop-degenerate  drop zero-area triangles (counted) instead of failing\n"
+    "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
+    "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
+    "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
+    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M\n"
+    "                     override one decision of the effects plan: M is auto\n"
+    "                     (decide from the scene, the default), on or off\n"
+    "\n"
+    "Output: '# key = value' lines: the counts (faces, vertices, materials,\n"
+    "emitters: faces with emission > 0), total_area, emitting_area, bbox_min,\n"
+    "bbox_max, the camera, dropped_degenerate, warnings and one 'warning' line\n"
+    "each; the mesh figures (edges, boundary_edges, nonmanifold_edges,\n"
+    "misoriented_edges, components, closed, convex_inside, convex = closed and\n"
+    "convex seen from inside, pairs_shared_edge[_coplanar],\n"
+    "pairs_shared_vertex[_coplanar], surface_mesh); the plan as effect_<name> =\n"
+    "on|off and effect_<name>_reason lines.  Then a table of the materials with\n"
+    "columns material, name, rho_r, rho_g, rho_b, E_r, E_g, E_b, faces, area.\n"
+    "\n"
+    "Errors name the problem and its place (file:line for OBJ/MTL, the face\n"
+    "index otherwise) and exit with status 2.\n"
+    "\n"
+    "example: radkit info scenes/cornell/cornell.obj\n";
+
+static int fail(rad_status st)
+{
+    fprintf(stderr, "radkit: %s\n", rad_error_message());
+    return rad_status_exit_code(st);
+}
+
+/* "r g b" or "v" (grey) -> three doubles; RAD_EINVAL names the option. */
+static rad_status parse_rgb(const char *option, const char *text, int max_exclusive_one, double out[3])
+{
+    double v[3];
+    int n = 0;
+    const char *p = text;
+    while (n < 3) {
+        char *end = NULL;
+        errno = 0;
+        double x = strtod(p, &end);
+        if (end == p)
+            break;
+        v[n++] = x;
+        p = end;
+    }
+    while (*p == ' ' || *p == '\t')
+        p++;
+    if ((n != 1 && n != 3) || *p != '\0')
+        return RAD_ERROR(RAD_EINVAL, "info: %s needs one or three numbers, got '%s'", option, text);
+    if (n == 1)
+        v[1] = v[2] = v[0];
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(v[k]) || v[k] < 0.0 || (max_exclusive_one && v[k] >= 1.0))
+            return RAD_ERROR(RAD_EINVAL, "info: %s values must be %s, got '%s'", option,
+                             max_exclusive_one ? "in [0, 1)" : "finite and >= 0", text);
+        out[k] = v[k];
+    }
+    return RAD_OK;
+}
+
+static const char *onoff(int on) { return on ? "on" : "off"; }
+
+static void print_decision(const char *name, const rad_effect_decision *d)
+{
+    printf("# effect_%s = %s\n# effect_%s_reason = %s\n", name, onoff(d->on), name, d->reason);
+}
+
+int cli_info(int argc, char **argv)
+{
+    const char *scale_text = NULL, *rho_text = NULL, *emission_text = NULL;
+    const char *mode_text[5] = {"auto", "auto", "auto", "auto", "auto"};
+    static const char *const mode_name[5] = {"--occlusion", "--colour", "--facing-away",
+                                             "--singular", "--clustering"};
+    int want_help = 0, drop = 0;
+    cli_option options[] = {
+        {"--scale", &scale_text, NULL},
+        {"--drop-degenerate", NULL, &drop},
+        {"--rho", &rho_text, NULL},
+        {"--emission", &emission_text, NULL},
+        {"--occlusion", &mode_text[0], NULL},
+        {"--colour", &mode_text[1], NULL},
+        {"--facing-away", &mode_text[2], NULL},
+        {"--singular", &mode_text[3], NULL},
+        {"--clustering", &mode_text[4], NULL},
+        {"--help", NULL, &want_help},
+        {"-h", NULL, &want_help},
+        {NULL, NULL, NULL},
+    };
+    /* The one positional argument, SCENE, is taken out before the options. */
+    const char *scene_path = NULL;
+    char **rest = calloc((size_t)argc + 1, sizeof *rest);
+    if (!rest)
+        return fail(RAD_ERROR(RAD_ENOMEM, "info: no memory"));
+    int nrest = 0;
+    rest[nrest++] = argv[0];
+    rest[nrest++] = argv[1];
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (a[0] == '-') {
+            rest[nrest++] = argv[i];
+            int takes_value = 0;
+            for (const cli_option *o = options; o->name; o++)
+                if (o->value && strcmp(o->name, a) == 0)
+                    takes_value = 1;
+            if (takes_value && i + 1 < argc)
+                rest[nrest++] = argv[++i];
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            free(rest);
+            return fail(RAD_ERROR(RAD_EINVAL, "info: more than one scene given ('%s' and '%s')",
+                                  scene_path, a));
+        }
+    }
+    rad_status st = cli_parse("info", nrest, rest, 2, options);
+    free(rest);
+    if (st != RAD_OK)
+        return fail(st);
+    if (want_help) {
+        fputs(help, stdout);
+        return 0;
+    }
+    if (!scene_path)
+        return fail(RAD_ERROR(RAD_EINVAL, "info: a SCENE file is required (see 'radkit info --help')"));
+
+    rad_scene_params params;
+    rad_scene_params_default(&params);
+    params.drop_degenerate = drop;
+    if (scale_text) {
+        char *end = NULL;
+        params.scale = strtod(scale_text, &end);
+        if (end == scale_text || *end != '\0' || !(params.scale > 0.0) || !isfinite(params.scale))
+            return fail(RAD_ERROR(RAD_EINVAL, "info: --scale must be a positive number, got '%s'",
+                                  scale_text));
+    }
+    if (rho_text && (st = parse_rgb("--rho", rho_text, 1, params.rho)) != RAD_OK)
+        return fail(st);
+    params.has_rho = rho_text != NULL;
+    if (emission_text && (st = parse_rgb("--emission", emission_text, 0, params.emission)) != RAD_OK)
+        return fail(st);
+    params.has_emission = emission_text != NULL;
+    rad_effects_params eparams;
+    rad_scene_effects_params_default(&eparams);
+    rad_effect_mode *modes[5] = {&eparams.occlusion, &eparams.colour, &eparams.facing_away,
+                                 &eparams.singular, &eparams.clustering};
+    for (int k = 0; k < 5; k++) {
+        char what[64];
+        snprintf(what, sizeof what, "info: %s", mode_name[k]);
+        if ((st = rad_scene_effect_mode_parse(what, mode_text[k], modes[k])) != RAD_OK)
+            return fail(st);
+    }
+
+    rad_scene *scene = NULL;
+    rad_mesh *mesh = NULL;
+    if ((st = rad_scene_load(scene_path, &params, &scene)) != RAD_OK)
+        return fail(st);
+    st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
+                         rad_scene_triangles(scene), rad_scene_triangle_count(scene),
+                         rad_scene_triangle_faces(scene), &mesh);
+    rad_effects_plan plan;
+    if (st == RAD_OK)
+        st = rad_scene_effects_plan(scene, mesh, &eparams, &plan);
+    if (st != RAD_OK)
+        goto out;
+
+    rad_scene_summary sum;
+    rad_scene_summarize(scene, &sum);
+    rad_mesh_info info;
+    rad_mesh_get_info(mesh, &info);
+    const rad_camera *cam = rad_scene_camera(scene);
+    printf("# radkit %s info\n", RAD_VERSION);
+    printf("# source = %s\n# scale = %.17g\n", rad_scene_source(scene), params.scale);
+    printf("# faces = %d\n# vertices = %d\n# materials = %d\n# emitters = %d\n", sum.faces,
+           sum.vertices, sum.materials, sum.emitters);
+    printf("# total_area = %.17g\n# emitting_area = %.17g\n", sum.total_area, sum.emitting_area);
+    printf("# bbox_min = %.17g %.17g %.17g\n# bbox_max = %.17g %.17g %.17g\n", sum.bbox_min[0],
+           sum.bbox_min[1], sum.bbox_min[2], sum.bbox_max[0], sum.bbox_max[1], sum.bbox_max[2]);
+    printf("# camera = %s\n# camera_position = %.17g %.17g %.17g\n"
+           "# camera_look_at = %.17g %.17g %.17g\n# camera_up = %.17g %.17g %.17g\n"
+           "# camera_fov_y_deg = %.17g\n",
+           cam->from_scene ? "scene" : "default", cam->position[0], cam->position[1],
+           cam->position[2], cam->look_at[0], cam->look_at[1], cam->look_at[2], cam->up[0],
+           cam->up[1], cam->up[2], cam->fov_y_deg);
+    printf("# dropped_degenerate = %d\n# warnings = %d\n", rad_scene_dropped_count(scene),
+           rad_scene_warning_count(scene));
+    for (int w = 0; w < rad_scene_warning_count(scene); w++)
+        printf("# warning = %s\n", rad_scene_warning(scene, w));
+    printf("# edges = %d\n# boundary_edges = %d\n# nonmanifold_edges = %d\n"
+           "# misoriented_edges = %d\n# components = %d\n# closed_components = %d\n",
+           info.edges, info.boundary_edges, info.nonmanifold_edges, info.misoriented_edges,
+           info.components, info.closed_components);
+    printf("# closed = %s\n# convex_inside = %s\n# convex = %s\n", info.closed ? "yes" : "no",
+           info.convex_inside == 1 ? "yes" : info.convex_inside == 0 ? "no" : "unknown",
+           info.closed && info.convex_inside == 1 ? "yes" : "no");
+    printf("# pairs_shared_edge = %d\n# pairs_shared_edge_coplanar = %d\n"
+           "# pairs_shared_vertex = %d\n# pairs_shared_vertex_coplanar = %d\n",
+           info.pairs_edge, info.pairs_edge_coplanar, info.pairs_vertex, info.pairs_vertex_coplanar);
+    printf("# surface_mesh = %s\n", info.surface_mesh ? "yes" : "no (not a manifold polygon mesh)");
+    printf("# pairs_total = %lld\n# pairs_facing_away = %lld\n# pairs_singular = %d\n",
+           plan.pairs_total, plan.pairs_facing_away, plan.pairs_singular);
+    print_decision("occlusion", &plan.occlusion);
+    print_decision("colour", &plan.colour);
+    print_decision("facing_away", &plan.facing_away);
+    print_decision("singular", &plan.singular);
+    print_decision("clustering", &plan.clustering);
+
+    /* The material table: faces and area per material. */
+    int nm = rad_scene_material_count(scene), nt = rad_scene_triangle_count(scene);
+    const rad_material *mats = rad_scene_materials(scene);
+    const int *tmat = rad_scene_triangle_materials(scene), *tri = rad_scene_triangles(scene);
+    const double *xyz = rad_scene_vertices(scene);
+    printf("material\tname\trho_r\trho_g\trho_b\tE_r\tE_g\tE_b\tfaces\tarea\n");
+    for (int m = 0; m < nm; m++) {
+        int faces = 0;
+        double area = 0.0;
+        for (int t = 0; t < nt; t++) {
+            if (tmat[t] != m)
+                continue;
+            const int *v = tri + 3 * t;
+            rad_vec3 a = rad_vec3_make(xyz[3 * v[0]], xyz[3 * v[0] + 1], xyz[3 * v[0] + 2]);
+            rad_vec3 b = rad_vec3_make(xyz[3 * v[1]], xyz[3 * v[1] + 1], xyz[3 * v[1] + 2]);
+            rad_vec3 c = rad_vec3_make(xyz[3 * v[2]], xyz[3 * v[2] + 1], xyz[3 * v[2] + 2]);
+            faces++;
+            area += rad_geom_triangle_area(a, b, c);
+        }
+        printf("%d\t%s\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%.17g\n", m, mats[m].name,
+               mats[m].rho[0], mats[m].rho[1], mats[m].rho[2], mats[m].emission[0],
+               mats[m].emission[1], mats[m].emission[2], faces, area);
+    }
+out:
+    rad_mesh_destroy(mesh);
+    rad_scene_destroy(scene);
+    return st == RAD_OK ? 0 : fail(st);
+}

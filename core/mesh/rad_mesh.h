@@ -1,0 +1,109 @@
+/* rad_mesh: the C face of the CGAL shim (STYLE.md point 8).
+ *
+ * A rad_mesh is a triangle mesh (vertex positions and triangles, copied in),
+ * analysed once when it is created:
+ *   - which faces touch: every pair sharing an edge or only a vertex, and
+ *     whether the two are coplanar, decided with CGAL's exact predicates;
+ *   - connected components (faces joined through shared edges);
+ *   - closedness: every edge used by exactly two faces, traversed in opposite
+ *     directions (consistent orientation);
+ *   - convexity seen from inside: every vertex lies on the front side of (or
+ *     on) every face's plane, i.e. the normals face inwards.
+ * A CGAL Surface_mesh is built whenever the triangles form a manifold polygon
+ * mesh and cross-checks closedness and the component count.
+ * Refinement makes a new mesh whose elements each remember the input face they
+ * lie in.  Export writes PLY (with per-vertex colours) and OFF.
+ *
+ * Every function is safe to call from C; no exception crosses this header:
+ * std::bad_alloc becomes RAD_ENOMEM and any other exception RAD_EGEOM, with
+ * its message kept (rad_error_message). */
+#ifndef RAD_MESH_H
+#define RAD_MESH_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_mesh rad_mesh;
+
+typedef enum rad_mesh_contact {
+    RAD_MESH_SHARED_EDGE = 1,  /* the two faces share two vertices (an edge) */
+    RAD_MESH_SHARED_VERTEX = 2 /* the two faces share exactly one vertex */
+} rad_mesh_contact;
+
+/* One touching pair, a < b.  shared[] are the shared vertex indices
+ * (shared[1] = -1 for a vertex contact). */
+typedef struct rad_mesh_pair {
+    int a, b;
+    int contact;  /* rad_mesh_contact */
+    int coplanar; /* 1: all four (or five) corner points lie in one plane, exactly */
+    int shared[2];
+} rad_mesh_pair;
+
+typedef struct rad_mesh_info {
+    int vertices, faces;
+    int edges;                 /* distinct undirected edges */
+    int boundary_edges;        /* used by one face */
+    int nonmanifold_edges;     /* used by three or more faces */
+    int misoriented_edges;     /* used by two faces in the same direction */
+    int components;            /* through shared edges */
+    int closed_components;
+    int closed;                /* every edge shared by two consistently oriented faces */
+    int convex_inside;         /* every vertex on the front side of every face's plane */
+    int pairs_edge, pairs_edge_coplanar;
+    int pairs_vertex, pairs_vertex_coplanar;
+    int surface_mesh;          /* 1 when a CGAL Surface_mesh could be built */
+    int surface_mesh_closed;   /* CGAL::is_closed on it (-1 when not built) */
+    int surface_mesh_components; /* PMP::connected_components on it (-1 when not built) */
+} rad_mesh_info;
+
+/* Copy xyz (3*nv doubles) and tri (3*nt indices) and analyse them.  Indices
+ * must be in range; degenerate triangles are allowed here (rad_scene rejects
+ * them before).  input_face (nt ints or NULL: 0..nt-1) is remembered per face. */
+rad_status rad_mesh_create(const double *xyz, int nv, const int *tri, int nt,
+                           const int *input_face, rad_mesh **out);
+void rad_mesh_destroy(rad_mesh *mesh);
+
+int rad_mesh_vertex_count(const rad_mesh *mesh);
+int rad_mesh_face_count(const rad_mesh *mesh);
+const double *rad_mesh_vertices(const rad_mesh *mesh);   /* 3 per vertex */
+const int *rad_mesh_triangles(const rad_mesh *mesh);     /* 3 per face */
+const int *rad_mesh_input_faces(const rad_mesh *mesh);   /* 1 per face */
+void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info);
+
+/* Touching pairs, sorted by (a, b); owned by the mesh. */
+int rad_mesh_pair_count(const rad_mesh *mesh);
+const rad_mesh_pair *rad_mesh_pairs(const rad_mesh *mesh);
+
+/* Component of each face (0..components-1, numbered by first face). */
+const int *rad_mesh_face_components(const rad_mesh *mesh);
+/* Closed / convex-from-inside for one component (0 or 1; -1 for a bad index). */
+int rad_mesh_component_closed(const rad_mesh *mesh, int component);
+int rad_mesh_component_convex(const rad_mesh *mesh, int component);
+
+/* Uniform refinement: every triangle split into 4 at its edge midpoints,
+ * `levels` times (4^levels children each).  Conforming: a midpoint is shared
+ * by both faces of an edge.  Children keep the winding and the input face of
+ * their parent.  RAD_ETOOBIG beyond max_faces. */
+rad_status rad_mesh_refine_uniform(const rad_mesh *mesh, int levels, size_t max_faces,
+                                   rad_mesh **out);
+/* Split edges longer than max_edge at their midpoints (a triangle with 1, 2 or
+ * 3 split edges becomes 2, 3 or 4 triangles) until no edge is longer; the
+ * result is conforming and keeps windings and input faces. */
+rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_t max_faces,
+                                    rad_mesh **out);
+
+/* ASCII PLY: vertices with red/green/blue (uchar; vertex_rgb has 3 doubles in
+ * [0,1] per vertex, clamped, or NULL for grey) and faces with their input face. */
+rad_status rad_mesh_write_ply(const rad_mesh *mesh, const char *path, const double *vertex_rgb);
+/* OFF with full double precision. */
+rad_status rad_mesh_write_off(const rad_mesh *mesh, const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

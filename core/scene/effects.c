@@ -1,0 +1,174 @@
+/* The effects plan: decide, from the scene alone, which effects a radiosity
+ * run must simulate (DESIGN.md, "Effects"), each with its reason.
+ *
+ *  1. Occlusion.  If every vertex lies on the front side of (or on) every
+ *     face's plane (rad_mesh_info.convex_inside; e.g. a convex closed
+ *     enclosure seen from inside, two facing plates), no face can block a pair:
+ *     a blocker k would need the two end points on opposite sides of k's
+ *     plane, but every point is on its front side, and a segment lying in the
+ *     plane contributes nothing (both cosines vanish).  Off then; otherwise
+ *     visibility is decided per pair.
+ *  2. Colour.  When every reflectance is grey (channels within grey_tol), the
+ *     matrix I - rho F is the same for the three channels: one scalar system
+ *     (with three right-hand sides if the emission is coloured).
+ *  3. Facing-away pairs.  The kernel is zero unless both cosines are positive;
+ *     for flat triangles, if all of j's corners are behind or on i's plane
+ *     (or vice versa) F_ij = 0 exactly: skip such pairs.  Always on; the pairs
+ *     are counted when the scene has at most pair_scan_max_faces faces.
+ *  4. Singular quadrature.  Only pairs that touch (shared edge or vertex) and
+ *     are not coplanar have an integrable singularity of the kernel; coplanar
+ *     touching pairs have a zero kernel.  On when such pairs exist.
+ *  5. Clustering.  Initial linking is quadratic in the number of faces; a
+ *     cluster hierarchy pays when there are many faces in many separate
+ *     objects (cluster_min_faces faces in cluster_min_objects components).
+ * Every decision can be forced on or off; the reason then says so. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "rad_geom.h"
+#include "scene_internal.h"
+
+void rad_scene_effects_params_default(rad_effects_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->pair_scan_max_faces = 20000;
+    p->cluster_min_faces = 5000;
+    p->cluster_min_objects = 50;
+    p->grey_tol = 1e-12;
+}
+
+rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out)
+{
+    if (text && strcmp(text, "auto") == 0)
+        *out = RAD_EFFECT_AUTO;
+    else if (text && strcmp(text, "on") == 0)
+        *out = RAD_EFFECT_ON;
+    else if (text && strcmp(text, "off") == 0)
+        *out = RAD_EFFECT_OFF;
+    else
+        return RAD_ERROR(RAD_EINVAL, "%s must be auto, on or off, got '%s'", what, text ? text : "");
+    return RAD_OK;
+}
+
+/* Apply the user's mode to an automatic decision. */
+static void settle(rad_effect_decision *d, rad_effect_mode mode, int automatic, const char *reason)
+{
+    d->on = automatic;
+    d->forced = 0;
+    snprintf(d->reason, sizeof d->reason, "%s", reason);
+    if (mode == RAD_EFFECT_AUTO)
+        return;
+    d->on = mode == RAD_EFFECT_ON;
+    d->forced = 1;
+    char buf[sizeof d->reason];
+    snprintf(buf, sizeof buf, "forced %s by the user (automatic: %s, %s)", d->on ? "on" : "off",
+             automatic ? "on" : "off", reason);
+    memcpy(d->reason, buf, sizeof buf);
+}
+
+static rad_vec3 vertex(const double *xyz, int v)
+{
+    return rad_vec3_make(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+}
+
+/* All corners of j on or behind the plane of i (a relative tolerance keeps a
+ * shared plane from counting as "in front"). */
+static int behind(const double *xyz, const int *ti, const int *tj)
+{
+    rad_vec3 a = vertex(xyz, ti[0]), b = vertex(xyz, ti[1]), c = vertex(xyz, ti[2]);
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
+    double scale = rad_vec3_norm(n) * (rad_vec3_norm(rad_vec3_sub(b, a)) + rad_vec3_norm(rad_vec3_sub(c, a)));
+    for (int k = 0; k < 3; k++) {
+        double h = rad_vec3_dot(n, rad_vec3_sub(vertex(xyz, tj[k]), a));
+        if (h > 1e-12 * scale)
+            return 0;
+    }
+    return 1;
+}
+
+rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
+                                  const rad_effects_params *params, rad_effects_plan *plan)
+{
+    rad_effects_params defaults;
+    if (!params) {
+        rad_scene_effects_params_default(&defaults);
+        params = &defaults;
+    }
+    if (!s || !mesh || !plan)
+        return RAD_ERROR(RAD_EINVAL, "rad_scene_effects_plan: NULL argument");
+    if (rad_mesh_face_count(mesh) != s->nt)
+        return RAD_ERROR(RAD_EINVAL, "rad_scene_effects_plan: the mesh has %d faces, the scene %d",
+                         rad_mesh_face_count(mesh), s->nt);
+    memset(plan, 0, sizeof *plan);
+    rad_mesh_info info;
+    rad_mesh_get_info(mesh, &info);
+    char why[256];
+    long long n = s->nt;
+    plan->pairs_total = n * (n - 1) / 2;
+
+    /* 1. occlusion */
+    if (info.convex_inside == 1)
+        snprintf(why, sizeof why, "every vertex is in front of every face's plane (%s), so no face "
+                 "can block another pair", info.closed ? "a closed convex enclosure" : "an open convex arrangement");
+    else
+        snprintf(why, sizeof why, "%s; visibility is decided per pair (rays only where a shaft test "
+                 "cannot rule out blockers)", info.convex_inside == 0 ? "some faces lie behind others' planes"
+                                                                     : "convexity unknown");
+    settle(&plan->occlusion, params->occlusion, info.convex_inside != 1, why);
+
+    /* 2. colour */
+    int grey = 1, grey_e = 1;
+    for (int t = 0; t < s->nt; t++) {
+        const rad_material *m = &s->mats[s->tri_mat[t]];
+        if (fabs(m->rho[0] - m->rho[1]) > params->grey_tol || fabs(m->rho[1] - m->rho[2]) > params->grey_tol)
+            grey = 0;
+        if (fabs(m->emission[0] - m->emission[1]) > params->grey_tol ||
+            fabs(m->emission[1] - m->emission[2]) > params->grey_tol)
+            grey_e = 0;
+    }
+    if (grey)
+        snprintf(why, sizeof why, "every reflectance is grey, so one scalar system serves the three "
+                 "channels%s", grey_e ? " (emission grey too: one right-hand side)"
+                                      : " (coloured emission: three right-hand sides)");
+    else
+        snprintf(why, sizeof why, "some reflectance differs between channels: three systems");
+    settle(&plan->colour, params->colour, !grey, why);
+
+    /* 3. facing-away pairs */
+    plan->pairs_facing_away = -1;
+    if (s->nt <= params->pair_scan_max_faces) {
+        long long away = 0;
+        for (int i = 0; i < s->nt; i++)
+            for (int j = i + 1; j < s->nt; j++) {
+                const int *ti = s->tri + 3 * (size_t)i, *tj = s->tri + 3 * (size_t)j;
+                away += behind(s->xyz, ti, tj) || behind(s->xyz, tj, ti);
+            }
+        plan->pairs_facing_away = away;
+        snprintf(why, sizeof why, "the kernel vanishes unless both cosines are positive: %lld of %lld "
+                 "pairs face away and are zero without integration", away, plan->pairs_total);
+    } else {
+        snprintf(why, sizeof why, "the kernel vanishes unless both cosines are positive: pairs facing "
+                 "away are zero without integration (not counted above %d faces)",
+                 params->pair_scan_max_faces);
+    }
+    settle(&plan->facing_away, params->facing_away, 1, why);
+
+    /* 4. singular pairs */
+    plan->pairs_singular = info.pairs_edge - info.pairs_edge_coplanar + info.pairs_vertex -
+                           info.pairs_vertex_coplanar;
+    plan->pairs_adjacent_coplanar = info.pairs_edge_coplanar + info.pairs_vertex_coplanar;
+    snprintf(why, sizeof why, "%d edge- and %d vertex-adjacent non-coplanar pairs have a singular "
+             "kernel; %d coplanar adjacent pairs have a zero kernel",
+             info.pairs_edge - info.pairs_edge_coplanar, info.pairs_vertex - info.pairs_vertex_coplanar,
+             plan->pairs_adjacent_coplanar);
+    settle(&plan->singular, params->singular, plan->pairs_singular > 0, why);
+
+    /* 5. clustering */
+    int pays = s->nt >= params->cluster_min_faces && info.components >= params->cluster_min_objects;
+    snprintf(why, sizeof why, "%d faces in %d connected components (clustering pays from %d faces in "
+             "%d components)", s->nt, info.components, params->cluster_min_faces,
+             params->cluster_min_objects);
+    settle(&plan->clustering, params->clustering, pays, why);
+    return RAD_OK;
+}

@@ -1,0 +1,174 @@
+/* rad_scene: a validated triangle scene, imported from a file, and the
+ * effects plan (what a radiosity run on it needs to simulate).
+ *
+ * The scene is plain data behind an opaque handle: flat arrays of vertex
+ * positions (x, y, z doubles), triangles (three vertex indices each, in input
+ * order), a material index per triangle and a material table (reflectance and
+ * emitted exitance per RGB channel).  No Assimp type appears here.
+ *
+ * Import (rad_scene_load):
+ *   - OBJ + MTL: Kd is the reflectance (albedo per channel), Ke the emitted
+ *     exitance (W/m^2).  radkit's own line reader supplies the values in double
+ *     precision and every finding as file:line; Assimp imports the same file
+ *     and is cross-checked against it (Debian's Assimp stores coordinates in
+ *     single precision, which is not enough for convergence studies).
+ *   - glTF 2.0 (.gltf, .glb): baseColorFactor is the reflectance, emissiveFactor
+ *     times KHR_materials_emissive_strength (when present) the emission.
+ *   - PLY, OFF, STL and anything else Assimp reads: geometry only; every face
+ *     gets the reflectance and emission of the parameters (--rho, --emission).
+ * Polygons are fan-triangulated (OBJ) or triangulated by Assimp; the triangles
+ * keep the order of the input faces and each its face's material.  Vertices at
+ * bit-identical positions are merged and unused vertices dropped, so two
+ * triangles share a vertex index exactly when they share a corner point.
+ *
+ * Validation (errors, RAD_EINPUT or RAD_EIO, with the place in the message):
+ * missing or unreadable files, malformed content, NaN/Inf coordinates, face
+ * indices out of range, degenerate (zero-area) triangles, reflectance outside
+ * [0,1), negative emission, an empty scene.  Warnings (kept, not errors): no
+ * emitter, duplicate coincident faces, unused vertices, ignored statements. */
+#ifndef RAD_SCENE_H
+#define RAD_SCENE_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+#include "rad_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_scene rad_scene;
+
+typedef struct rad_material {
+    char name[64];
+    double rho[3];      /* reflectance (albedo) per RGB channel, 0 <= rho < 1 */
+    double emission[3]; /* emitted exitance E per RGB channel, W/m^2, >= 0 */
+} rad_material;
+
+/* A pinhole camera: where it is, what it looks at, its up vector and its
+ * vertical field of view.  from_scene is 1 when the file gave it (an OBJ
+ * comment "# radkit camera ..." or a glTF/Assimp camera), 0 for the default
+ * view (rad_scene_load documents it). */
+typedef struct rad_camera {
+    double position[3], look_at[3], up[3];
+    double fov_y_deg;
+    int from_scene;
+} rad_camera;
+
+typedef struct rad_scene_params {
+    double scale;              /* every coordinate is multiplied by it (units -> metres); > 0 */
+    int drop_degenerate;       /* 1: drop degenerate triangles (counted) instead of failing */
+    double degenerate_rel_tol; /* rad_geom_triangle_is_degenerate tolerance */
+    int has_rho;               /* 1: rho below replaces every material's reflectance */
+    double rho[3];
+    int has_emission;          /* 1: emission below replaces every material's emission */
+    double emission[3];
+    double default_rho[3];     /* reflectance of faces that have no material (PLY, OFF, STL) */
+    size_t max_triangles;      /* refuse bigger scenes with RAD_ETOOBIG */
+} rad_scene_params;
+
+/* scale 1, fail on degenerate faces, tolerance 1e-12, no overrides,
+ * default reflectance 0.5 grey, at most 50 million triangles. */
+void rad_scene_params_default(rad_scene_params *params);
+
+/* Import a scene file (format by extension, see above) and validate it.
+ * params may be NULL (defaults).  The default camera, when the file has none,
+ * looks at the centre of the bounding box from the -z side, at a distance
+ * that fits the bounding sphere in a 40 degree vertical field, up = +y. */
+rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_scene **out);
+
+/* Build a scene from arrays (copied): xyz has 3*nv doubles, tri 3*nt indices,
+ * tri_material nt indices into materials (or NULL: all material 0).  It is
+ * validated like a file; `name` stands in for the file name in messages. */
+rad_status rad_scene_create(const char *name, const double *xyz, int nv, const int *tri, int nt,
+                            const int *tri_material, const rad_material *materials, int nm,
+                            const rad_scene_params *params, rad_scene **out);
+
+void rad_scene_destroy(rad_scene *scene);
+
+int rad_scene_vertex_count(const rad_scene *scene);
+int rad_scene_triangle_count(const rad_scene *scene);
+int rad_scene_material_count(const rad_scene *scene);
+const double *rad_scene_vertices(const rad_scene *scene);          /* 3 per vertex */
+const int *rad_scene_triangles(const rad_scene *scene);            /* 3 per triangle */
+const int *rad_scene_triangle_materials(const rad_scene *scene);   /* 1 per triangle */
+/* The input face (0-based, in file order) each triangle came from: polygons
+ * split into several triangles share it.  Dropped faces still count. */
+const int *rad_scene_triangle_faces(const rad_scene *scene);
+const rad_material *rad_scene_materials(const rad_scene *scene);
+const rad_camera *rad_scene_camera(const rad_scene *scene);
+const char *rad_scene_source(const rad_scene *scene);
+/* Triangles dropped as degenerate (only with drop_degenerate). */
+int rad_scene_dropped_count(const rad_scene *scene);
+int rad_scene_warning_count(const rad_scene *scene);
+const char *rad_scene_warning(const rad_scene *scene, int i);
+
+/* Figures of the whole scene. */
+typedef struct rad_scene_summary {
+    int faces, vertices, materials;
+    int emitters;            /* triangles with some emission > 0 */
+    double total_area;       /* sum of triangle areas */
+    double emitting_area;
+    double bbox_min[3], bbox_max[3];
+    int grey_reflectance;    /* 1: rho_r = rho_g = rho_b for every used material */
+    int grey_emission;       /* 1: the same for emission */
+} rad_scene_summary;
+
+void rad_scene_summarize(const rad_scene *scene, rad_scene_summary *summary);
+
+/* ---- the effects plan (DESIGN.md, "Effects") ---------------------------- */
+
+typedef enum rad_effect_mode {
+    RAD_EFFECT_AUTO = 0, /* decide from the scene */
+    RAD_EFFECT_ON,       /* forced on by the user */
+    RAD_EFFECT_OFF       /* forced off by the user */
+} rad_effect_mode;
+
+/* Parse "auto", "on" or "off"; RAD_EINVAL names `what` otherwise. */
+rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out);
+
+typedef struct rad_effects_params {
+    rad_effect_mode occlusion, colour, facing_away, singular, clustering;
+    int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
+    int cluster_min_faces;    /* clustering pays only with at least this many faces ... */
+    int cluster_min_objects;  /* ... in at least this many connected components */
+    double grey_tol;          /* channels within this absolute difference are grey */
+} rad_effects_params;
+
+/* Everything automatic; pair scan up to 20000 faces; clustering from 5000
+ * faces in 50 components; grey within 1e-12. */
+void rad_scene_effects_params_default(rad_effects_params *params);
+
+typedef struct rad_effect_decision {
+    int on;             /* the decision */
+    int forced;         /* 1 when a flag overrode the automatic decision */
+    char reason[256];   /* why, in one sentence */
+} rad_effect_decision;
+
+typedef struct rad_effects_plan {
+    /* on: some pair may be occluded, test visibility per pair (rays where no
+     * shaft or convexity test excludes blockers); off: no face can block any pair. */
+    rad_effect_decision occlusion;
+    /* on: three systems (RGB); off: one scalar system (grey reflectance). */
+    rad_effect_decision colour;
+    /* on: pairs facing away from each other are zero without integration. */
+    rad_effect_decision facing_away;
+    /* on: edge/vertex-adjacent non-coplanar pairs get singular quadrature. */
+    rad_effect_decision singular;
+    /* on: build a cluster hierarchy before linking. */
+    rad_effect_decision clustering;
+    long long pairs_total;        /* n (n - 1) / 2 */
+    long long pairs_facing_away;  /* -1 when not counted (more faces than the scan limit) */
+    int pairs_singular;           /* adjacent, non-coplanar */
+    int pairs_adjacent_coplanar;  /* adjacent and coplanar: the kernel vanishes */
+} rad_effects_plan;
+
+/* Decide the plan for a scene and its mesh (built from the same triangles). */
+rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
+                                  const rad_effects_params *params, rad_effects_plan *plan);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,572 @@
+/* The scene object: construction, validation, accessors and summary.
+ *
+ * scene_finish, run after every importer, in order:
+ *  1. Replace reflectance / emission by the parameters' overrides.
+ *  2. Check every material: 0 <= rho < 1 and E >= 0, finite (the place is the
+ *     material's name; OBJ's MTL reader has already named the line).
+ *  3. Refuse an empty scene; scale the coordinates (and the camera).
+ *  4. Check every coordinate is finite and every triangle non-degenerate
+ *     (rad_geom_triangle_is_degenerate); a degenerate triangle is an error
+ *     naming its line (OBJ) or face, or is dropped and counted.
+ *  5. Count unused vertices (a warning), then merge vertices at bit-identical
+ *     positions and drop unused ones, so shared corners share an index.
+ *  6. Warn about duplicate coincident faces (the same three corners, in either
+ *     orientation) and about a scene without emitters.
+ *  7. Give the default camera when the file had none. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_geom.h"
+#include "scene_internal.h"
+
+void rad_scene_params_default(rad_scene_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->scale = 1.0;
+    p->degenerate_rel_tol = 1e-12;
+    for (int k = 0; k < 3; k++)
+        p->default_rho[k] = 0.5;
+    p->max_triangles = 50000000;
+}
+
+rad_scene *scene_new(const char *source)
+{
+    rad_scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->source = strdup(source ? source : "(scene)");
+    if (!s->source) {
+        free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void rad_scene_destroy(rad_scene *s)
+{
+    if (!s)
+        return;
+    for (int i = 0; i < s->nw; i++)
+        free(s->warnings[i]);
+    free(s->warnings);
+    free(s->source);
+    free(s->xyz);
+    free(s->tri);
+    free(s->tri_mat);
+    free(s->tri_face);
+    free(s->tri_line);
+    free(s->mats);
+    free(s);
+}
+
+/* Grow *p (n elements of size `size`) so that one more fits. */
+static int grow(void **p, int *cap, int n, size_t size)
+{
+    if (n < *cap)
+        return 1;
+    int next = *cap ? 2 * *cap : 64;
+    void *q = realloc(*p, (size_t)next * size);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = next;
+    return 1;
+}
+
+rad_status scene_add_vertex(rad_scene *s, double x, double y, double z)
+{
+    if (s->nv >= (1 << 30))
+        return RAD_ERROR(RAD_ETOOBIG, "%s: more than 2^30 vertices", s->source);
+    if (!grow((void **)&s->xyz, &s->cap_v, s->nv, 3 * sizeof(double)))
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory for %d vertices", s->source, s->nv);
+    double *v = s->xyz + 3 * (size_t)s->nv++;
+    v[0] = x;
+    v[1] = y;
+    v[2] = z;
+    return RAD_OK;
+}
+
+rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int face, int line)
+{
+    if (s->nt >= (1 << 30))
+        return RAD_ERROR(RAD_ETOOBIG, "%s: more than 2^30 triangles", s->source);
+    if (s->nt >= s->cap_t) {
+        int cap = s->cap_t ? 2 * s->cap_t : 64;
+        int *t = realloc(s->tri, 3 * (size_t)cap * sizeof *t);
+        if (t)
+            s->tri = t;
+        int *m = realloc(s->tri_mat, (size_t)cap * sizeof *m);
+        if (m)
+            s->tri_mat = m;
+        int *f = realloc(s->tri_face, (size_t)cap * sizeof *f);
+        if (f)
+            s->tri_face = f;
+        int *l = realloc(s->tri_line, (size_t)cap * sizeof *l);
+        if (l)
+            s->tri_line = l;
+        if (!t || !m || !f || !l)
+            return RAD_ERROR(RAD_ENOMEM, "%s: no memory for %d triangles", s->source, cap);
+        s->cap_t = cap;
+    }
+    int *t = s->tri + 3 * (size_t)s->nt;
+    t[0] = a;
+    t[1] = b;
+    t[2] = c;
+    s->tri_mat[s->nt] = mat;
+    s->tri_face[s->nt] = face;
+    s->tri_line[s->nt] = line;
+    s->nt++;
+    return RAD_OK;
+}
+
+rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
+                              const double emission[3])
+{
+    if (!grow((void **)&s->mats, &s->cap_m, s->nm, sizeof(rad_material)))
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory for materials", s->source);
+    rad_material *m = &s->mats[s->nm++];
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, sizeof m->name, "%s", name ? name : "");
+    for (int k = 0; k < 3; k++) {
+        m->rho[k] = rho[k];
+        m->emission[k] = emission[k];
+    }
+    return RAD_OK;
+}
+
+rad_status scene_warn(rad_scene *s, const char *fmt, ...)
+{
+    char buf[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    char *copy = strdup(buf);
+    if (!copy || !grow((void **)&s->warnings, &s->cap_w, s->nw, sizeof(char *))) {
+        free(copy);
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory for warnings", s->source);
+    }
+    s->warnings[s->nw++] = copy;
+    return RAD_OK;
+}
+
+/* ---- finishing ----------------------------------------------------------- */
+
+static rad_status check_materials(rad_scene *s, const rad_scene_params *p)
+{
+    static const char channel[3] = {'r', 'g', 'b'};
+    for (int m = 0; m < s->nm; m++) {
+        rad_material *mat = &s->mats[m];
+        if (p->has_rho)
+            memcpy(mat->rho, p->rho, sizeof mat->rho);
+        if (p->has_emission)
+            memcpy(mat->emission, p->emission, sizeof mat->emission);
+        for (int k = 0; k < 3; k++) {
+            double r = mat->rho[k], e = mat->emission[k];
+            if (!(r >= 0.0 && r < 1.0))
+                return RAD_ERROR(RAD_EINPUT,
+                                 "%s: material '%s': reflectance %c = %g is outside [0, 1)%s",
+                                 s->source, mat->name, channel[k], r,
+                                 p->has_rho ? " (from --rho)" : "");
+            if (!(e >= 0.0) || !isfinite(e))
+                return RAD_ERROR(RAD_EINPUT, "%s: material '%s': emission %c = %g is %s%s",
+                                 s->source, mat->name, channel[k], e,
+                                 isfinite(e) ? "negative" : "not finite",
+                                 p->has_emission ? " (from --emission)" : "");
+        }
+    }
+    return RAD_OK;
+}
+
+static const double *sort_keys; /* only during qsort in weld(): single-threaded use */
+
+static int compare_points(const void *pa, const void *pb)
+{
+    const double *a = sort_keys + 3 * (size_t)*(const int *)pa;
+    const double *b = sort_keys + 3 * (size_t)*(const int *)pb;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+/* Merge bit-identical positions (== comparison; -0 equals 0) and drop unused
+ * vertices; renumber the triangles. */
+static rad_status weld(rad_scene *s)
+{
+    rad_status st = RAD_OK;
+    int *order = malloc((size_t)s->nv * sizeof *order + 1);
+    int *map = malloc((size_t)s->nv * sizeof *map + 1);
+    char *used = calloc((size_t)s->nv + 1, 1);
+    double *xyz = malloc(3 * (size_t)s->nv * sizeof *xyz + 1);
+    if (!order || !map || !used || !xyz) {
+        st = RAD_ERROR(RAD_ENOMEM, "%s: no memory to merge vertices", s->source);
+        goto out;
+    }
+    for (size_t i = 0; i < 3 * (size_t)s->nt; i++)
+        used[s->tri[i]] = 1;
+    int count = 0;
+    for (int v = 0; v < s->nv; v++)
+        if (used[v])
+            order[count++] = v;
+    sort_keys = s->xyz;
+    qsort(order, (size_t)count, sizeof *order, compare_points);
+    sort_keys = NULL;
+    /* New vertices in order of first use by the triangles, so that the output
+     * is independent of the sort's tie-breaking and follows the input. */
+    int *group = map; /* group[v] = representative (first in sorted run) */
+    for (int i = 0; i < count;) {
+        int j = i;
+        int rep = order[i];
+        while (j < count && compare_points(&order[i], &order[j]) == 0) {
+            if (order[j] < rep)
+                rep = order[j];
+            j++;
+        }
+        for (int k = i; k < j; k++)
+            group[order[k]] = rep;
+        i = j;
+    }
+    int *renum = order; /* reuse: renum[rep] = new index, -1 unset */
+    for (int v = 0; v < s->nv; v++)
+        renum[v] = -1;
+    int nv = 0;
+    for (size_t i = 0; i < 3 * (size_t)s->nt; i++) {
+        int rep = group[s->tri[i]];
+        if (renum[rep] < 0) {
+            renum[rep] = nv;
+            memcpy(xyz + 3 * (size_t)nv, s->xyz + 3 * (size_t)rep, 3 * sizeof *xyz);
+            nv++;
+        }
+        s->tri[i] = renum[rep];
+    }
+    free(s->xyz);
+    s->xyz = xyz;
+    xyz = NULL;
+    s->nv = nv;
+    s->cap_v = nv;
+out:
+    free(order);
+    free(map);
+    free(used);
+    free(xyz);
+    return st;
+}
+
+static const int *dup_keys;
+
+static int compare_faces(const void *pa, const void *pb)
+{
+    const int *a = dup_keys + 3 * (size_t)*(const int *)pa, *b = dup_keys + 3 * (size_t)*(const int *)pb;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k] ? -1 : 1;
+    return *(const int *)pa - *(const int *)pb;
+}
+
+static void sort3(int *t)
+{
+    int a = t[0], b = t[1], c = t[2], x;
+    if (a > b) { x = a; a = b; b = x; }
+    if (b > c) { x = b; b = c; c = x; }
+    if (a > b) { x = a; a = b; b = x; }
+    t[0] = a;
+    t[1] = b;
+    t[2] = c;
+}
+
+static rad_status warn_duplicates(rad_scene *s)
+{
+    int *keys = malloc(3 * (size_t)s->nt * sizeof *keys + 1);
+    int *order = malloc((size_t)s->nt * sizeof *order + 1);
+    rad_status st = RAD_OK;
+    if (!keys || !order) {
+        st = RAD_ERROR(RAD_ENOMEM, "%s: no memory to look for duplicate faces", s->source);
+        goto out;
+    }
+    for (int t = 0; t < s->nt; t++) {
+        memcpy(keys + 3 * (size_t)t, s->tri + 3 * (size_t)t, 3 * sizeof *keys);
+        sort3(keys + 3 * (size_t)t);
+        order[t] = t;
+    }
+    dup_keys = keys;
+    qsort(order, (size_t)s->nt, sizeof *order, compare_faces);
+    dup_keys = NULL;
+    int dups = 0, first_a = -1, first_b = -1;
+    for (int i = 1; i < s->nt; i++)
+        if (memcmp(keys + 3 * (size_t)order[i], keys + 3 * (size_t)order[i - 1], 3 * sizeof *keys) == 0) {
+            if (dups++ == 0) {
+                first_a = order[i - 1];
+                first_b = order[i];
+            }
+        }
+    if (dups > 0)
+        st = scene_warn(s, "%d duplicate coincident face(s), e.g. faces %d and %d", dups,
+                        s->tri_face[first_a], s->tri_face[first_b]);
+out:
+    free(keys);
+    free(order);
+    return st;
+}
+
+static void default_camera(rad_scene *s)
+{
+    rad_scene_summary sum;
+    rad_scene_summarize(s, &sum);
+    double c[3], r = 0.0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5 * (sum.bbox_min[k] + sum.bbox_max[k]);
+        double h = 0.5 * (sum.bbox_max[k] - sum.bbox_min[k]);
+        r += h * h;
+    }
+    r = sqrt(r);
+    double fov = 40.0;
+    double dist = r > 0.0 ? r / sin(0.5 * fov * (3.14159265358979323846 / 180.0)) : 1.0;
+    rad_camera *cam = &s->camera;
+    memset(cam, 0, sizeof *cam);
+    for (int k = 0; k < 3; k++) {
+        cam->position[k] = c[k];
+        cam->look_at[k] = c[k];
+    }
+    cam->position[2] -= dist;
+    cam->up[1] = 1.0;
+    cam->fov_y_deg = fov;
+    cam->from_scene = 0;
+}
+
+rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
+{
+    rad_status st;
+    if (!(p->scale > 0.0) || !isfinite(p->scale))
+        return RAD_ERROR(RAD_EINVAL, "scale must be a positive number, got %g", p->scale);
+    if ((st = check_materials(s, p)) != RAD_OK)
+        return st;
+    if (s->nt == 0)
+        return RAD_ERROR(RAD_EINPUT, "%s: the scene has no faces (empty scene)", s->source);
+    if ((size_t)s->nt > p->max_triangles)
+        return RAD_ERROR(RAD_ETOOBIG, "%s: %d triangles is more than the limit of %zu", s->source,
+                         s->nt, p->max_triangles);
+    for (int t = 0; t < s->nt; t++)
+        if (s->tri_mat[t] < 0 || s->tri_mat[t] >= s->nm)
+            return RAD_ERROR(RAD_EINPUT, "%s: face %d has no valid material", s->source, s->tri_face[t]);
+    for (size_t i = 0; i < 3 * (size_t)s->nv; i++) {
+        s->xyz[i] *= p->scale;
+        if (!isfinite(s->xyz[i]))
+            return RAD_ERROR(RAD_EINPUT, "%s: vertex %zu has a %s coordinate", s->source, i / 3,
+                             isnan(s->xyz[i]) ? "NaN" : "infinite");
+    }
+    if (s->camera.from_scene)
+        for (int k = 0; k < 3; k++) {
+            s->camera.position[k] *= p->scale;
+            s->camera.look_at[k] *= p->scale;
+        }
+
+    /* Degenerate triangles: an error at the first, or dropped. */
+    int kept = 0;
+    char *used = calloc((size_t)s->nv + 1, 1);
+    if (!used)
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory", s->source);
+    for (size_t i = 0; i < 3 * (size_t)s->nt; i++)
+        used[s->tri[i]] = 1;
+    int unused = 0;
+    for (int v = 0; v < s->nv; v++)
+        unused += !used[v];
+    free(used);
+    for (int t = 0; t < s->nt; t++) {
+        const int *v = s->tri + 3 * (size_t)t;
+        rad_vec3 a = rad_vec3_make(s->xyz[3 * v[0]], s->xyz[3 * v[0] + 1], s->xyz[3 * v[0] + 2]);
+        rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
+        rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
+        if (rad_geom_triangle_is_degenerate(a, b, c, p->degenerate_rel_tol)) {
+            if (!p->drop_degenerate) {
+                if (s->tri_line[t] > 0)
+                    return RAD_ERROR(RAD_EINPUT,
+                                     "%s:%d: degenerate (zero-area) triangle in face %d "
+                                     "(use --drop-degenerate to drop such faces)",
+                                     s->source, s->tri_line[t], s->tri_face[t]);
+                return RAD_ERROR(RAD_EINPUT,
+                                 "%s: face %d: degenerate (zero-area) triangle "
+                                 "(use --drop-degenerate to drop such faces)",
+                                 s->source, s->tri_face[t]);
+            }
+            s->dropped++;
+            continue;
+        }
+        if (kept != t) {
+            memcpy(s->tri + 3 * (size_t)kept, v, 3 * sizeof *v);
+            s->tri_mat[kept] = s->tri_mat[t];
+            s->tri_face[kept] = s->tri_face[t];
+            s->tri_line[kept] = s->tri_line[t];
+        }
+        kept++;
+    }
+    s->nt = kept;
+    if (s->nt == 0)
+        return RAD_ERROR(RAD_EINPUT, "%s: no faces left after dropping %d degenerate triangle(s)",
+                         s->source, s->dropped);
+    if (s->dropped > 0 && (st = scene_warn(s, "dropped %d degenerate (zero-area) triangle(s)",
+                                           s->dropped)) != RAD_OK)
+        return st;
+    if (unused > 0 &&
+        (st = scene_warn(s, "%d unused vertices (not referenced by any face)", unused)) != RAD_OK)
+        return st;
+    if ((st = weld(s)) != RAD_OK || (st = warn_duplicates(s)) != RAD_OK)
+        return st;
+    rad_scene_summary sum;
+    rad_scene_summarize(s, &sum);
+    if (sum.emitters == 0 && (st = scene_warn(s, "no emitter: every emission is zero, so the "
+                                                 "radiosity is zero everywhere")) != RAD_OK)
+        return st;
+    if (!s->camera.from_scene)
+        default_camera(s);
+    return RAD_OK;
+}
+
+/* ---- loading ------------------------------------------------------------- */
+
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), e = strlen(ext);
+    if (n < e)
+        return 0;
+    for (size_t i = 0; i < e; i++)
+        if (tolower((unsigned char)path[n - e + i]) != ext[i])
+            return 0;
+    return 1;
+}
+
+rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_scene **out)
+{
+    rad_scene_params defaults;
+    if (!params) {
+        rad_scene_params_default(&defaults);
+        params = &defaults;
+    }
+    if (!out || !path || !*path)
+        return RAD_ERROR(RAD_EINVAL, "rad_scene_load: no file name");
+    *out = NULL;
+    FILE *probe = fopen(path, "rb");
+    if (!probe)
+        return RAD_ERROR(RAD_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    int c = fgetc(probe);
+    fclose(probe);
+    if (c == EOF)
+        return RAD_ERROR(RAD_EINPUT, "%s: the file is empty (empty scene)", path);
+    rad_scene *s = scene_new(path);
+    if (!s)
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory", path);
+    rad_status st = has_extension(path, ".obj") ? scene_import_obj(s, path, params)
+                                                : scene_import_assimp(s, path, params);
+    if (st == RAD_OK)
+        st = scene_finish(s, params);
+    if (st != RAD_OK) {
+        rad_scene_destroy(s);
+        return st;
+    }
+    *out = s;
+    return RAD_OK;
+}
+
+rad_status rad_scene_create(const char *name, const double *xyz, int nv, const int *tri, int nt,
+                            const int *tri_material, const rad_material *materials, int nm,
+                            const rad_scene_params *params, rad_scene **out)
+{
+    rad_scene_params defaults;
+    if (!params) {
+        rad_scene_params_default(&defaults);
+        params = &defaults;
+    }
+    if (!out)
+        return RAD_ERROR(RAD_EINVAL, "rad_scene_create: out is NULL");
+    *out = NULL;
+    if (nv < 0 || nt < 0 || nm < 1 || !materials || (nv > 0 && !xyz) || (nt > 0 && !tri))
+        return RAD_ERROR(RAD_EINVAL, "rad_scene_create: bad arrays (nv %d, nt %d, nm %d)", nv, nt, nm);
+    rad_scene *s = scene_new(name);
+    if (!s)
+        return RAD_ERROR(RAD_ENOMEM, "rad_scene_create: no memory");
+    rad_status st = RAD_OK;
+    for (int v = 0; v < nv && st == RAD_OK; v++)
+        st = scene_add_vertex(s, xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+    for (int m = 0; m < nm && st == RAD_OK; m++)
+        st = scene_add_material(s, materials[m].name, materials[m].rho, materials[m].emission);
+    for (int t = 0; t < nt && st == RAD_OK; t++) {
+        for (int k = 0; k < 3; k++)
+            if (tri[3 * t + k] < 0 || tri[3 * t + k] >= nv)
+                st = RAD_ERROR(RAD_EINPUT, "%s: face %d: vertex index %d out of range (%d vertices)",
+                               s->source, t, tri[3 * t + k], nv);
+        if (st == RAD_OK)
+            st = scene_add_triangle(s, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2],
+                                    tri_material ? tri_material[t] : 0, t, 0);
+    }
+    if (st == RAD_OK)
+        st = scene_finish(s, params);
+    if (st != RAD_OK) {
+        rad_scene_destroy(s);
+        return st;
+    }
+    *out = s;
+    return RAD_OK;
+}
+
+/* ---- accessors ----------------------------------------------------------- */
+
+int rad_scene_vertex_count(const rad_scene *s) { return s ? s->nv : 0; }
+int rad_scene_triangle_count(const rad_scene *s) { return s ? s->nt : 0; }
+int rad_scene_material_count(const rad_scene *s) { return s ? s->nm : 0; }
+const double *rad_scene_vertices(const rad_scene *s) { return s ? s->xyz : NULL; }
+const int *rad_scene_triangles(const rad_scene *s) { return s ? s->tri : NULL; }
+const int *rad_scene_triangle_materials(const rad_scene *s) { return s ? s->tri_mat : NULL; }
+const int *rad_scene_triangle_faces(const rad_scene *s) { return s ? s->tri_face : NULL; }
+const rad_material *rad_scene_materials(const rad_scene *s) { return s ? s->mats : NULL; }
+const rad_camera *rad_scene_camera(const rad_scene *s) { return s ? &s->camera : NULL; }
+const char *rad_scene_source(const rad_scene *s) { return s ? s->source : ""; }
+int rad_scene_dropped_count(const rad_scene *s) { return s ? s->dropped : 0; }
+int rad_scene_warning_count(const rad_scene *s) { return s ? s->nw : 0; }
+
+const char *rad_scene_warning(const rad_scene *s, int i)
+{
+    return s && i >= 0 && i < s->nw ? s->warnings[i] : "";
+}
+
+void rad_scene_summarize(const rad_scene *s, rad_scene_summary *sum)
+{
+    memset(sum, 0, sizeof *sum);
+    if (!s)
+        return;
+    sum->faces = s->nt;
+    sum->vertices = s->nv;
+    sum->materials = s->nm;
+    sum->grey_reflectance = 1;
+    sum->grey_emission = 1;
+    for (int k = 0; k < 3; k++) {
+        sum->bbox_min[k] = s->nv ? INFINITY : 0.0;
+        sum->bbox_max[k] = s->nv ? -INFINITY : 0.0;
+    }
+    for (int v = 0; v < s->nv; v++)
+        for (int k = 0; k < 3; k++) {
+            sum->bbox_min[k] = fmin(sum->bbox_min[k], s->xyz[3 * v + k]);
+            sum->bbox_max[k] = fmax(sum->bbox_max[k], s->xyz[3 * v + k]);
+        }
+    for (int t = 0; t < s->nt; t++) {
+        const int *v = s->tri + 3 * (size_t)t;
+        rad_vec3 a = rad_vec3_make(s->xyz[3 * v[0]], s->xyz[3 * v[0] + 1], s->xyz[3 * v[0] + 2]);
+        rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
+        rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
+        double area = rad_geom_triangle_area(a, b, c);
+        const rad_material *m = &s->mats[s->tri_mat[t]];
+        sum->total_area += area;
+        if (m->emission[0] > 0.0 || m->emission[1] > 0.0 || m->emission[2] > 0.0) {
+            sum->emitters++;
+            sum->emitting_area += area;
+        }
+        if (m->rho[0] != m->rho[1] || m->rho[1] != m->rho[2])
+            sum->grey_reflectance = 0;
+        if (m->emission[0] != m->emission[1] || m->emission[1] != m->emission[2])
+            sum->grey_emission = 0;
+    }
+}

@@ -1,0 +1,44 @@
+/* Internal to rad_scene: the scene object and the helpers its importers share. */
+#ifndef RAD_SCENE_INTERNAL_H
+#define RAD_SCENE_INTERNAL_H
+
+#include "rad_scene.h"
+
+struct rad_scene {
+    char *source;
+    double *xyz;      /* 3 per vertex */
+    int nv, cap_v;
+    int *tri;         /* 3 per triangle */
+    int *tri_mat;     /* material per triangle */
+    int *tri_face;    /* input face per triangle */
+    int *tri_line;    /* input line per triangle (0 when the format has none) */
+    int nt, cap_t;
+    rad_material *mats;
+    int nm, cap_m;
+    rad_camera camera;
+    int dropped;
+    char **warnings;
+    int nw, cap_w;
+};
+
+/* Growth helpers: RAD_ENOMEM on failure. */
+rad_status scene_add_vertex(rad_scene *s, double x, double y, double z);
+rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int face, int line);
+rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
+                              const double emission[3]);
+rad_status scene_warn(rad_scene *s, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+rad_scene *scene_new(const char *source);
+
+/* Importers fill a new scene; scene_finish validates and normalises it. */
+rad_status scene_import_obj(rad_scene *s, const char *path, const rad_scene_params *p);
+rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_params *p);
+/* Import `path` with Assimp only to count its triangles and materials (the
+ * cross-check of the OBJ reader). */
+rad_status scene_assimp_count(const char *path, long *triangles, long *materials);
+rad_status scene_finish(rad_scene *s, const rad_scene_params *p);
+
+#endif
