@@ -1,13 +1,14 @@
 /* Import through Assimp's C API: glTF 2.0, PLY, OFF, STL and the other
  * formats Assimp reads [assimp].
  *
- *  1. aiImportFileExWithProperties with aiProcess_Triangulate (polygons to
- *     triangles), aiProcess_JoinIdenticalVertices (shared corners) and
- *     aiProcess_ValidateDataStructure (indices in range).  Deliberately NOT
- *     aiProcess_FindDegenerates (it would drop zero-area faces silently;
- *     validation must see them), nor aiProcess_SortByPType or
+ *  1. aiImportFileExWithProperties with aiProcess_JoinIdenticalVertices
+ *     (shared corners) and aiProcess_ValidateDataStructure (indices in range).
+ *     Deliberately NOT aiProcess_FindDegenerates (it would drop zero-area
+ *     faces silently; validation must see them), nor aiProcess_SortByPType or
  *     aiProcess_PreTransformVertices (they regroup meshes and lose the input
- *     order).
+ *     order), nor aiProcess_Triangulate: polygons are fan-triangulated here, so
+ *     that every triangle knows its input face (scene_finish refuses a
+ *     polygon the fan would fold, i.e. a non-convex one).
  *  2. Walk the node tree depth first, children in order, each node's meshes in
  *     order, applying the accumulated node transform in double precision:
  *     the triangles come out in the order of the file's meshes and faces.
@@ -33,8 +34,7 @@
 
 #include "scene_internal.h"
 
-static const unsigned import_flags =
-    aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+static const unsigned import_flags = aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
 
 static int has_extension(const char *path, const char *ext)
 {

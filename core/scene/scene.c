@@ -7,7 +7,8 @@
  *  3. Refuse an empty scene; scale the coordinates (and the camera).
  *  4. Check every coordinate is finite and every triangle non-degenerate
  *     (rad_geom_triangle_is_degenerate); a degenerate triangle is an error
- *     naming its line (OBJ) or face, or is dropped and counted.
+ *     naming its line (OBJ) or face, or is dropped and counted.  A polygon
+ *     whose fan triangulation folds (non-convex) is an error.
  *  5. Count unused vertices (a warning), then merge vertices at bit-identical
  *     positions and drop unused ones, so shared corners share an index.
  *  6. Warn about duplicate coincident faces (the same three corners, in either
@@ -341,6 +342,42 @@ static void default_camera(rad_scene *s)
     cam->from_scene = 0;
 }
 
+/* A polygon split into a fan is valid only when no fan triangle folds back
+ * against the polygon's area vector (a non-convex or self-overlapping
+ * polygon); consecutive triangles of one input face are its fan. */
+static rad_status check_fans(const rad_scene *s)
+{
+    for (int t0 = 0; t0 < s->nt;) {
+        int t1 = t0 + 1;
+        while (t1 < s->nt && s->tri_face[t1] == s->tri_face[t0])
+            t1++;
+        if (t1 - t0 > 1) {
+            rad_vec3 sum = rad_vec3_make(0, 0, 0);
+            for (int pass = 0; pass < 2; pass++)
+                for (int t = t0; t < t1; t++) {
+                    const int *v = s->tri + 3 * (size_t)t;
+                    rad_vec3 a = rad_vec3_make(s->xyz[3 * v[0]], s->xyz[3 * v[0] + 1], s->xyz[3 * v[0] + 2]);
+                    rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
+                    rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
+                    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
+                    if (pass == 0)
+                        sum = rad_vec3_add(sum, n);
+                    else if (rad_vec3_dot(n, sum) < 0.0) {
+                        if (s->tri_line[t] > 0)
+                            return RAD_ERROR(RAD_EINPUT, "%s:%d: face %d is a non-convex polygon "
+                                             "(its fan triangulation folds); split it into triangles",
+                                             s->source, s->tri_line[t], s->tri_face[t]);
+                        return RAD_ERROR(RAD_EINPUT, "%s: face %d is a non-convex polygon (its fan "
+                                         "triangulation folds); split it into triangles",
+                                         s->source, s->tri_face[t]);
+                    }
+                }
+        }
+        t0 = t1;
+    }
+    return RAD_OK;
+}
+
 rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
 {
     rad_status st;
@@ -408,6 +445,8 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
         kept++;
     }
     s->nt = kept;
+    if ((st = check_fans(s)) != RAD_OK)
+        return st;
     if (s->nt == 0)
         return RAD_ERROR(RAD_EINPUT, "%s: no faces left after dropping %d degenerate triangle(s)",
                          s->source, s->dropped);
