@@ -430,6 +430,8 @@ def bad():
         "negative_emission.mtl": "newmtl m\nKd 0.5 0.5 0.5\nKe 1 -0.25 1\n",
         "malformed_number.obj": "mtllib good.mtl\nv 0 0 0\nv 1 0.5x 0\nv 1 1 0\nusemtl m\nf 1 2 3\n",
         "undefined_material.obj": "mtllib good.mtl\n" + square + "usemtl nosuch\nf 1 2 3\n",
+        "nonconvex_polygon.obj": "mtllib good.mtl\nv 2 0 0\nv 0.5 0.5 0\nv 0 2 0\nv 0 0 0\n"
+                                 "usemtl m\nf 1 2 3 4\n",
         "no_faces.obj": "mtllib good.mtl\n" + square,
         "empty.obj": "",
         "garbage.obj": "\x7fELF\x02\x01\x01 this is not a scene \x01\x02\x03\n%%%% 12 ab\n",
