@@ -46,8 +46,8 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
 extern const char cli_scene_options_help[];
 
 int cli_galerkin1d(int argc, char **argv);
-int cli_solve(int argc, char **argv);
-int cli_info(int argc, char **argv);
 int cli_ff(int argc, char **argv);
+int cli_info(int argc, char **argv);
+int cli_solve(int argc, char **argv);
 
 #endif

@@ -79,6 +79,18 @@ static rad_status parse_rgb(const char *option, const char *text, int max_exclus
     return RAD_OK;
 }
 
+/* The shortest of %.15g, %.16g, %.17g that reads back as x exactly, so
+ * 2.385 prints as 2.385 and every printed number is the stored double. */
+static const char *num(char buf[32], double x)
+{
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(buf, 32, "%.*g", digits, x);
+        if (strtod(buf, NULL) == x)
+            break;
+    }
+    return buf;
+}
+
 static const char *onoff(int on) { return on ? "on" : "off"; }
 
 static void print_decision(const char *name, const rad_effect_decision *d)
@@ -190,18 +202,21 @@ int cli_info(int argc, char **argv)
     rad_mesh_get_info(mesh, &info);
     const rad_camera *cam = rad_scene_camera(scene);
     printf("# radkit %s info\n", RAD_VERSION);
-    printf("# source = %s\n# scale = %.17g\n", rad_scene_source(scene), params.scale);
+    char nb[12][32];
+    printf("# source = %s\n# scale = %s\n", rad_scene_source(scene), num(nb[0], params.scale));
     printf("# faces = %d\n# vertices = %d\n# materials = %d\n# emitters = %d\n", sum.faces,
            sum.vertices, sum.materials, sum.emitters);
-    printf("# total_area = %.17g\n# emitting_area = %.17g\n", sum.total_area, sum.emitting_area);
-    printf("# bbox_min = %.17g %.17g %.17g\n# bbox_max = %.17g %.17g %.17g\n", sum.bbox_min[0],
-           sum.bbox_min[1], sum.bbox_min[2], sum.bbox_max[0], sum.bbox_max[1], sum.bbox_max[2]);
-    printf("# camera = %s\n# camera_position = %.17g %.17g %.17g\n"
-           "# camera_look_at = %.17g %.17g %.17g\n# camera_up = %.17g %.17g %.17g\n"
-           "# camera_fov_y_deg = %.17g\n",
-           cam->from_scene ? "scene" : "default", cam->position[0], cam->position[1],
-           cam->position[2], cam->look_at[0], cam->look_at[1], cam->look_at[2], cam->up[0],
-           cam->up[1], cam->up[2], cam->fov_y_deg);
+    printf("# total_area = %s\n# emitting_area = %s\n", num(nb[0], sum.total_area),
+           num(nb[1], sum.emitting_area));
+    printf("# bbox_min = %s %s %s\n# bbox_max = %s %s %s\n", num(nb[0], sum.bbox_min[0]),
+           num(nb[1], sum.bbox_min[1]), num(nb[2], sum.bbox_min[2]), num(nb[3], sum.bbox_max[0]),
+           num(nb[4], sum.bbox_max[1]), num(nb[5], sum.bbox_max[2]));
+    printf("# camera = %s\n# camera_position = %s %s %s\n# camera_look_at = %s %s %s\n",
+           cam->from_scene ? "scene" : "default", num(nb[0], cam->position[0]),
+           num(nb[1], cam->position[1]), num(nb[2], cam->position[2]), num(nb[3], cam->look_at[0]),
+           num(nb[4], cam->look_at[1]), num(nb[5], cam->look_at[2]));
+    printf("# camera_up = %s %s %s\n# camera_fov_y_deg = %s\n", num(nb[0], cam->up[0]),
+           num(nb[1], cam->up[1]), num(nb[2], cam->up[2]), num(nb[3], cam->fov_y_deg));
     printf("# dropped_degenerate = %d\n# warnings = %d\n", rad_scene_dropped_count(scene),
            rad_scene_warning_count(scene));
     for (int w = 0; w < rad_scene_warning_count(scene); w++)
@@ -244,9 +259,10 @@ int cli_info(int argc, char **argv)
             faces++;
             area += rad_geom_triangle_area(a, b, c);
         }
-        printf("%d\t%s\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%.17g\n", m, mats[m].name,
-               mats[m].rho[0], mats[m].rho[1], mats[m].rho[2], mats[m].emission[0],
-               mats[m].emission[1], mats[m].emission[2], faces, area);
+        printf("%d\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%d\t%s\n", m, mats[m].name,
+               num(nb[0], mats[m].rho[0]), num(nb[1], mats[m].rho[1]), num(nb[2], mats[m].rho[2]),
+               num(nb[3], mats[m].emission[0]), num(nb[4], mats[m].emission[1]),
+               num(nb[5], mats[m].emission[2]), faces, num(nb[6], area));
     }
 out:
     rad_mesh_destroy(mesh);

@@ -1,13 +1,14 @@
 /* Import through Assimp's C API: glTF 2.0, PLY, OFF, STL and the other
  * formats Assimp reads [assimp].
  *
- *  1. aiImportFileExWithProperties with aiProcess_Triangulate (polygons to
- *     triangles), aiProcess_JoinIdenticalVertices (shared corners) and
- *     aiProcess_ValidateDataStructure (indices in range).  Deliberately NOT
- *     aiProcess_FindDegenerates (it would drop zero-area faces silently;
- *     validation must see them), nor aiProcess_SortByPType or
+ *  1. aiImportFileExWithProperties with aiProcess_JoinIdenticalVertices
+ *     (shared corners) and aiProcess_ValidateDataStructure (indices in range).
+ *     Deliberately NOT aiProcess_FindDegenerates (it would drop zero-area
+ *     faces silently; validation must see them), nor aiProcess_SortByPType or
  *     aiProcess_PreTransformVertices (they regroup meshes and lose the input
- *     order).
+ *     order), nor aiProcess_Triangulate: polygons are fan-triangulated here, so
+ *     that every triangle knows its input face (scene_finish refuses a
+ *     polygon the fan would fold, i.e. a non-convex one).
  *  2. Walk the node tree depth first, children in order, each node's meshes in
  *     order, applying the accumulated node transform in double precision:
  *     the triangles come out in the order of the file's meshes and faces.
@@ -33,8 +34,7 @@
 
 #include "scene_internal.h"
 
-static const unsigned import_flags =
-    aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+static const unsigned import_flags = aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
 
 static int has_extension(const char *path, const char *ext)
 {
@@ -171,9 +171,12 @@ static void read_camera(rad_scene *s, const struct aiScene *ai)
     s->camera.from_scene = 1;
 }
 
-static rad_status read_materials(rad_scene *s, const struct aiScene *ai, int gltf)
+static rad_status read_materials(rad_scene *s, const struct aiScene *ai, const char *path, int gltf)
 {
     rad_status st = RAD_OK;
+    enum { MAX_STRENGTHS = 4096 };
+    static _Thread_local double strength[MAX_STRENGTHS];
+    int nstrength = gltf ? scene_gltf_emissive_strengths(path, strength, MAX_STRENGTHS) : 0;
     for (unsigned m = 0; m < ai->mNumMaterials && st == RAD_OK; m++) {
         const struct aiMaterial *mat = ai->mMaterials[m];
         struct aiString name;
@@ -192,12 +195,17 @@ static rad_status read_materials(rad_scene *s, const struct aiScene *ai, int glt
             e[1] = c.g;
             e[2] = c.b;
         }
-        ai_real strength = 1;
+        ai_real intensity = 1;
         unsigned one = 1;
-        if (aiGetMaterialFloatArray(mat, AI_MATKEY_EMISSIVE_INTENSITY, &strength, &one) ==
-            aiReturn_SUCCESS)
+        if (aiGetMaterialFloatArray(mat, AI_MATKEY_EMISSIVE_INTENSITY, &intensity, &one) ==
+            aiReturn_SUCCESS) {
             for (int k = 0; k < 3; k++)
-                e[k] *= (double)strength;
+                e[k] *= (double)intensity;
+        } else if ((int)m < nstrength) {
+            /* Debian's Assimp ignores KHR_materials_emissive_strength: read it here. */
+            for (int k = 0; k < 3; k++)
+                e[k] *= strength[m];
+        }
         st = scene_add_material(s, name.data, rho, e);
     }
     return st;
@@ -220,7 +228,7 @@ rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_p
         st = scene_add_material(s, "default", p->default_rho, zero);
         w.single_material = 0;
     } else {
-        st = read_materials(s, ai, gltf);
+        st = read_materials(s, ai, path, gltf);
     }
     xform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
     if (st == RAD_OK && ai->mRootNode)

@@ -290,7 +290,7 @@ static rad_status read_obj(obj_reader *r, FILE *f)
         if (strcmp(key, "v") == 0) {
             double c[3];
             for (int k = 0; k < 3 && st == RAD_OK; k++)
-                st = parse_number(r->path, line, "vertex", strtok_r(NULL, " \t", &save), &c[k]);
+                st = parse_number(r->path, line, "vertex coordinate", strtok_r(NULL, " \t", &save), &c[k]);
             if (st == RAD_OK)
                 st = scene_add_vertex(r->s, c[0], c[1], c[2]);
         } else if (strcmp(key, "f") == 0) {

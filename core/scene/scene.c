@@ -7,7 +7,8 @@
  *  3. Refuse an empty scene; scale the coordinates (and the camera).
  *  4. Check every coordinate is finite and every triangle non-degenerate
  *     (rad_geom_triangle_is_degenerate); a degenerate triangle is an error
- *     naming its line (OBJ) or face, or is dropped and counted.
+ *     naming its line (OBJ) or face, or is dropped and counted.  A polygon
+ *     whose fan triangulation folds (non-convex) is an error.
  *  5. Count unused vertices (a warning), then merge vertices at bit-identical
  *     positions and drop unused ones, so shared corners share an index.
  *  6. Warn about duplicate coincident faces (the same three corners, in either
@@ -157,6 +158,8 @@ rad_status scene_warn(rad_scene *s, const char *fmt, ...)
 
 /* ---- finishing ----------------------------------------------------------- */
 
+/* Overrides apply to every material; only materials some face uses are
+ * checked (importers may add defaults nobody uses). */
 static rad_status check_materials(rad_scene *s, const rad_scene_params *p)
 {
     static const char channel[3] = {'r', 'g', 'b'};
@@ -166,7 +169,10 @@ static rad_status check_materials(rad_scene *s, const rad_scene_params *p)
             memcpy(mat->rho, p->rho, sizeof mat->rho);
         if (p->has_emission)
             memcpy(mat->emission, p->emission, sizeof mat->emission);
-        for (int k = 0; k < 3; k++) {
+        int used = 0;
+        for (int t = 0; t < s->nt && !used; t++)
+            used = s->tri_mat[t] == m;
+        for (int k = 0; k < 3 && used; k++) {
             double r = mat->rho[k], e = mat->emission[k];
             if (!(r >= 0.0 && r < 1.0))
                 return RAD_ERROR(RAD_EINPUT,
@@ -183,28 +189,37 @@ static rad_status check_materials(rad_scene *s, const rad_scene_params *p)
     return RAD_OK;
 }
 
-static const double *sort_keys; /* only during qsort in weld(): single-threaded use */
+typedef struct keyed_point {
+    double x[3];
+    int v;
+} keyed_point;
 
 static int compare_points(const void *pa, const void *pb)
 {
-    const double *a = sort_keys + 3 * (size_t)*(const int *)pa;
-    const double *b = sort_keys + 3 * (size_t)*(const int *)pb;
+    const keyed_point *a = pa, *b = pb;
     for (int k = 0; k < 3; k++)
-        if (a[k] != b[k])
-            return a[k] < b[k] ? -1 : 1;
-    return 0;
+        if (a->x[k] != b->x[k])
+            return a->x[k] < b->x[k] ? -1 : 1;
+    return a->v < b->v ? -1 : a->v > b->v;
+}
+
+static int same_point(const keyed_point *a, const keyed_point *b)
+{
+    return a->x[0] == b->x[0] && a->x[1] == b->x[1] && a->x[2] == b->x[2];
 }
 
 /* Merge bit-identical positions (== comparison; -0 equals 0) and drop unused
- * vertices; renumber the triangles. */
+ * vertices; renumber the triangles.  New vertices are numbered in order of
+ * first use by the triangles, so the result follows the input order. */
 static rad_status weld(rad_scene *s)
 {
     rad_status st = RAD_OK;
-    int *order = malloc((size_t)s->nv * sizeof *order + 1);
-    int *map = malloc((size_t)s->nv * sizeof *map + 1);
+    keyed_point *order = malloc((size_t)s->nv * sizeof *order + 1);
+    int *group = malloc((size_t)s->nv * sizeof *group + 1);
+    int *renum = malloc((size_t)s->nv * sizeof *renum + 1);
     char *used = calloc((size_t)s->nv + 1, 1);
     double *xyz = malloc(3 * (size_t)s->nv * sizeof *xyz + 1);
-    if (!order || !map || !used || !xyz) {
+    if (!order || !group || !renum || !used || !xyz) {
         st = RAD_ERROR(RAD_ENOMEM, "%s: no memory to merge vertices", s->source);
         goto out;
     }
@@ -212,27 +227,20 @@ static rad_status weld(rad_scene *s)
         used[s->tri[i]] = 1;
     int count = 0;
     for (int v = 0; v < s->nv; v++)
-        if (used[v])
-            order[count++] = v;
-    sort_keys = s->xyz;
+        if (used[v]) {
+            memcpy(order[count].x, s->xyz + 3 * (size_t)v, sizeof order[count].x);
+            order[count++].v = v;
+        }
     qsort(order, (size_t)count, sizeof *order, compare_points);
-    sort_keys = NULL;
-    /* New vertices in order of first use by the triangles, so that the output
-     * is independent of the sort's tie-breaking and follows the input. */
-    int *group = map; /* group[v] = representative (first in sorted run) */
+    /* group[v] = the smallest original index at the same position. */
     for (int i = 0; i < count;) {
         int j = i;
-        int rep = order[i];
-        while (j < count && compare_points(&order[i], &order[j]) == 0) {
-            if (order[j] < rep)
-                rep = order[j];
+        while (j < count && same_point(&order[i], &order[j]))
             j++;
-        }
         for (int k = i; k < j; k++)
-            group[order[k]] = rep;
+            group[order[k].v] = order[i].v; /* sorted by index within a run */
         i = j;
     }
-    int *renum = order; /* reuse: renum[rep] = new index, -1 unset */
     for (int v = 0; v < s->nv; v++)
         renum[v] = -1;
     int nv = 0;
@@ -252,21 +260,25 @@ static rad_status weld(rad_scene *s)
     s->cap_v = nv;
 out:
     free(order);
-    free(map);
+    free(group);
+    free(renum);
     free(used);
     free(xyz);
     return st;
 }
 
-static const int *dup_keys;
+typedef struct keyed_face {
+    int v[3]; /* sorted corners */
+    int t;
+} keyed_face;
 
 static int compare_faces(const void *pa, const void *pb)
 {
-    const int *a = dup_keys + 3 * (size_t)*(const int *)pa, *b = dup_keys + 3 * (size_t)*(const int *)pb;
+    const keyed_face *a = pa, *b = pb;
     for (int k = 0; k < 3; k++)
-        if (a[k] != b[k])
-            return a[k] < b[k] ? -1 : 1;
-    return *(const int *)pa - *(const int *)pb;
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return a->t < b->t ? -1 : a->t > b->t;
 }
 
 static void sort3(int *t)
@@ -282,35 +294,26 @@ static void sort3(int *t)
 
 static rad_status warn_duplicates(rad_scene *s)
 {
-    int *keys = malloc(3 * (size_t)s->nt * sizeof *keys + 1);
-    int *order = malloc((size_t)s->nt * sizeof *order + 1);
-    rad_status st = RAD_OK;
-    if (!keys || !order) {
-        st = RAD_ERROR(RAD_ENOMEM, "%s: no memory to look for duplicate faces", s->source);
-        goto out;
-    }
+    keyed_face *keys = malloc((size_t)s->nt * sizeof *keys + 1);
+    if (!keys)
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory to look for duplicate faces", s->source);
     for (int t = 0; t < s->nt; t++) {
-        memcpy(keys + 3 * (size_t)t, s->tri + 3 * (size_t)t, 3 * sizeof *keys);
-        sort3(keys + 3 * (size_t)t);
-        order[t] = t;
+        memcpy(keys[t].v, s->tri + 3 * (size_t)t, sizeof keys[t].v);
+        sort3(keys[t].v);
+        keys[t].t = t;
     }
-    dup_keys = keys;
-    qsort(order, (size_t)s->nt, sizeof *order, compare_faces);
-    dup_keys = NULL;
+    qsort(keys, (size_t)s->nt, sizeof *keys, compare_faces);
     int dups = 0, first_a = -1, first_b = -1;
     for (int i = 1; i < s->nt; i++)
-        if (memcmp(keys + 3 * (size_t)order[i], keys + 3 * (size_t)order[i - 1], 3 * sizeof *keys) == 0) {
-            if (dups++ == 0) {
-                first_a = order[i - 1];
-                first_b = order[i];
-            }
+        if (memcmp(keys[i].v, keys[i - 1].v, sizeof keys[i].v) == 0 && dups++ == 0) {
+            first_a = keys[i - 1].t;
+            first_b = keys[i].t;
         }
+    rad_status st = RAD_OK;
     if (dups > 0)
         st = scene_warn(s, "%d duplicate coincident face(s), e.g. faces %d and %d", dups,
                         s->tri_face[first_a], s->tri_face[first_b]);
-out:
     free(keys);
-    free(order);
     return st;
 }
 
@@ -337,6 +340,42 @@ static void default_camera(rad_scene *s)
     cam->up[1] = 1.0;
     cam->fov_y_deg = fov;
     cam->from_scene = 0;
+}
+
+/* A polygon split into a fan is valid only when no fan triangle folds back
+ * against the polygon's area vector (a non-convex or self-overlapping
+ * polygon); consecutive triangles of one input face are its fan. */
+static rad_status check_fans(const rad_scene *s)
+{
+    for (int t0 = 0; t0 < s->nt;) {
+        int t1 = t0 + 1;
+        while (t1 < s->nt && s->tri_face[t1] == s->tri_face[t0])
+            t1++;
+        if (t1 - t0 > 1) {
+            rad_vec3 sum = rad_vec3_make(0, 0, 0);
+            for (int pass = 0; pass < 2; pass++)
+                for (int t = t0; t < t1; t++) {
+                    const int *v = s->tri + 3 * (size_t)t;
+                    rad_vec3 a = rad_vec3_make(s->xyz[3 * v[0]], s->xyz[3 * v[0] + 1], s->xyz[3 * v[0] + 2]);
+                    rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
+                    rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
+                    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
+                    if (pass == 0)
+                        sum = rad_vec3_add(sum, n);
+                    else if (rad_vec3_dot(n, sum) < 0.0) {
+                        if (s->tri_line[t] > 0)
+                            return RAD_ERROR(RAD_EINPUT, "%s:%d: face %d is a non-convex polygon "
+                                             "(its fan triangulation folds); split it into triangles",
+                                             s->source, s->tri_line[t], s->tri_face[t]);
+                        return RAD_ERROR(RAD_EINPUT, "%s: face %d is a non-convex polygon (its fan "
+                                         "triangulation folds); split it into triangles",
+                                         s->source, s->tri_face[t]);
+                    }
+                }
+        }
+        t0 = t1;
+    }
+    return RAD_OK;
 }
 
 rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
@@ -406,6 +445,8 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
         kept++;
     }
     s->nt = kept;
+    if ((st = check_fans(s)) != RAD_OK)
+        return st;
     if (s->nt == 0)
         return RAD_ERROR(RAD_EINPUT, "%s: no faces left after dropping %d degenerate triangle(s)",
                          s->source, s->dropped);

@@ -39,6 +39,9 @@ rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_p
 /* Import `path` with Assimp only to count its triangles and materials (the
  * cross-check of the OBJ reader). */
 rad_status scene_assimp_count(const char *path, long *triangles, long *materials);
+/* KHR_materials_emissive_strength of each glTF material (1 where absent), read
+ * from the file's JSON; returns how many materials it found (0 on any problem). */
+int scene_gltf_emissive_strengths(const char *path, double *strength, int cap);
 rad_status scene_finish(rad_scene *s, const rad_scene_params *p);
 
 #endif
