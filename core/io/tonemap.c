@@ -4,7 +4,7 @@
  *    (constant per face) offers at a vertex; smooth shading then interpolates
  *    it linearly over each face (Gouraud).
  * 2. Tone map: clamp(exposure * B, 0, 1)^(1/gamma) scaled to 0..255, rounded.
- * \cite{cohen1993radiosity} (chapter 10, rendering radiosity solutions). */
+ * \cite{cohen1993} (chapter 10, rendering radiosity solutions). */
 #include "rad_io.h"
 
 #include <math.h>

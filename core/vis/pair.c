@@ -15,7 +15,7 @@
  *    nothing can block the pair (shaft.c).
  * The visible fraction estimates (1/(A_i A_j)) int int V dA dA; the midpoint
  * rule on k^2 cells converges as the cells shrink, at a rate set by the
- * smoothness of the shadow boundary \cite{cohen1993radiosity}. */
+ * smoothness of the shadow boundary \cite{cohen1993}. */
 #include "vis_internal.h"
 
 #include <math.h>
