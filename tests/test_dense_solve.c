@@ -1,6 +1,7 @@
 /* The radiosity solvers against closed forms (furnace, tetrahedron) and
  * against each other on random symmetric couplings. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -307,4 +308,28 @@ TEST(dense_rejects_bad_input_and_too_big)
     rad_dense_method m;
     CHECK(rad_dense_method_parse("gauss-seidel", &m) == RAD_OK && m == RAD_DENSE_GAUSS_SEIDEL);
     CHECK(rad_dense_method_parse("gs", &m) == RAD_EINVAL);
+}
+
+TEST(dense_results_do_not_depend_on_thread_count)
+{
+    enum { N = 57 };
+    static double G[N * N];
+    double A[N], rho[3 * N], E[3 * N], B1[3 * N], B2[3 * N];
+    open_system(N, 11, 0.9, G, A);
+    unsigned long long s = 3;
+    for (int k = 0; k < 3 * N; k++) {
+        rho[k] = 0.8 * rnd(&s);
+        E[k] = rnd(&s);
+    }
+    for (int m = RAD_DENSE_JACOBI; m < RAD_DENSE_METHOD_COUNT; m++) {
+        rad_dense_params p;
+        rad_dense_params_default(&p);
+        p.method = (rad_dense_method)m;
+        omp_set_num_threads(1);
+        CHECK(rad_dense_radiosity_solve(N, G, A, rho, E, B1, &p, NULL) == RAD_OK);
+        omp_set_num_threads(2);
+        CHECK(rad_dense_radiosity_solve(N, G, A, rho, E, B2, &p, NULL) == RAD_OK);
+        CHECK_MSG(memcmp(B1, B2, sizeof B1) == 0, "%s: 1 and 2 threads differ",
+                  rad_dense_method_name(p.method));
+    }
 }

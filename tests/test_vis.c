@@ -31,7 +31,8 @@ static void occluder_scene(double scale, double shift, double xyz[36], int tri[1
     memcpy(tri, t, sizeof t);
 }
 
-/* Moller-Trumbore: does the open segment p -> q cross triangle (a, b, c)? */
+/* Moller-Trumbore \cite{moller1997fast}: does the open segment p -> q cross
+ * triangle (a, b, c)?  Closed triangles (edges count), in double. */
 static int segment_hits(const double *p, const double *q, const double *a, const double *b,
                         const double *c)
 {

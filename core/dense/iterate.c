@@ -14,8 +14,8 @@
  *    O(n) per shot, reading column i of G.  Then r from its definition.
  * 5. Test: ||r||_inf <= tol ||E||_inf.
  * References: \cite{cohen1988progressive} (progressive refinement = Southwell),
- * \cite{gortler1993wavelet}'s discussion of Jacobi / Gauss-Seidel / Southwell
- * for radiosity, and \cite{cohen1993radiosity} chapter 5.
+ * \cite{gortler1994relaxation}'s discussion of Jacobi / Gauss-Seidel / Southwell
+ * for radiosity, and \cite{cohen1993} chapter 5.
  * The products with F are OpenMP loops over rows, each row summed in a fixed
  * order, so results do not depend on the number of threads. */
 #include "rad_dense_solve.h"

@@ -85,7 +85,7 @@ void rad_dense_iter_destroy(rad_dense_iter *it);
  * of the face with the largest unshot power A_i |r_i|, then the true residual).
  * Afterwards the residual is recomputed from its definition, so rounding in
  * the updates never hides in the reported figure.  RAD_ENUMERIC if it is not
- * finite; RAD_EINVAL past the iteration cap. */
+ * finite or when called past the iteration cap (max_iter sweeps). */
 rad_status rad_dense_iter_step(rad_dense_iter *it);
 /* RAD_OK when converged (see rad_dense_params.tol), RAD_CONTINUE otherwise. */
 rad_status rad_dense_iter_test(const rad_dense_iter *it);

@@ -21,7 +21,7 @@
  * 2. build S_aa (lower triangle suffices) and the right-hand sides;
  * 3. dpotrf, dpotrs, dpocon; 4. scatter B.  A failed dpotrf means the input
  * violated the row-sum bound (F sums above 1): RAD_ESINGULAR, use LU.
- * References: \cite{golub2013matrix} (Cholesky, Gershgorin), LAPACK's dpotrf. */
+ * References: \cite{golub2013matrix} (Cholesky, Gershgorin), \cite{lapack1999} (dpotrf, dpocon). */
 #include "rad_dense_solve.h"
 
 #include <lapacke.h>

@@ -9,18 +9,19 @@
  *    from a hash of (triangle, cell, seed), so results do not depend on threads.
  * 3. Join every sample of i to every sample of j (k^4 segments) and count the
  *    segments no triangle blocks.  Hits on i and j are rejected by primitive id
- *    in an Embree context filter, on top of the epsilon shortening; the
+ *    in the geometry's occlusion filter (vis.c), on top of the epsilon shortening; the
  *    fraction is symmetric in (i, j) up to float rounding of the rays.
  * 4. Skip all rays when the scene is unoccluded or the shaft test proves that
  *    nothing can block the pair (shaft.c).
  * The visible fraction estimates (1/(A_i A_j)) int int V dA dA; the midpoint
  * rule on k^2 cells converges as the cells shrink, at a rate set by the
- * smoothness of the shadow boundary \cite{cohen1993radiosity}. */
+ * smoothness of the shadow boundary \cite{cohen1993}. */
 #include "vis_internal.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 int rad_vis_sample_count(const rad_vis *vis)
 {
@@ -77,22 +78,6 @@ rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts)
     return RAD_OK;
 }
 
-/* The context the pair query passes to Embree: the standard one first, so the
- * filter can cast back, then the two primitives to ignore. */
-typedef struct pair_context {
-    struct RTCIntersectContext ctx;
-    unsigned ignore[2];
-} pair_context;
-
-static void ignore_pair_filter(const struct RTCFilterFunctionNArguments *args)
-{
-    const pair_context *pc = (const pair_context *)args->context;
-    const unsigned *prim = (const unsigned *)args->hit + 5 * args->N; /* RTCHitN primID */
-    for (unsigned l = 0; l < args->N; l++)
-        if (args->valid[l] && (prim[l] == pc->ignore[0] || prim[l] == pc->ignore[1]))
-            args->valid[l] = 0;
-}
-
 enum { MAX_STACK_SAMPLES = 256 };
 
 rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double *fraction,
@@ -116,34 +101,24 @@ rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double 
     rad_vis_triangle_samples(vis, i, pi);
     rad_vis_triangle_samples(vis, j, pj);
 
-    pair_context pc;
-    rtcInitIntersectContext(&pc.ctx);
-    pc.ctx.filter = ignore_pair_filter;
-    pc.ignore[0] = (unsigned)i;
-    pc.ignore[1] = (unsigned)j;
+    vis_context vc;
+    vis_context_init(&vc, (unsigned)i, (unsigned)j);
+    /* Segments in batches of BATCH through the packet path of rad_vis_occluded. */
+    enum { BATCH = 256 };
+    double from[3 * BATCH], to[3 * BATCH];
+    unsigned char blocked[BATCH];
     unsigned long long visible = 0, rays = 0;
-    for (int a = 0; a < m; a++)
-        for (int b = 0; b < m; b++) {
-            const double *p = pi + 3 * a, *q = pj + 3 * b;
-            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-            double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            if (!(len > 2.0 * vis->eps)) {
-                visible++; /* touching samples: nothing fits between them */
-                continue;
-            }
-            struct RTCRay ray;
-            ray.org_x = (float)p[0]; ray.org_y = (float)p[1]; ray.org_z = (float)p[2];
-            ray.dir_x = (float)d[0]; ray.dir_y = (float)d[1]; ray.dir_z = (float)d[2];
-            ray.tnear = (float)(vis->eps / len);
-            ray.tfar = (float)(1.0 - vis->eps / len);
-            ray.time = 0.0f;
-            ray.mask = VIS_MASK_OCCLUDER;
-            ray.id = 0;
-            ray.flags = 0;
-            rtcOccluded1(vis->scene, &pc.ctx, &ray);
-            rays++;
-            visible += !(ray.tfar < 0.0f);
+    size_t total = (size_t)m * (size_t)m, filled = 0;
+    for (size_t s = 0; s < total; s++) {
+        memcpy(from + 3 * filled, pi + 3 * (s / (size_t)m), 3 * sizeof *from);
+        memcpy(to + 3 * filled, pj + 3 * (s % (size_t)m), 3 * sizeof *to);
+        if (++filled == BATCH || s + 1 == total) {
+            vis_occluded_ctx(vis, &vc, filled, from, to, blocked, &rays);
+            for (size_t k = 0; k < filled; k++)
+                visible += !blocked[k]; /* too-short segments count as visible */
+            filled = 0;
         }
+    }
     if (pts != stack_pts)
         free(pts);
     *fraction = (double)visible / ((double)m * (double)m);

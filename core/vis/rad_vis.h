@@ -57,7 +57,9 @@ typedef struct rad_vis_params {
     /* Threads Embree may use to build the BVH (see the header comment).  Default 1. */
     int build_threads;
     /* Rays per Embree call in rad_vis_occluded: 1 (rtcOccluded1 in a loop), 4, 8
-     * or 16 (rtcOccludedN packets).  Default 1, the faster one here (bench/vis.sh). */
+     * or 16 (rtcOccludedN packets); also used by rad_vis_pair_fraction.  Default
+     * 16, the fastest here (bench/vis.sh: 16 matches plain rtcOccluded1 on
+     * pre-built rays, 1 reaches about 0.8 of it). */
     int packet;
     /* Shaft-test tolerance relative to L (see rad_vis_pair_can_block).  Default 1e-9. */
     double shaft_tol_rel;
@@ -123,7 +125,7 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j);
  * sample segments (every sample of i to every sample of j) that no triangle
  * other than i and j blocks.  1 without tracing when rad_vis_is_unoccluded or
  * !rad_vis_pair_can_block.  Hits on i and j themselves are ignored (by
- * primitive id in an Embree context filter, and by the epsilon). */
+ * primitive id in the geometry's occlusion filter, and by the epsilon). */
 rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double *fraction,
                                  rad_vis_stats *stats);
 

@@ -7,8 +7,9 @@
  * 2. The scene scale L = max(box diagonal, largest |coordinate|) fixes the ray
  *    epsilon eps = eps_rel L and the shaft tolerance tol = shaft_tol_rel L.
  * 3. One triangle geometry with mask VIS_MASK_OCCLUDER in a ROBUST scene (no
- *    leaks through shared edges of a blocker's triangles) that allows context
- *    filter functions (the pair query's own-triangle filter).
+ *    leaks through shared edges of a blocker's triangles), with an occlusion
+ *    filter that drops hits on the primitives the query's context names (the
+ *    pair query's own two triangles).
  * 4. Occlusion of a segment p -> q is one ray with origin p, direction q - p,
  *    tnear = eps / |q - p| and tfar = 1 - eps / |q - p|: the open segment
  *    shortened by eps at both ends.  Segments shorter than 2 eps are visible.
@@ -28,7 +29,7 @@ void rad_vis_params_default(rad_vis_params *params)
     params->jitter = 0;
     params->seed = 0x5eedu;
     params->build_threads = 1;
-    params->packet = 1;
+    params->packet = 16;
     params->shaft_tol_rel = 1e-9;
 }
 
@@ -48,6 +49,24 @@ static rad_status check_params(const rad_vis_params *p)
         return RAD_ERROR(RAD_EINVAL, "visibility: shaft tolerance %g must lie in [0, 0.01)",
                          p->shaft_tol_rel);
     return RAD_OK;
+}
+
+void vis_context_init(vis_context *vc, unsigned ignore0, unsigned ignore1)
+{
+    rtcInitIntersectContext(&vc->ctx);
+    vc->ignore[0] = ignore0;
+    vc->ignore[1] = ignore1;
+}
+
+void vis_ignore_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const vis_context *vc = (const vis_context *)args->context;
+    if (vc->ignore[0] == RTC_INVALID_GEOMETRY_ID && vc->ignore[1] == RTC_INVALID_GEOMETRY_ID)
+        return;
+    const unsigned *prim = (const unsigned *)args->hit + 5 * args->N; /* RTCHitN primID */
+    for (unsigned l = 0; l < args->N; l++)
+        if (args->valid[l] && (prim[l] == vc->ignore[0] || prim[l] == vc->ignore[1]))
+            args->valid[l] = 0;
 }
 
 static rad_status embree_status(RTCDevice device, const char *what)
@@ -157,7 +176,7 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
     vis->scene = rtcNewScene(vis->device);
     if ((status = embree_status(vis->device, "scene creation")) != RAD_OK)
         goto fail;
-    rtcSetSceneFlags(vis->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneFlags(vis->scene, RTC_SCENE_FLAG_ROBUST);
     if (ntris > 0) {
         RTCGeometry geom = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         if (!geom) {
@@ -171,6 +190,7 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
         rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                    vis->findex, 0, 3 * sizeof(unsigned), ntris);
         rtcSetGeometryMask(geom, VIS_MASK_OCCLUDER);
+        rtcSetGeometryOccludedFilterFunction(geom, vis_ignore_filter);
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(vis->scene, geom, 0);
         rtcReleaseGeometry(geom);
@@ -273,20 +293,26 @@ VIS_OCCLUDED_PACKET(4)
 VIS_OCCLUDED_PACKET(8)
 VIS_OCCLUDED_PACKET(16)
 
+void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
+                      const double *to, unsigned char *blocked, unsigned long long *rays)
+{
+    switch (vis->params.packet) {
+    case 4: occluded_packet4(vis, &vc->ctx, n, from, to, blocked, rays); break;
+    case 8: occluded_packet8(vis, &vc->ctx, n, from, to, blocked, rays); break;
+    case 16: occluded_packet16(vis, &vc->ctx, n, from, to, blocked, rays); break;
+    default: occluded_single(vis, &vc->ctx, n, from, to, blocked, rays); break;
+    }
+}
+
 rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
                             unsigned char *blocked, rad_vis_stats *stats)
 {
     if (!vis || (n && (!from || !to || !blocked)))
         return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the occlusion query");
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    vis_context vc;
+    vis_context_init(&vc, RTC_INVALID_GEOMETRY_ID, RTC_INVALID_GEOMETRY_ID);
     unsigned long long rays = 0;
-    switch (vis->params.packet) {
-    case 4: occluded_packet4(vis, &ctx, n, from, to, blocked, &rays); break;
-    case 8: occluded_packet8(vis, &ctx, n, from, to, blocked, &rays); break;
-    case 16: occluded_packet16(vis, &ctx, n, from, to, blocked, &rays); break;
-    default: occluded_single(vis, &ctx, n, from, to, blocked, &rays); break;
-    }
+    vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
     if (stats)
         stats->rays += rays;
     return RAD_OK;

@@ -41,6 +41,22 @@ static inline rad_vec3 vis_vertex(const rad_vis *vis, size_t t, int corner)
     return rad_vec3_make(p[0], p[1], p[2]);
 }
 
+/* Every occlusion query passes this context to Embree; the geometry's
+ * occlusion filter (vis_ignore_filter) rejects hits on the two primitives
+ * named here (RTC_INVALID_GEOMETRY_ID: none).  A geometry filter runs only on
+ * candidate hits, whereas a context filter makes Embree choose a slower
+ * traversal for every ray (measured: 0.54x against 0.77x of plain Embree). */
+typedef struct vis_context {
+    struct RTCIntersectContext ctx; /* first, so the filter can cast back */
+    unsigned ignore[2];
+} vis_context;
+
+void vis_context_init(vis_context *vc, unsigned ignore0, unsigned ignore1);
+void vis_ignore_filter(const struct RTCFilterFunctionNArguments *args);
+/* The batched occlusion of rad_vis_occluded under a given context. */
+void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
+                      const double *to, unsigned char *blocked, unsigned long long *rays);
+
 /* shaft.c */
 int vis_bvh_build(rad_vis *vis);
 int vis_compute_unoccluded(const rad_vis *vis);

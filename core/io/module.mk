@@ -1,0 +1,1 @@
+# rad_io: plain C writers; no libraries beyond libc and libm.

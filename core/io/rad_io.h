@@ -1,0 +1,121 @@
+/* rad_io: the writers of radkit's outputs.
+ *
+ * - per-face TSV (`solve --out`): `#` comment lines (key = value), one header
+ *   row `face area B_r B_g B_b`, one row per face;
+ * - PLY with per-vertex colours (`--ply`), ASCII or binary little-endian;
+ * - stats JSON (`--stats`) with the keys of DESIGN.md, through a small JSON
+ *   emitter that escapes strings and refuses non-finite numbers;
+ * - experiment `.dat` files: a `#` header with title, version, parameters and
+ *   column names, then tab-separated rows for gnuplot;
+ * - the tone map shared with rad_render.
+ * Per-face arrays of three channels are n x 3 column-major (channel c of face i
+ * is B[i + c n]), as in rad_dense_solve.h.  Numbers are written with %.17g, so
+ * a double reads back exactly.  A path of "-" means standard output.
+ * Errors: RAD_EIO naming the path and the system's reason. */
+#ifndef RAD_IO_H
+#define RAD_IO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "rad_error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A `# key = value` header line. */
+typedef struct rad_io_kv {
+    const char *key;
+    const char *value;
+} rad_io_kv;
+
+/* ---- tone map --------------------------------------------------------------
+ * display = round(255 * clamp(exposure * B, 0, 1)^(1 / gamma)): a linear
+ * exposure, a hard clip at white, then a display gamma (2.2 by default, the
+ * usual approximation of sRGB).  No Reinhard curve: radiosity values below the
+ * clip are shown proportionally, so images compare by eye across runs. */
+typedef struct rad_io_tonemap {
+    double exposure; /* default 1 */
+    double gamma;    /* default 2.2 */
+} rad_io_tonemap;
+
+void rad_io_tonemap_default(rad_io_tonemap *tm);
+unsigned char rad_io_tonemap_apply(const rad_io_tonemap *tm, double value);
+/* An exposure that maps the given percentile (0..1, e.g. 0.95) of the positive
+ * values to white; 1 if there are none.  Lights are usually the top few percent,
+ * so 0.95 keeps the lit surfaces visible instead of scaling to the lamp. */
+double rad_io_tonemap_auto_exposure(size_t n, const double *values, double percentile);
+
+/* Vertex radiosity: the area-weighted average of the B of the faces that use
+ * each vertex (interleaved: vb[3 v + c]); 0 for a vertex no face uses.
+ * B is ntris x 3 column-major; areas are computed from xyz. */
+rad_status rad_io_vertex_values(size_t nverts, const double *xyz, size_t ntris, const int *tri,
+                                const double *B, double *vb);
+
+/* ---- writers --------------------------------------------------------------- */
+
+rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area, const double *B,
+                                  const rad_io_kv *header, size_t nheader);
+
+/* Vertex positions as float, colours as the tone-mapped vertex values
+ * (rad_io_vertex_values), faces as lists of three ints. */
+rad_status rad_io_write_ply(const char *path, size_t nverts, const double *xyz, size_t ntris,
+                            const int *tri, const double *B, const rad_io_tonemap *tm, int binary);
+
+/* columns: ncols names; data: nrows x ncols, row-major. */
+rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv *header,
+                            size_t nheader, size_t ncols, const char *const *columns,
+                            size_t nrows, const double *data);
+
+/* ---- stats JSON ------------------------------------------------------------- */
+
+typedef struct rad_io_phase {
+    const char *name;
+    double seconds;
+} rad_io_phase;
+
+typedef struct rad_io_effect {
+    const char *name;   /* e.g. "occlusion" */
+    const char *value;  /* e.g. "off" */
+    const char *reason; /* e.g. "convex closed enclosure" */
+} rad_io_effect;
+
+typedef struct rad_io_stats {
+    const char *method;
+    long long faces, elements, links, rays, kernel_evals;
+    const rad_io_phase *phases; /* time_s: one key per phase, plus "total" */
+    size_t nphases;
+    double total_seconds;
+    double memory_peak_bytes;
+    const rad_io_effect *effects; /* effects: {name: {value, reason}} */
+    size_t neffects;
+    const char *solver_name;
+    long long solver_iterations;
+    double solver_residual;
+} rad_io_stats;
+
+rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *stats);
+
+/* The emitter under it, for callers that add keys of their own.  Calls after
+ * an error do nothing; rad_io_json_finish returns the first error (a
+ * non-finite number names its key) and checks the nesting is closed. */
+typedef struct rad_io_json {
+    FILE *f;
+    int depth;
+    int first[32]; /* per level: nothing written yet */
+    rad_status status;
+} rad_io_json;
+
+void rad_io_json_start(rad_io_json *j, FILE *f); /* opens the top-level object */
+void rad_io_json_object(rad_io_json *j, const char *key);  /* key: {  */
+void rad_io_json_end(rad_io_json *j);                      /* }       */
+void rad_io_json_string(rad_io_json *j, const char *key, const char *value);
+void rad_io_json_number(rad_io_json *j, const char *key, double value);
+void rad_io_json_integer(rad_io_json *j, const char *key, long long value);
+rad_status rad_io_json_finish(rad_io_json *j); /* closes the top-level object */
+
+#ifdef __cplusplus
+}
+#endif
+#endif

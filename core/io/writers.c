@@ -1,0 +1,156 @@
+/* The file writers: per-face TSV, PLY with vertex colours, experiment .dat.
+ * Every writer opens its file, writes, and reports a failed write or close as
+ * RAD_EIO with the path and strerror (a full disk shows up at fclose). */
+#include "rad_io.h"
+
+#include <errno.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_version.h"
+
+static rad_status open_out(const char *path, const char *mode, FILE **f)
+{
+    if (!path)
+        return RAD_ERROR(RAD_EINVAL, "output: NULL path");
+    if (strcmp(path, "-") == 0) {
+        *f = stdout;
+        return RAD_OK;
+    }
+    *f = fopen(path, mode);
+    if (!*f)
+        return RAD_ERROR(RAD_EIO, "%s: cannot open for writing: %s", path, strerror(errno));
+    return RAD_OK;
+}
+
+static rad_status close_out(const char *path, FILE *f)
+{
+    int bad = ferror(f);
+    int err = bad ? errno : 0;
+    if (f == stdout) {
+        if (fflush(f) != 0 || bad)
+            return RAD_ERROR(RAD_EIO, "standard output: write failed");
+        return RAD_OK;
+    }
+    if (fclose(f) != 0 && !bad) {
+        bad = 1;
+        err = errno;
+    }
+    if (bad)
+        return RAD_ERROR(RAD_EIO, "%s: write failed: %s", path, strerror(err));
+    return RAD_OK;
+}
+
+static void write_header(FILE *f, const rad_io_kv *header, size_t nheader)
+{
+    for (size_t k = 0; k < nheader; k++)
+        fprintf(f, "# %s = %s\n", header[k].key ? header[k].key : "",
+                header[k].value ? header[k].value : "");
+}
+
+rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area, const double *B,
+                                  const rad_io_kv *header, size_t nheader)
+{
+    if (n && (!area || !B))
+        return RAD_ERROR(RAD_EINVAL, "faces TSV: NULL argument");
+    FILE *f = NULL;
+    rad_status status = open_out(path, "w", &f);
+    if (status != RAD_OK)
+        return status;
+    fprintf(f, "# radkit %s per-face radiosity (W/m^2)\n", RAD_VERSION);
+    write_header(f, header, nheader);
+    fprintf(f, "face\tarea\tB_r\tB_g\tB_b\n");
+    for (size_t i = 0; i < n; i++)
+        fprintf(f, "%zu\t%.17g\t%.17g\t%.17g\t%.17g\n", i, area[i], B[i], B[i + n], B[i + 2 * n]);
+    return close_out(path, f);
+}
+
+/* Little-endian bytes regardless of the host's order. */
+static void put_u32(FILE *f, uint32_t x)
+{
+    unsigned char b[4] = {(unsigned char)x, (unsigned char)(x >> 8), (unsigned char)(x >> 16),
+                          (unsigned char)(x >> 24)};
+    fwrite(b, 1, 4, f);
+}
+
+static void put_f32(FILE *f, float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    put_u32(f, u);
+}
+
+rad_status rad_io_write_ply(const char *path, size_t nverts, const double *xyz, size_t ntris,
+                            const int *tri, const double *B, const rad_io_tonemap *tm, int binary)
+{
+    rad_io_tonemap deftm;
+    if (!tm) {
+        rad_io_tonemap_default(&deftm);
+        tm = &deftm;
+    }
+    double *vb = malloc((3 * nverts + 1) * sizeof *vb);
+    if (!vb)
+        return RAD_ERROR(RAD_ENOMEM, "PLY: no memory for %zu vertex colours", nverts);
+    rad_status status = rad_io_vertex_values(nverts, xyz, ntris, tri, B, vb);
+    FILE *f = NULL;
+    if (status == RAD_OK)
+        status = open_out(path, binary ? "wb" : "w", &f);
+    if (status != RAD_OK) {
+        free(vb);
+        return status;
+    }
+    fprintf(f, "ply\nformat %s 1.0\n", binary ? "binary_little_endian" : "ascii");
+    fprintf(f, "comment radkit %s: vertex colour = tone-mapped area-weighted average of the "
+            "adjacent faces' radiosity (exposure %.9g, gamma %.9g)\n", RAD_VERSION, tm->exposure,
+            tm->gamma);
+    fprintf(f, "element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n"
+            "property uchar red\nproperty uchar green\nproperty uchar blue\n", nverts);
+    fprintf(f, "element face %zu\nproperty list uchar int vertex_indices\nend_header\n", ntris);
+    for (size_t v = 0; v < nverts; v++) {
+        unsigned char rgb[3];
+        for (int c = 0; c < 3; c++)
+            rgb[c] = rad_io_tonemap_apply(tm, vb[3 * v + c]);
+        if (binary) {
+            for (int c = 0; c < 3; c++)
+                put_f32(f, (float)xyz[3 * v + c]);
+            fwrite(rgb, 1, 3, f);
+        } else {
+            fprintf(f, "%.9g %.9g %.9g %u %u %u\n", (float)xyz[3 * v], (float)xyz[3 * v + 1],
+                    (float)xyz[3 * v + 2], rgb[0], rgb[1], rgb[2]);
+        }
+    }
+    for (size_t t = 0; t < ntris; t++) {
+        if (binary) {
+            fputc(3, f);
+            for (int k = 0; k < 3; k++)
+                put_u32(f, (uint32_t)tri[3 * t + k]);
+        } else {
+            fprintf(f, "3 %d %d %d\n", tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]);
+        }
+    }
+    free(vb);
+    return close_out(path, f);
+}
+
+rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv *header,
+                            size_t nheader, size_t ncols, const char *const *columns,
+                            size_t nrows, const double *data)
+{
+    if (ncols == 0 || !columns || (nrows && !data))
+        return RAD_ERROR(RAD_EINVAL, ".dat: no columns or NULL data");
+    FILE *f = NULL;
+    rad_status status = open_out(path, "w", &f);
+    if (status != RAD_OK)
+        return status;
+    fprintf(f, "# %s\n# version = radkit %s\n", title ? title : "radkit data", RAD_VERSION);
+    write_header(f, header, nheader);
+    fprintf(f, "#");
+    for (size_t c = 0; c < ncols; c++)
+        fprintf(f, "%c%s", c ? '\t' : ' ', columns[c]);
+    fprintf(f, "\n");
+    for (size_t r = 0; r < nrows; r++)
+        for (size_t c = 0; c < ncols; c++)
+            fprintf(f, "%.17g%c", data[r * ncols + c], c + 1 < ncols ? '\t' : '\n');
+    return close_out(path, f);
+}

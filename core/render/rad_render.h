@@ -1,0 +1,52 @@
+/* rad_render: pictures of a radiosity solution.
+ *
+ * A pinhole camera shoots one primary ray through each pixel centre with
+ * rad_vis_intersect (Embree); the hit's barycentrics interpolate the vertex
+ * radiosities (the area-weighted averages of rad_io_vertex_values), i.e.
+ * Gouraud smooth shading of the piecewise-constant solution; the result goes
+ * through the tone map of rad_io.h (exposure, clip at white, gamma 2.2) to
+ * 8-bit sRGB-like values; misses are black.  Pixels are independent, computed
+ * in an OpenMP loop over rows: the image does not depend on the thread count.
+ * Faces are shaded from both sides (a camera outside a closed box sees the
+ * backs of its walls; cull them by placing the camera inside). */
+#ifndef RAD_RENDER_H
+#define RAD_RENDER_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+#include "rad_io.h"
+#include "rad_vis.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_render_camera {
+    double eye[3];     /* position */
+    double look_at[3]; /* a point the view centre passes through */
+    double up[3];      /* the image's up direction (need not be orthogonal to the view) */
+    double fov_y_deg;  /* vertical field of view, degrees, in (0, 180) */
+    int width, height; /* pixels, 1 .. 16384 each */
+} rad_render_camera;
+
+/* A default view of the box [lo, hi]: from in front of its +z face, on its
+ * centre line, looking along -z with +y up, far enough back for a 40 degree
+ * vertical view to frame it; 512 x 512 pixels. */
+void rad_render_camera_default(rad_render_camera *cam, const double lo[3], const double hi[3]);
+
+/* Render: vis must have been built from the same xyz/tri (nverts, ntris); B is
+ * ntris x 3 column-major.  rgb receives width * height * 3 bytes, rows from
+ * the top.  stats (may be NULL) counts the primary rays. */
+rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz, size_t ntris,
+                            const int *tri, const double *B, const rad_render_camera *cam,
+                            const rad_io_tonemap *tm, unsigned char *rgb, rad_vis_stats *stats);
+
+/* Write 8-bit RGB (rows from the top) as PNG with libpng.  RAD_EIO with
+ * libpng's message on failure. */
+rad_status rad_render_write_png(const char *path, int width, int height, const unsigned char *rgb);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

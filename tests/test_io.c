@@ -1,0 +1,447 @@
+/* rad_io: every writer's output is parsed back here, by parsers written for
+ * the test (TSV, PLY ASCII and binary, JSON, .dat). */
+#include <ctype.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "rad_io.h"
+
+static char *tmp_path(const char *name)
+{
+    static char buf[4][256];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "/tmp/radkit_test_io_%d_%s", (int)getpid(), name);
+    return buf[k];
+}
+
+static char *slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    size_t got = fread(s, 1, (size_t)n, f);
+    s[got] = 0;
+    fclose(f);
+    if (len)
+        *len = got;
+    return s;
+}
+
+TEST(io_faces_tsv_round_trips)
+{
+    enum { N = 5 };
+    double area[N] = {0.125, 2.385, 1e-7, 3.0, 1.0 / 3.0}, B[3 * N];
+    for (int k = 0; k < 3 * N; k++)
+        B[k] = 1.0 / (k + 0.7) + (k == 4 ? 1e300 : 0.0);
+    rad_io_kv hdr[2] = {{"scene", "cornell box.obj"}, {"rule", "auto"}};
+    const char *path = tmp_path("faces.tsv");
+    CHECK(rad_io_write_faces_tsv(path, N, area, B, hdr, 2) == RAD_OK);
+    char *s = slurp(path, NULL);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    CHECK(strstr(s, "# scene = cornell box.obj\n") != NULL);
+    char *line = strtok(s, "\n");
+    int comments = 0, header = 0, rows = 0;
+    for (; line; line = strtok(NULL, "\n")) {
+        if (line[0] == '#') {
+            comments++;
+            CHECK(!header); /* comments come first */
+            continue;
+        }
+        if (!header) {
+            CHECK(strcmp(line, "face\tarea\tB_r\tB_g\tB_b") == 0);
+            header = 1;
+            continue;
+        }
+        char *end;
+        long face = strtol(line, &end, 10);
+        CHECK(face == rows && *end == '\t');
+        double a = strtod(end + 1, &end), v[3];
+        for (int c = 0; c < 3; c++)
+            v[c] = strtod(end + 1, &end);
+        CHECK(*end == 0);
+        CHECK(a == area[rows]);
+        for (int c = 0; c < 3; c++)
+            CHECK(v[c] == B[rows + c * N]); /* %.17g reads back exactly */
+        rows++;
+    }
+    CHECK(comments == 3 && header && rows == N);
+    free(s);
+    remove(path);
+    CHECK(rad_io_write_faces_tsv("/nonexistent-dir/x.tsv", N, area, B, NULL, 0) == RAD_EIO);
+    CHECK(strstr(rad_error_message(), "/nonexistent-dir/x.tsv") != NULL);
+}
+
+/* Two triangles sharing an edge: vertices 0..3, faces (0,1,2) area 0.5 and
+ * (0,2,3) area 1.5 (vertex 3 is pulled out to triple the second's area). */
+static const double quad_xyz[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, -2, 1, 0};
+static const int quad_tri[6] = {0, 1, 2, 0, 2, 3};
+
+TEST(io_vertex_values_are_area_weighted_and_tone_mapped)
+{
+    double B[6] = {0.2, 0.6, 0.4, 0.8, 0.1, 0.1}, vb[12];
+    CHECK(rad_io_vertex_values(4, quad_xyz, 2, quad_tri, B, vb) == RAD_OK);
+    /* Shared vertices 0 and 2: (0.5 * 0.2 + 1.5 * 0.6) / 2 = 0.5 in red. */
+    CHECK_NEAR(vb[0], 0.5, 1e-15, 0.0);
+    CHECK_NEAR(vb[3 * 2 + 1], (0.5 * 0.4 + 1.5 * 0.8) / 2.0, 1e-15, 0.0);
+    CHECK_NEAR(vb[3 * 1 + 0], 0.2, 1e-15, 0.0);
+    CHECK_NEAR(vb[3 * 3 + 2], 0.1, 1e-15, 0.0);
+    rad_io_tonemap tm;
+    rad_io_tonemap_default(&tm);
+    CHECK(rad_io_tonemap_apply(&tm, 0.0) == 0);
+    CHECK(rad_io_tonemap_apply(&tm, -3.0) == 0);
+    CHECK(rad_io_tonemap_apply(&tm, NAN) == 0);
+    CHECK(rad_io_tonemap_apply(&tm, 1.0) == 255);
+    CHECK(rad_io_tonemap_apply(&tm, 7.0) == 255);
+    /* 0.25^(1/2.2) = exp(ln 0.25 / 2.2) = 0.5325...: 255 * that = 135.79 -> 136. */
+    CHECK(rad_io_tonemap_apply(&tm, 0.25) == 136);
+    tm.exposure = 0.5;
+    CHECK(rad_io_tonemap_apply(&tm, 0.5) == 136);
+    double vals[5] = {0.0, 4.0, 1.0, 2.0, 3.0};
+    CHECK_NEAR(rad_io_tonemap_auto_exposure(5, vals, 1.0), 0.25, 0, 0);
+    CHECK_NEAR(rad_io_tonemap_auto_exposure(5, vals, 0.5), 1.0 / 2.0, 0, 0); /* of 1,2,3,4 */
+    CHECK_NEAR(rad_io_tonemap_auto_exposure(1, vals, 0.9), 1.0, 0, 0);
+}
+
+/* A PLY reader for what the writer produces: header lines, then vertices and faces. */
+static int read_ply(const char *path, float *xyz, unsigned char *rgb, int *tri, int *nv, int *nt)
+{
+    size_t len;
+    char *s = slurp(path, &len);
+    if (!s)
+        return 0;
+    char *end = strstr(s, "end_header\n");
+    if (!end) {
+        free(s);
+        return 0;
+    }
+    int binary = strstr(s, "format binary_little_endian 1.0\n") != NULL;
+    char *p = strstr(s, "element vertex ");
+    *nv = p ? atoi(p + 15) : -1;
+    p = strstr(s, "element face ");
+    *nt = p ? atoi(p + 13) : -1;
+    const unsigned char *d = (const unsigned char *)end + 11;
+    if (binary) {
+        for (int v = 0; v < *nv; v++) {
+            for (int c = 0; c < 3; c++) {
+                uint32_t u = (uint32_t)d[0] | (uint32_t)d[1] << 8 | (uint32_t)d[2] << 16 | (uint32_t)d[3] << 24;
+                memcpy(&xyz[3 * v + c], &u, 4);
+                d += 4;
+            }
+            for (int c = 0; c < 3; c++)
+                rgb[3 * v + c] = *d++;
+        }
+        for (int t = 0; t < *nt; t++) {
+            if (*d++ != 3) {
+                free(s);
+                return 0;
+            }
+            for (int k = 0; k < 3; k++, d += 4)
+                tri[3 * t + k] = (int)((uint32_t)d[0] | (uint32_t)d[1] << 8 | (uint32_t)d[2] << 16 | (uint32_t)d[3] << 24);
+        }
+        int ok = (size_t)((const char *)d - s) == len;
+        free(s);
+        return ok;
+    }
+    char *q = end + 11;
+    for (int v = 0; v < *nv; v++) {
+        unsigned r, g, b;
+        int used = 0;
+        if (sscanf(q, "%f %f %f %u %u %u\n%n", &xyz[3 * v], &xyz[3 * v + 1], &xyz[3 * v + 2], &r, &g, &b, &used) != 6) {
+            free(s);
+            return 0;
+        }
+        rgb[3 * v] = (unsigned char)r;
+        rgb[3 * v + 1] = (unsigned char)g;
+        rgb[3 * v + 2] = (unsigned char)b;
+        q += used;
+    }
+    for (int t = 0; t < *nt; t++) {
+        int three, used = 0;
+        if (sscanf(q, "%d %d %d %d\n%n", &three, &tri[3 * t], &tri[3 * t + 1], &tri[3 * t + 2], &used) != 4 || three != 3) {
+            free(s);
+            return 0;
+        }
+        q += used;
+    }
+    int ok = *q == 0;
+    free(s);
+    return ok;
+}
+
+TEST(io_ply_ascii_and_binary_round_trip)
+{
+    double B[6] = {0.2, 0.6, 0.4, 0.8, 0.1, 0.1};
+    rad_io_tonemap tm = {1.7, 2.2};
+    for (int binary = 0; binary < 2; binary++) {
+        const char *path = tmp_path(binary ? "b.ply" : "a.ply");
+        CHECK(rad_io_write_ply(path, 4, quad_xyz, 2, quad_tri, B, &tm, binary) == RAD_OK);
+        float xyz[12];
+        unsigned char rgb[12];
+        int tri[6], nv = 0, nt = 0;
+        CHECK_MSG(read_ply(path, xyz, rgb, tri, &nv, &nt), "cannot parse %s", path);
+        CHECK(nv == 4 && nt == 2);
+        for (int k = 0; k < 12; k++)
+            CHECK(xyz[k] == (float)quad_xyz[k]);
+        for (int k = 0; k < 6; k++)
+            CHECK(tri[k] == quad_tri[k]);
+        /* vertex 0 red: 0.5 (area-weighted) -> (1.7 * 0.5)^(1/2.2) * 255 */
+        CHECK(rgb[0] == (unsigned char)lround(255.0 * pow(0.85, 1.0 / 2.2)));
+        CHECK(rgb[3 * 1 + 1] == (unsigned char)lround(255.0 * pow(1.7 * 0.4, 1.0 / 2.2)));
+        remove(path);
+    }
+}
+
+/* ---- a JSON parser for the test: flattens objects to "a.b.c" = text ------- */
+
+typedef struct jitem {
+    char key[128];
+    char val[256];
+    int is_string;
+} jitem;
+
+typedef struct jparse {
+    const char *p;
+    jitem items[64];
+    int n;
+    int ok;
+} jparse;
+
+static void ws(jparse *j)
+{
+    while (isspace((unsigned char)*j->p))
+        j->p++;
+}
+
+static int parse_string(jparse *j, char *out, size_t cap)
+{
+    if (*j->p != '"')
+        return 0;
+    j->p++;
+    size_t k = 0;
+    while (*j->p && *j->p != '"') {
+        char c = *j->p++;
+        if (c == '\\') {
+            char e = *j->p++;
+            if (e == 'n') c = '\n';
+            else if (e == 't') c = '\t';
+            else if (e == 'r') c = '\r';
+            else if (e == '"' || e == '\\' || e == '/') c = e;
+            else if (e == 'u') {
+                unsigned u = 0;
+                if (sscanf(j->p, "%4x", &u) != 1 || u > 0x7f)
+                    return 0;
+                j->p += 4;
+                c = (char)u;
+            } else
+                return 0;
+        } else if ((unsigned char)c < 0x20) {
+            return 0; /* raw control characters are not JSON */
+        }
+        if (k + 1 < cap)
+            out[k++] = c;
+    }
+    out[k] = 0;
+    if (*j->p != '"')
+        return 0;
+    j->p++;
+    return 1;
+}
+
+static int parse_value(jparse *j, const char *path);
+
+static int parse_object(jparse *j, const char *path)
+{
+    if (*j->p != '{')
+        return 0;
+    j->p++;
+    ws(j);
+    if (*j->p == '}') {
+        j->p++;
+        return 1;
+    }
+    for (;;) {
+        char key[128], sub[128];
+        ws(j);
+        if (!parse_string(j, key, sizeof key))
+            return 0;
+        ws(j);
+        if (*j->p++ != ':')
+            return 0;
+        ws(j);
+        int w = snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+        if (w < 0 || (size_t)w >= sizeof sub)
+            return 0;
+        if (!parse_value(j, sub))
+            return 0;
+        ws(j);
+        if (*j->p == ',') {
+            j->p++;
+            continue;
+        }
+        if (*j->p == '}') {
+            j->p++;
+            return 1;
+        }
+        return 0;
+    }
+}
+
+static int parse_value(jparse *j, const char *path)
+{
+    if (*j->p == '{')
+        return parse_object(j, path);
+    if (j->n >= 64)
+        return 0;
+    jitem *it = &j->items[j->n++];
+    int w = snprintf(it->key, sizeof it->key, "%s", path);
+    if (w < 0 || (size_t)w >= sizeof it->key)
+        return 0;
+    if (*j->p == '"') {
+        it->is_string = 1;
+        return parse_string(j, it->val, sizeof it->val);
+    }
+    /* a JSON number: -?digits(.digits)?([eE][+-]?digits)? */
+    const char *s = j->p;
+    if (*j->p == '-')
+        j->p++;
+    if (!isdigit((unsigned char)*j->p))
+        return 0;
+    while (isdigit((unsigned char)*j->p))
+        j->p++;
+    if (*j->p == '.') {
+        j->p++;
+        if (!isdigit((unsigned char)*j->p))
+            return 0;
+        while (isdigit((unsigned char)*j->p))
+            j->p++;
+    }
+    if (*j->p == 'e' || *j->p == 'E') {
+        j->p++;
+        if (*j->p == '+' || *j->p == '-')
+            j->p++;
+        if (!isdigit((unsigned char)*j->p))
+            return 0;
+        while (isdigit((unsigned char)*j->p))
+            j->p++;
+    }
+    snprintf(it->val, sizeof it->val, "%.*s", (int)(j->p - s), s);
+    return 1;
+}
+
+static const jitem *jfind(const jparse *j, const char *key)
+{
+    for (int k = 0; k < j->n; k++)
+        if (strcmp(j->items[k].key, key) == 0)
+            return &j->items[k];
+    return NULL;
+}
+
+TEST(io_stats_json_has_the_design_keys_and_parses)
+{
+    rad_io_phase phases[2] = {{"assembly", 1.25}, {"solve", 0.0625}};
+    rad_io_effect effects[2] = {{"occlusion", "off", "convex \"closed\" enclosure\n\tno blockers"},
+                                {"colour", "grey", "all reflectances grey \x01"}};
+    rad_io_stats st = {"dense", 12, 48, 1128, 123456789012LL, 99, phases, 2, 1.3125,
+                       1.5e8, effects, 2, "lu", 0, 3.5e-16};
+    const char *path = tmp_path("stats.json");
+    CHECK(rad_io_write_stats_json(path, &st) == RAD_OK);
+    char *s = slurp(path, NULL);
+    CHECK(s != NULL);
+    if (!s)
+        return;
+    static jparse j;
+    memset(&j, 0, sizeof j);
+    j.p = s;
+    ws(&j);
+    j.ok = parse_object(&j, "");
+    ws(&j);
+    CHECK_MSG(j.ok && *j.p == 0, "JSON does not parse near: %.40s", j.p);
+    const char *keys[] = {"method", "faces", "elements", "links", "rays", "kernel_evals",
+                          "time_s.assembly", "time_s.solve", "time_s.total", "memory_peak_bytes",
+                          "effects.occlusion.value", "effects.occlusion.reason",
+                          "effects.colour.value", "solver.name", "solver.iterations",
+                          "solver.residual"};
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+        CHECK_MSG(jfind(&j, keys[k]) != NULL, "key %s missing", keys[k]);
+    const jitem *it;
+    if ((it = jfind(&j, "method")))
+        CHECK(it->is_string && strcmp(it->val, "dense") == 0);
+    if ((it = jfind(&j, "rays")))
+        CHECK(strcmp(it->val, "123456789012") == 0);
+    if ((it = jfind(&j, "time_s.total")))
+        CHECK(strtod(it->val, NULL) == 1.3125);
+    if ((it = jfind(&j, "solver.residual")))
+        CHECK(strtod(it->val, NULL) == 3.5e-16);
+    if ((it = jfind(&j, "effects.occlusion.reason")))
+        CHECK(strcmp(it->val, "convex \"closed\" enclosure\n\tno blockers") == 0);
+    if ((it = jfind(&j, "effects.colour.reason")))
+        CHECK(strcmp(it->val, "all reflectances grey \x01") == 0);
+    free(s);
+
+    /* A non-finite number is refused, naming its key. */
+    st.solver_residual = NAN;
+    CHECK(rad_io_write_stats_json(path, &st) == RAD_ENUMERIC);
+    CHECK(strstr(rad_error_message(), "residual") != NULL);
+    remove(path);
+}
+
+TEST(io_json_emitter_checks_nesting)
+{
+    const char *path = tmp_path("nest.json");
+    FILE *f = fopen(path, "w");
+    rad_io_json j;
+    rad_io_json_start(&j, f);
+    rad_io_json_object(&j, "a");
+    CHECK(rad_io_json_finish(&j) == RAD_EINVAL); /* "a" left open */
+    fclose(f);
+    f = fopen(path, "w");
+    rad_io_json_start(&j, f);
+    rad_io_json_object(&j, "a");
+    rad_io_json_number(&j, "x", INFINITY);
+    rad_io_json_end(&j);
+    CHECK(rad_io_json_finish(&j) == RAD_ENUMERIC);
+    CHECK(strstr(rad_error_message(), "'x'") != NULL);
+    fclose(f);
+    remove(path);
+}
+
+TEST(io_dat_header_and_rows)
+{
+    const char *cols[3] = {"n", "error", "seconds"};
+    double data[6] = {16, 0.0123, 0.5, 64, 7.5e-4, 2.25};
+    rad_io_kv hdr[1] = {{"rule", "gauss:4"}};
+    const char *path = tmp_path("x.dat");
+    CHECK(rad_io_write_dat(path, "accuracy vs time", hdr, 1, 3, cols, 2, data) == RAD_OK);
+    char *s = slurp(path, NULL);
+    if (!s)
+        return;
+    CHECK(strncmp(s, "# accuracy vs time\n# version = radkit ", 38) == 0);
+    CHECK(strstr(s, "# rule = gauss:4\n# n\terror\tseconds\n") != NULL);
+    const char *body = strstr(s, "seconds\n") + 8;
+    double got[6];
+    int k = 0;
+    char *end = (char *)body;
+    while (k < 6) {
+        got[k] = strtod(end, &end);
+        k++;
+    }
+    for (k = 0; k < 6; k++)
+        CHECK(got[k] == data[k]);
+    while (isspace((unsigned char)*end))
+        end++;
+    CHECK(*end == 0);
+    free(s);
+    remove(path);
+}
