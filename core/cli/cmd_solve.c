@@ -14,8 +14,11 @@
 #include "rad_dense.h"
 #include "rad_dense_solve.h"
 #include "rad_ff.h"
+#include "rad_geom.h"
+#include "rad_io.h"
 #include "rad_mesh.h"
 #include "rad_radiosity.h"
+#include "rad_render.h"
 #include "rad_scene.h"
 #include "rad_sys.h"
 #include "rad_version.h"
@@ -23,7 +26,9 @@
 
 static const char help_head[] =
     "usage: radkit solve SCENE [--method dense] [--rule RULE] [--tol T] [--solver S]\n"
-    "                    [--refine K] [--threads N] [--out faces.tsv] [--quiet]\n"
+    "                    [--refine K] [--threads N] [--out faces.tsv] [--ply out.ply]\n"
+    "                    [--png out.png] [--image-size WxH] [--exposure X]\n"
+    "                    [--stats stats.json] [--quiet]\n"
     "                    [--solver-tol T] [--max-iter N] [--vis-strata K]\n"
     "                    [scene options]\n"
     "\n"
@@ -42,6 +47,19 @@ static const char help_head[] =
     "  --vis-strata K   visibility samples: K^2 points per triangle, K^4 rays per\n"
     "                   pair that something might block (default 3)\n"
     "  --out FILE       write the table to FILE instead of standard output\n"
+    "  --ply FILE       the (refined) mesh as ASCII PLY with per-vertex colours: the\n"
+    "                   area-weighted radiosity of the faces around each vertex,\n"
+    "                   tone-mapped like the image\n"
+    "  --png FILE       an image from the scene's camera (or the default view),\n"
+    "                   Embree primary rays, smooth (Gouraud) shading of vertex\n"
+    "                   radiosity; tone map: display = 255 (exposure B)^(1/2.2),\n"
+    "                   clipped at white\n"
+    "  --image-size WxH image size in pixels (default 512x512)\n"
+    "  --exposure X     tone-map exposure (default: the 95th percentile of element\n"
+    "                   radiosity maps to white)\n"
+    "  --stats FILE     JSON with method, faces, elements, links, rays, kernel_evals,\n"
+    "                   time_s (per phase and total), memory_peak_bytes, effects,\n"
+    "                   solver {name, iterations, residual}\n"
     "  --quiet          no progress on standard error\n";
 
 static const char help_tail[] =
@@ -56,7 +74,7 @@ static const char help_tail[] =
 
 typedef struct solve_options {
     const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
-    const char *threads, *out, *strata;
+    const char *threads, *out, *strata, *ply, *png, *size, *exposure, *stats;
     int quiet, help;
     cli_scene_options scene_opts;
 } solve_options;
@@ -84,6 +102,180 @@ static void progress_line(double done, void *ctx)
     fflush(stderr);
 }
 
+/* ---- a shading mesh: smooth within a surface, never across a crease ---------
+ * Vertex colours are area averages of the faces around a vertex.  Across a
+ * crease (a wall meeting the floor) or a material boundary (the lamp in the
+ * ceiling) that average mixes surfaces that do not share light, so for
+ * display every vertex is split by the plane and material of the faces using
+ * it: faces share a shading vertex only when they share the vertex, the unit
+ * normal (to 1e-6) and the material. */
+typedef struct corner_key {
+    int vertex, material;
+    long long nq[3];
+    int slot; /* element * 3 + corner */
+} corner_key;
+
+/* Order by surface (vertex, material, normal), then by slot. */
+static int compare_surface(const corner_key *a, const corner_key *b)
+{
+    if (a->vertex != b->vertex)
+        return a->vertex < b->vertex ? -1 : 1;
+    if (a->material != b->material)
+        return a->material < b->material ? -1 : 1;
+    for (int k = 0; k < 3; k++)
+        if (a->nq[k] != b->nq[k])
+            return a->nq[k] < b->nq[k] ? -1 : 1;
+    return 0;
+}
+
+static int compare_corners(const void *pa, const void *pb)
+{
+    const corner_key *a = pa, *b = pb;
+    int c = compare_surface(a, b);
+    return c ? c : (a->slot > b->slot) - (a->slot < b->slot);
+}
+
+static rad_status shading_mesh(const rad_mesh *mesh, const int *element_material, double **xyz_out,
+                               size_t *nv_out, int **tri_out)
+{
+    int n = rad_mesh_face_count(mesh);
+    const double *xyz = rad_mesh_vertices(mesh);
+    const int *tri = rad_mesh_triangles(mesh);
+    corner_key *keys = malloc(3 * (size_t)n * sizeof *keys);
+    int *tri2 = malloc(3 * (size_t)n * sizeof *tri2);
+    double *xyz2 = malloc(9 * (size_t)n * sizeof *xyz2);
+    if (!keys || !tri2 || !xyz2) {
+        free(keys);
+        free(tri2);
+        free(xyz2);
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for the shading mesh");
+    }
+    for (int i = 0; i < n; i++) {
+        const int *t = tri + 3 * (size_t)i;
+        rad_vec3 v[3];
+        for (int c = 0; c < 3; c++)
+            v[c] = rad_vec3_make(xyz[3 * t[c]], xyz[3 * t[c] + 1], xyz[3 * t[c] + 2]);
+        rad_vec3 nrm = rad_geom_triangle_normal(v[0], v[1], v[2]);
+        for (int c = 0; c < 3; c++) {
+            corner_key *k = &keys[3 * i + c];
+            k->vertex = t[c];
+            k->material = element_material[i];
+            k->nq[0] = llround(nrm.x * 1e6);
+            k->nq[1] = llround(nrm.y * 1e6);
+            k->nq[2] = llround(nrm.z * 1e6);
+            k->slot = 3 * i + c;
+        }
+    }
+    qsort(keys, 3 * (size_t)n, sizeof *keys, compare_corners);
+    size_t nv = 0;
+    for (size_t k = 0; k < 3 * (size_t)n; k++) {
+        int fresh = k == 0 || compare_surface(&keys[k - 1], &keys[k]) != 0;
+        if (fresh) {
+            memcpy(xyz2 + 3 * nv, xyz + 3 * (size_t)keys[k].vertex, 3 * sizeof *xyz2);
+            nv++;
+        }
+        tri2[keys[k].slot] = (int)nv - 1;
+    }
+    free(keys);
+    *xyz_out = xyz2;
+    *nv_out = nv;
+    *tri_out = tri2;
+    return RAD_OK;
+}
+
+/* The exposure that maps the 95th percentile of the radiosity of non-emitting
+ * elements to white: lamps are left to clip, lit surfaces stay visible. */
+static double auto_exposure(int n, const double *B, const double *E)
+{
+    double *vals = malloc(3 * (size_t)n * sizeof *vals);
+    if (!vals)
+        return 1.0;
+    size_t m = 0;
+    for (int i = 0; i < n; i++)
+        if (E[i] + E[i + n] + E[i + 2 * n] <= 0.0)
+            for (int c = 0; c < 3; c++)
+                vals[m++] = B[i + (size_t)c * n];
+    double x = m ? rad_io_tonemap_auto_exposure(m, vals, 0.95)
+                 : rad_io_tonemap_auto_exposure(3 * (size_t)n, B, 0.95);
+    free(vals);
+    return x;
+}
+
+/* --ply, --png and --stats.  The image needs primary rays, so it builds the
+ * visibility structure if the plan did not (a convex scene needs none). */
+static rad_status write_outputs(const solve_options *o, const rad_scene *scene, const rad_mesh *mesh,
+                                const int *element_material, const double *E,
+                                const rad_vis_params *vp, const double *B,
+                                double exposure, int width, int height, const rad_effects_plan *plan,
+                                const rad_assembly_stats *as, const rad_dense_report *report, int n,
+                                int faces, double t_start, const double phase_s[4])
+{
+    rad_status st = RAD_OK;
+    rad_io_tonemap tm;
+    rad_io_tonemap_default(&tm);
+    tm.exposure = exposure > 0.0 ? exposure : auto_exposure(n, B, E);
+    double *xyz = NULL;
+    int *tri = NULL;
+    size_t nv = 0;
+    rad_vis *vis = NULL;
+    double t_render = 0.0;
+    if ((o->ply || o->png) && (st = shading_mesh(mesh, element_material, &xyz, &nv, &tri)) != RAD_OK)
+        return st;
+    if (o->ply && (st = rad_io_write_ply(o->ply, nv, xyz, (size_t)n, tri, B, &tm, 0)) != RAD_OK)
+        goto out;
+    if (o->png) {
+        double t0 = rad_sys_seconds();
+        if ((st = rad_vis_create(xyz, nv, tri, (size_t)n, vp, &vis)) != RAD_OK)
+            goto out;
+        const rad_camera *sc = rad_scene_camera(scene);
+        rad_render_camera cam;
+        memcpy(cam.eye, sc->position, sizeof cam.eye);
+        memcpy(cam.look_at, sc->look_at, sizeof cam.look_at);
+        memcpy(cam.up, sc->up, sizeof cam.up);
+        cam.fov_y_deg = sc->fov_y_deg;
+        cam.width = width;
+        cam.height = height;
+        unsigned char *rgb = malloc((size_t)width * (size_t)height * 3);
+        if (!rgb) {
+            st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for a %dx%d image", width, height);
+            goto out;
+        }
+        rad_vis_stats vs = {0, 0, 0};
+        st = rad_render_image(vis, nv, xyz, (size_t)n, tri, B, &cam, &tm, rgb, &vs);
+        if (st == RAD_OK)
+            st = rad_render_write_png(o->png, width, height, rgb);
+        free(rgb);
+        if (st != RAD_OK)
+            goto out;
+        t_render = rad_sys_seconds() - t0;
+    }
+    if (o->stats) {
+        const rad_effect_decision *dec[5] = {&plan->occlusion, &plan->colour, &plan->facing_away,
+                                             &plan->singular, &plan->clustering};
+        static const char *const names[5] = {"occlusion", "colour", "facing_away", "singular", "clustering"};
+        rad_io_effect effects[5];
+        for (int k = 0; k < 5; k++)
+            effects[k] = (rad_io_effect){names[k], dec[k]->on ? "on" : "off", dec[k]->reason};
+        rad_io_phase phases[5] = {{"setup", phase_s[0]}, {"visibility", phase_s[1]},
+                                  {"assemble", phase_s[2]}, {"solve", phase_s[3]},
+                                  {"render", t_render}};
+        rad_io_stats js = {
+            .method = "dense", .faces = faces, .elements = n, .links = as->pairs - as->pairs_not_facing,
+            .rays = (long long)as->rays, .kernel_evals = as->kernel_evals, .phases = phases,
+            .nphases = 5, .total_seconds = rad_sys_seconds() - t_start,
+            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = 5,
+            .solver_name = rad_dense_method_name(report->method),
+            .solver_iterations = report->iterations, .solver_residual = report->residual,
+        };
+        st = rad_io_write_stats_json(o->stats, &js);
+    }
+out:
+    rad_vis_destroy(vis);
+    free(xyz);
+    free(tri);
+    return st;
+}
+
 int cli_solve(int argc, char **argv)
 {
     solve_options o;
@@ -101,11 +293,16 @@ int cli_solve(int argc, char **argv)
         {"--threads", &o.threads, NULL},
         {"--vis-strata", &o.strata, NULL},
         {"--out", &o.out, NULL},
+        {"--ply", &o.ply, NULL},
+        {"--png", &o.png, NULL},
+        {"--image-size", &o.size, NULL},
+        {"--exposure", &o.exposure, NULL},
+        {"--stats", &o.stats, NULL},
         {"--quiet", NULL, &o.quiet},
         {"--help", NULL, &o.help},
         {"-h", NULL, &o.help},
     };
-    int nopt = 14;
+    int nopt = 19;
     nopt += cli_scene_options_add(&o.scene_opts, table + nopt);
     table[nopt] = (cli_option){NULL, NULL, NULL};
 
@@ -154,6 +351,17 @@ int cli_solve(int argc, char **argv)
         return fail(st);
     if (o.strata && (st = cli_parse_positive_int("solve: --vis-strata", o.strata, 16, &strata)) != RAD_OK)
         return fail(st);
+    int width = 512, height = 512;
+    if (o.size) {
+        char tail = 0;
+        if (sscanf(o.size, "%dx%d%c", &width, &height, &tail) != 2 || width < 1 || height < 1 ||
+            width > 16384 || height > 16384)
+            return fail(RAD_ERROR(RAD_EINVAL, "solve: --image-size must be WxH with 1 <= W, H <= "
+                                              "16384, got '%s'", o.size));
+    }
+    double exposure = 0.0;
+    if (o.exposure && (st = parse_double("--exposure", o.exposure, 0.0, &exposure)) != RAD_OK)
+        return fail(st);
     ap.threads = threads;
     int show_progress = !o.quiet && isatty(2);
     if (show_progress)
@@ -165,6 +373,7 @@ int cli_solve(int argc, char **argv)
     rad_mesh *base = NULL, *mesh = NULL;
     rad_vis *vis = NULL;
     double *G = NULL, *work = NULL;
+    int *element_material = NULL;
     FILE *out = stdout;
     if ((st = rad_scene_load(o.scene, &sp, &scene)) != RAD_OK)
         return fail(st);
@@ -204,7 +413,13 @@ int cli_solve(int argc, char **argv)
         goto done;
     }
     double *rho = work, *E = work + 3 * (size_t)n, *B = work + 6 * (size_t)n, *areas = work + 9 * (size_t)n;
+    element_material = malloc((size_t)n * sizeof *element_material);
+    if (!element_material) {
+        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d elements", n);
+        goto done;
+    }
     for (int i = 0; i < n; i++) {
+        element_material[i] = tri_mat[parent[i]];
         const rad_material *m = &mats[tri_mat[parent[i]]];
         for (int c = 0; c < 3; c++) {
             rho[i + c * n] = m->rho[c];
@@ -295,12 +510,18 @@ int cli_solve(int argc, char **argv)
     if (out != stdout && fclose(out) != 0)
         st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o.out);
     out = stdout;
+    if (st == RAD_OK)
+        st = write_outputs(&o, scene, mesh, element_material, E, &vp, B, exposure, width, height, &plan, &as,
+                           &report, n, faces, t_start,
+                           (double[4]){t_setup - t_start, t_vis - t_setup, t_assembled - t_vis,
+                                       t_solved - t_assembled});
 
 done:
     if (out != stdout)
         fclose(out);
     free(G);
     free(work);
+    free(element_material);
     rad_vis_destroy(vis);
     rad_mesh_destroy(mesh);
     rad_mesh_destroy(base);
