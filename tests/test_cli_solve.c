@@ -1,0 +1,220 @@
+/* End to end: radkit solve on the shipped scenes: the furnace identity, rho
+ * near 1, every solver agreeing, the outputs, and bad input. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+
+static int solve(const char *const args[], char **out, char **err)
+{
+    const char *argv[40] = {harness_radkit(), "solve"};
+    int k = 0;
+    while (args[k] && k < 36) {
+        argv[k + 2] = args[k];
+        k++;
+    }
+    argv[k + 2] = NULL;
+    return harness_run(argv, out, err);
+}
+
+static char *scene(const char *rel)
+{
+    static char buf[8][1024];
+    static int next;
+    char *b = buf[next++ % 8];
+    snprintf(b, 1024, "%s/scenes/%s", harness_root(), rel);
+    return b;
+}
+
+/* Rows of the table: face, area, B_r, B_g, B_b.  Returns the row count. */
+static int read_rows(const char *out, double *B, int max)
+{
+    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n");
+    if (!p)
+        return -1;
+    p = strchr(p + 1, '\n') + 1;
+    int rows = 0;
+    while (*p && rows < max) {
+        int f;
+        double a, r, g, b;
+        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf", &f, &a, &r, &g, &b) != 5)
+            return -1;
+        B[3 * rows] = r;
+        B[3 * rows + 1] = g;
+        B[3 * rows + 2] = b;
+        rows++;
+        p = strchr(p, '\n');
+        if (!p)
+            break;
+        p++;
+    }
+    return rows;
+}
+
+static double header_number(const char *out, const char *key)
+{
+    char pattern[128];
+    snprintf(pattern, sizeof pattern, "# %s = ", key);
+    const char *p = strstr(out, pattern);
+    return p ? atof(p + strlen(pattern)) : NAN;
+}
+
+/* Closed, convex, uniform rho = 0.375 and E = 2.385: B = E / (1 - rho) = 3.816. */
+TEST(cli_solve_furnace_is_exact)
+{
+    const char *scenes[] = {"furnace_cube/cube.obj", "tetrahedron/tetrahedron.obj", "sphere/sphere_1.obj"};
+    for (int s = 0; s < 3; s++) {
+        char *out, *err;
+        double B[3 * 200];
+        CHECK(solve((const char *[]){scene(scenes[s]), "--rule", "exact", "--quiet", NULL}, &out, &err) == 0);
+        int rows = read_rows(out, B, 200);
+        CHECK(rows > 0);
+        for (int k = 0; k < 3 * rows; k++)
+            CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-9, 0.0);
+        CHECK(strstr(out, "# effect_occlusion = off") != NULL); /* convex: no rays */
+        CHECK(header_number(out, "rays") == 0.0);
+        free(out);
+        free(err);
+    }
+}
+
+/* The default rule (auto, tol 1e-6) on the furnace: the row sums are only as
+ * good as the tolerance, and so is B. */
+TEST(cli_solve_furnace_default_rule)
+{
+    char *out, *err;
+    double B[3 * 100];
+    CHECK(solve((const char *[]){scene("furnace_cube/cube.obj"), "--refine", "1", "--quiet", NULL}, &out, &err) == 0);
+    int rows = read_rows(out, B, 100);
+    CHECK(rows == 12);
+    for (int k = 0; k < 3 * rows; k++)
+        CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-5, 0.0);
+    free(out);
+    free(err);
+}
+
+TEST(cli_solve_rho_near_one_stays_accurate)
+{
+    const char *rhos[] = {"0.99", "0.999"};
+    for (int k = 0; k < 2; k++) {
+        char *out, *err;
+        double B[3 * 20], rho = atof(rhos[k]);
+        CHECK(solve((const char *[]){scene("furnace_cube/cube.obj"), "--rule", "exact", "--rho", rhos[k],
+                                     "--quiet", NULL}, &out, &err) == 0);
+        CHECK(read_rows(out, B, 20) == 12);
+        for (int i = 0; i < 36; i++)
+            CHECK_NEAR(B[i], 2.385 / (1.0 - rho), 1e-9, 0.0);
+        double rcond = header_number(out, "rcond");
+        CHECK_MSG(rcond > 0.0 && rcond < 0.5 * (1.0 - rho) * 10.0, "rcond %g for rho %g", rcond, rho);
+        free(out);
+        free(err);
+    }
+}
+
+TEST(cli_solve_every_solver_agrees)
+{
+    const char *solvers[] = {"lu", "cholesky", "jacobi", "gauss-seidel", "southwell"};
+    double ref[3 * 200], B[3 * 200];
+    int rows_ref = 0;
+    for (int s = 0; s < 5; s++) {
+        char *out, *err;
+        CHECK(solve((const char *[]){scene("cornell/cornell.obj"), "--refine", "1", "--rule", "gauss:2",
+                                     "--solver", solvers[s], "--solver-tol", "1e-12", "--quiet", NULL},
+                    &out, &err) == 0);
+        int rows = read_rows(out, s ? B : ref, 200);
+        if (s == 0)
+            rows_ref = rows;
+        CHECK(rows == rows_ref && rows == 38);
+        for (int k = 0; s && k < 3 * rows; k++)
+            CHECK_NEAR(B[k], ref[k], 1e-9, 1e-12);
+        free(out);
+        free(err);
+    }
+}
+
+TEST(cli_solve_writes_its_outputs)
+{
+    char png[] = "/tmp/radkit-test-XXXXXX";
+    int fd = mkstemp(png);
+    if (fd >= 0)
+        close(fd);
+    char ply[64], stats[64], tsv[64];
+    snprintf(ply, sizeof ply, "%s.ply", png);
+    snprintf(stats, sizeof stats, "%s.json", png);
+    snprintf(tsv, sizeof tsv, "%s.tsv", png);
+    char *out, *err;
+    CHECK(solve((const char *[]){scene("cornell/cornell.obj"), "--png", png, "--ply", ply, "--stats", stats,
+                                 "--out", tsv, "--image-size", "64x48", "--quiet", NULL}, &out, &err) == 0);
+    CHECK(strcmp(out, "") == 0); /* the table went to --out */
+    FILE *f = fopen(png, "rb");
+    unsigned char sig[8] = {0};
+    CHECK(f && fread(sig, 1, 8, f) == 8 && memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0);
+    if (f)
+        fclose(f);
+    f = fopen(stats, "r");
+    char json[8192] = {0};
+    CHECK(f && fread(json, 1, sizeof json - 1, f) > 0);
+    if (f)
+        fclose(f);
+    const char *keys[] = {"\"method\"", "\"faces\"", "\"elements\"", "\"links\"", "\"rays\"", "\"kernel_evals\"",
+                          "\"time_s\"", "\"total\"", "\"memory_peak_bytes\"", "\"effects\"", "\"solver\"",
+                          "\"iterations\"", "\"residual\""};
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+        CHECK_MSG(strstr(json, keys[k]) != NULL, "stats JSON lacks %s", keys[k]);
+    f = fopen(ply, "r");
+    char head[256] = {0};
+    CHECK(f && fread(head, 1, sizeof head - 1, f) > 0 && strncmp(head, "ply\n", 4) == 0);
+    if (f)
+        fclose(f);
+    f = fopen(tsv, "r");
+    CHECK(f != NULL);
+    if (f)
+        fclose(f);
+    remove(png);
+    remove(ply);
+    remove(stats);
+    remove(tsv);
+    free(out);
+    free(err);
+}
+
+static void expect_usage_error(const char *const args[], const char *needle)
+{
+    char *out, *err;
+    int code = solve(args, &out, &err);
+    CHECK_MSG(code == 2, "exit %d for '%s'", code, args[0] ? args[0] : "");
+    CHECK_MSG(harness_count_lines(err) == 1, "stderr: %s", err);
+    CHECK_MSG(strstr(err, needle) != NULL, "stderr '%s' does not name '%s'", err, needle);
+    free(out);
+    free(err);
+}
+
+TEST(cli_solve_rejects_bad_input)
+{
+    char *cube = scene("furnace_cube/cube.obj");
+    expect_usage_error((const char *[]){NULL}, "scene");
+    expect_usage_error((const char *[]){"/nonexistent/scene.obj", NULL}, "nonexistent");
+    expect_usage_error((const char *[]){scene("bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:");
+    expect_usage_error((const char *[]){scene("bad/zero_area.obj"), NULL}, "zero_area.obj");
+    expect_usage_error((const char *[]){scene("bad/rho_too_big.obj"), NULL}, "rho_too_big");
+    expect_usage_error((const char *[]){scene("bad/negative_emission.obj"), NULL}, "negative");
+    expect_usage_error((const char *[]){cube, "--rule", "simpson", NULL}, "simpson");
+    expect_usage_error((const char *[]){cube, "--solver", "magic", NULL}, "magic");
+    expect_usage_error((const char *[]){cube, "--method", "hier", NULL}, "hier");
+    expect_usage_error((const char *[]){cube, "--refine", "-1", NULL}, "--refine");
+    expect_usage_error((const char *[]){cube, "--tol", "0", NULL}, "--tol");
+    expect_usage_error((const char *[]){cube, "--image-size", "0x5", NULL}, "--image-size");
+    expect_usage_error((const char *[]){cube, "--rho", "1.0", NULL}, "--rho");
+    expect_usage_error((const char *[]){cube, cube, NULL}, "more than one");
+}
+
+TEST(cli_solve_refuses_what_dense_cannot_hold)
+{
+    expect_usage_error((const char *[]){scene("cornell/cornell.obj"), "--refine", "8", NULL}, "--method hier");
+    setenv("RADKIT_MEMORY_LIMIT", "4000000", 1); /* 4 MB: 608 elements need ~6 MB */
+    expect_usage_error((const char *[]){scene("cornell/cornell.obj"), "--refine", "2", NULL}, "--method hier");
+    unsetenv("RADKIT_MEMORY_LIMIT");
+}
