@@ -1,12 +1,22 @@
 #!/bin/sh
-# make demo: the 1D model problem of the notes at a few n, a short table of its
-# errors, and a convergence plot (build/demo/convergence_1d.png).
+# make demo: the Cornell box solved by dense Galerkin radiosity (an image, the
+# figures of the run), then the 1D model problem of the notes at a few n (a
+# table of its errors and a convergence plot).
 set -eu
 RADKIT=${1:-build/radkit}
 out=build/demo
 mkdir -p "$out"
 
-echo "radkit demo: the 1D model problem y = f + K y (papers/galerkin-1d.md)"
+REFINE=${REFINE:-3}
+echo "radkit demo 1: the Cornell box, dense Galerkin radiosity (--refine $REFINE)"
+"$RADKIT" solve scenes/cornell/cornell.obj --refine "$REFINE" --png "$out/cornell.png" \
+    --ply "$out/cornell.ply" --stats "$out/cornell.json" --out "$out/cornell.tsv"
+awk -F' = ' '/^# (faces|elements|rule|solver|pairs|pairs_not_facing|pairs_occlusion_tested|rays|kernel_evals|solver_residual|time_[a-z]+_s|memory_peak_bytes|effect_[a-z_]+) = /{
+  printf "  %-24s %s\n", substr($1, 3), $2 }' "$out/cornell.tsv" | grep -v '_reason'
+echo "  image: $out/cornell.png   mesh: $out/cornell.ply   stats: $out/cornell.json"
+echo "  per-face radiosity: $out/cornell.tsv"
+echo
+echo "radkit demo 2: the 1D model problem y = f + K y (papers/galerkin-1d.md)"
 echo "exact Galerkin solutions (closed-form assembly) against the exact solution;"
 echo "residual = Galerkin residual recomputed from the definitions alone"
 echo
