@@ -26,6 +26,7 @@
 //     cheap local test runs first: for each interior edge, the far vertex of
 //     one face must not be behind the other; one failure decides "not convex".
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -209,7 +210,7 @@ void build_surface_mesh(rad_mesh &m)
     points.reserve(nv);
     for (size_t v = 0; v < nv; v++)
         points.push_back(point_of(m, (int)v));
-    std::vector<std::vector<std::size_t>> polygons(nt);
+    std::vector<std::array<std::size_t, 3>> polygons(nt);
     for (size_t f = 0; f < nt; f++)
         polygons[f] = {(std::size_t)m.tri[3 * f], (std::size_t)m.tri[3 * f + 1],
                        (std::size_t)m.tri[3 * f + 2]};

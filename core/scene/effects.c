@@ -21,7 +21,8 @@
  *  5. Clustering.  Initial linking is quadratic in the number of faces; a
  *     cluster hierarchy pays when there are many faces in many separate
  *     objects (cluster_min_faces faces in cluster_min_objects components).
- * Every decision can be forced on or off; the reason then says so. */
+ * Every decision can be forced on or off; the reason then says so.
+ * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

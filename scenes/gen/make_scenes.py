@@ -9,6 +9,8 @@ the committed files; `git diff` after a run shows any drift).
 Conventions (DESIGN.md): faces are one-sided, the front is the side of the
 counter-clockwise winding's normal.  Enclosures face inwards, objects outwards.
 OBJ + MTL: Kd = reflectance per RGB channel, Ke = emitted exitance (W/m^2).
+References (papers/refs.bib): the Cornell box data [cornellbox], the plates'
+form factors [howell2010].  scenes/README.md records every scene's provenance.
 """
 import base64
 import math
