@@ -238,6 +238,19 @@ TEST(scene_off_from_another_tool)
     rad_scene_destroy(s);
 }
 
+/* ASCII STL repeats each corner per facet: the importer merges them. */
+TEST(scene_stl_from_another_tool)
+{
+    rad_scene *s = load("scenes/formats/rectangle.stl");
+    if (!s)
+        return;
+    rad_scene_summary sum;
+    rad_scene_summarize(s, &sum);
+    CHECK(sum.faces == 2 && sum.vertices == 4);
+    CHECK_NEAR(sum.total_area, 3.0, 1e-15, 0.0);
+    rad_scene_destroy(s);
+}
+
 /* A minimal glTF 2.0 with an embedded base64 buffer, a node translation and
  * KHR_materials_emissive_strength. */
 TEST(scene_gltf_from_another_tool)

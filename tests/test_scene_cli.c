@@ -79,7 +79,8 @@ TEST(cli_info_every_shipped_scene)
         "scenes/sphere/sphere_3.obj", "scenes/plates_parallel/plates.obj",
         "scenes/plates_perpendicular/plates.obj", "scenes/occluder/occluder.obj",
         "scenes/many_objects/many_64.obj", "scenes/formats/quad_tri.ply",
-        "scenes/formats/tetra.off", "scenes/formats/two_triangles.gltf"};
+        "scenes/formats/tetra.off", "scenes/formats/two_triangles.gltf",
+        "scenes/formats/rectangle.stl"};
     const char *keys[] = {"faces", "vertices", "materials", "emitters", "total_area", "bbox_min",
                           "bbox_max", "closed", "convex", "components", "pairs_shared_edge",
                           "pairs_shared_vertex", "effect_occlusion", "effect_occlusion_reason",
@@ -178,6 +179,7 @@ TEST(cli_info_rejects_every_bad_input)
     expect_bad((const char *[]){scene("scenes/bad/garbage.obj"), NULL}, "garbage.obj:1: unknown OBJ statement");
     expect_bad((const char *[]){scene("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");
     expect_bad((const char *[]){scene("scenes/bad/no_such_file.obj"), NULL}, "no_such_file.obj: cannot open");
+    expect_bad((const char *[]){scene("scenes/bad"), NULL}, "Is a directory");
     /* Usage errors. */
     expect_bad((const char *[]){NULL}, "SCENE");
     expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), scene("scenes/cornell/cornell.obj"), NULL},

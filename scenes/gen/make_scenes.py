@@ -369,6 +369,15 @@ def formats():
                 "end_header\n"
                 "0 0 0 1\n2 0 0 1\n2 1.5 0 1\n0 1.5 0 1\n1 0.75 2 1\n"
                 "4 0 1 2 3\n3 0 1 4\n")
+    # ASCII STL: a 1.5 x 2 rectangle as two facets (STL repeats every corner).
+    with open(os.path.join(d, "rectangle.stl"), "w") as f:
+        f.write("solid rectangle\n")
+        for tri in (((0, 0, 0), (1.5, 0, 0), (1.5, 2, 0)), ((0, 0, 0), (1.5, 2, 0), (0, 2, 0))):
+            f.write("  facet normal 0 0 1\n    outer loop\n")
+            for v in tri:
+                f.write("      vertex %s %s %s\n" % tuple(num(x) for x in v))
+            f.write("    endloop\n  endfacet\n")
+        f.write("endsolid rectangle\n")
     # OFF: a tetrahedron facing outward.
     with open(os.path.join(d, "tetra.off"), "w") as f:
         f.write("OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
