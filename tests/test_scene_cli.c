@@ -175,6 +175,9 @@ TEST(cli_info_rejects_every_bad_input)
     expect_bad((const char *[]){scene("scenes/bad/nonconvex_polygon.obj"), NULL},
                "nonconvex_polygon.obj:7: face 0 is a non-convex polygon");
     expect_bad((const char *[]){scene("scenes/bad/no_faces.obj"), NULL}, "no faces");
+    /* Other formats name the face: Assimp must not drop the degenerate one. */
+    expect_bad((const char *[]){scene("scenes/bad/zero_area.ply"), NULL}, "zero_area.ply: face 1: degenerate");
+    expect_bad((const char *[]){scene("scenes/bad/index_out_of_range.ply"), NULL}, "out of range");
     expect_bad((const char *[]){scene("scenes/bad/empty.obj"), NULL}, "empty");
     expect_bad((const char *[]){scene("scenes/bad/garbage.obj"), NULL}, "garbage.obj:1: unknown OBJ statement");
     expect_bad((const char *[]){scene("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");

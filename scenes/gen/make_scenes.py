@@ -448,6 +448,13 @@ def bad():
         "garbage.obj": "\x7fELF\x02\x01\x01 this is not a scene \x01\x02\x03\n%%%% 12 ab\n",
         "garbage.ply": "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n"
                        "zz yy\n",
+        "zero_area.ply": "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+                         "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n",
+        "index_out_of_range.ply": "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                  "property float y\nproperty float z\nelement face 1\n"
+                                  "property list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
         "good.mtl": good_mtl,
     }
     for name, text in files.items():
