@@ -194,6 +194,12 @@ TEST(mesh_closed_scenes_are_closed)
         if (strstr(closed[k], "many")) {
             CHECK(info.components == 65 && info.closed_components == 65);
             CHECK(info.convex_inside == 0);
+            /* The room (component 0, faces inward) is convex from inside;
+             * every small cube faces outward, so it is not. */
+            CHECK(rad_mesh_component_convex(m, 0) == 1);
+            for (int c = 1; c < 65; c++)
+                CHECK(rad_mesh_component_convex(m, c) == 0 && rad_mesh_component_closed(m, c) == 1);
+            CHECK(rad_mesh_component_convex(m, 65) == -1);
         }
         rad_mesh_destroy(m);
         rad_scene_destroy(s);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
 #include "rad_geom.h"
@@ -238,6 +239,19 @@ TEST(scene_off_from_another_tool)
     rad_scene_destroy(s);
 }
 
+/* ASCII STL repeats each corner per facet: the importer merges them. */
+TEST(scene_stl_from_another_tool)
+{
+    rad_scene *s = load("scenes/formats/rectangle.stl");
+    if (!s)
+        return;
+    rad_scene_summary sum;
+    rad_scene_summarize(s, &sum);
+    CHECK(sum.faces == 2 && sum.vertices == 4);
+    CHECK_NEAR(sum.total_area, 3.0, 1e-15, 0.0);
+    rad_scene_destroy(s);
+}
+
 /* A minimal glTF 2.0 with an embedded base64 buffer, a node translation and
  * KHR_materials_emissive_strength. */
 TEST(scene_gltf_from_another_tool)
@@ -270,12 +284,17 @@ TEST(scene_gltf_from_another_tool)
 /* Polygons keep their place: an OBJ with interleaved materials. */
 TEST(scene_obj_keeps_input_order_and_materials)
 {
-    const char *mtl = "/tmp/radkit-order.mtl", *obj = "/tmp/radkit-order.obj";
+    /* Files named by the process id: parallel test runs do not collide. */
+    char mtl[64], obj[64], mtllib[80];
+    snprintf(mtl, sizeof mtl, "/tmp/radkit-order-%ld.mtl", (long)getpid());
+    snprintf(obj, sizeof obj, "/tmp/radkit-order-%ld.obj", (long)getpid());
+    snprintf(mtllib, sizeof mtllib, "mtllib radkit-order-%ld.mtl\n", (long)getpid());
     FILE *f = fopen(mtl, "w");
     fputs("newmtl a\nKd 0.125 0.25 0.375\nnewmtl b\nKd 0.5 0.5 0.5\nKe 0.75 0.75 0.75\n", f);
     fclose(f);
     f = fopen(obj, "w");
-    fputs("mtllib radkit-order.mtl\nv 0 0 0\nv 2.385 0 0\nv 2.385 1.5 0\nv 0 1.5 0\nv 0 0 1\nv 0 1.5 1\n"
+    fputs(mtllib, f);
+    fputs("v 0 0 0\nv 2.385 0 0\nv 2.385 1.5 0\nv 0 1.5 0\nv 0 0 1\nv 0 1.5 1\n"
           "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 5\nusemtl a\nf 1/1/1 3/2/2 4/3/3\n"
           "usemtl b\nf -6 -2 -1 -3\n", f);
     fclose(f);

@@ -79,7 +79,8 @@ TEST(cli_info_every_shipped_scene)
         "scenes/sphere/sphere_3.obj", "scenes/plates_parallel/plates.obj",
         "scenes/plates_perpendicular/plates.obj", "scenes/occluder/occluder.obj",
         "scenes/many_objects/many_64.obj", "scenes/formats/quad_tri.ply",
-        "scenes/formats/tetra.off", "scenes/formats/two_triangles.gltf"};
+        "scenes/formats/tetra.off", "scenes/formats/two_triangles.gltf",
+        "scenes/formats/rectangle.stl"};
     const char *keys[] = {"faces", "vertices", "materials", "emitters", "total_area", "bbox_min",
                           "bbox_max", "closed", "convex", "components", "pairs_shared_edge",
                           "pairs_shared_vertex", "effect_occlusion", "effect_occlusion_reason",
@@ -174,10 +175,14 @@ TEST(cli_info_rejects_every_bad_input)
     expect_bad((const char *[]){scene("scenes/bad/nonconvex_polygon.obj"), NULL},
                "nonconvex_polygon.obj:7: face 0 is a non-convex polygon");
     expect_bad((const char *[]){scene("scenes/bad/no_faces.obj"), NULL}, "no faces");
+    /* Other formats name the face: Assimp must not drop the degenerate one. */
+    expect_bad((const char *[]){scene("scenes/bad/zero_area.ply"), NULL}, "zero_area.ply: face 1: degenerate");
+    expect_bad((const char *[]){scene("scenes/bad/index_out_of_range.ply"), NULL}, "out of range");
     expect_bad((const char *[]){scene("scenes/bad/empty.obj"), NULL}, "empty");
     expect_bad((const char *[]){scene("scenes/bad/garbage.obj"), NULL}, "garbage.obj:1: unknown OBJ statement");
     expect_bad((const char *[]){scene("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");
     expect_bad((const char *[]){scene("scenes/bad/no_such_file.obj"), NULL}, "no_such_file.obj: cannot open");
+    expect_bad((const char *[]){scene("scenes/bad"), NULL}, "Is a directory");
     /* Usage errors. */
     expect_bad((const char *[]){NULL}, "SCENE");
     expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), scene("scenes/cornell/cornell.obj"), NULL},

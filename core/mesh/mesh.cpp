@@ -26,6 +26,7 @@
 //     cheap local test runs first: for each interior edge, the far vertex of
 //     one face must not be behind the other; one failure decides "not convex".
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -199,6 +200,30 @@ void find_pairs(rad_mesh &m)
     });
 }
 
+// Group faces and pairs by component (counting sort, stable).
+void group_by_component(rad_mesh &m)
+{
+    const size_t nc = (size_t)m.info.components;
+    m.comp_face_start.assign(nc + 1, 0);
+    m.comp_pair_start.assign(nc + 1, 0);
+    for (int c : m.component)
+        m.comp_face_start[(size_t)c + 1]++;
+    for (const rad_mesh_pair &p : m.pairs)
+        m.comp_pair_start[(size_t)m.component[(size_t)p.a] + 1]++;
+    for (size_t c = 0; c < nc; c++) {
+        m.comp_face_start[c + 1] += m.comp_face_start[c];
+        m.comp_pair_start[c + 1] += m.comp_pair_start[c];
+    }
+    m.comp_faces.resize(m.component.size());
+    m.comp_pairs.resize(m.pairs.size());
+    std::vector<int> fill(m.comp_face_start.begin(), m.comp_face_start.end() - 1);
+    for (size_t f = 0; f < m.component.size(); f++)
+        m.comp_faces[(size_t)fill[(size_t)m.component[f]]++] = (int)f;
+    fill.assign(m.comp_pair_start.begin(), m.comp_pair_start.end() - 1);
+    for (size_t i = 0; i < m.pairs.size(); i++)
+        m.comp_pairs[(size_t)fill[(size_t)m.component[(size_t)m.pairs[i].a]]++] = (int)i;
+}
+
 void build_surface_mesh(rad_mesh &m)
 {
     m.info.surface_mesh = 0;
@@ -209,7 +234,7 @@ void build_surface_mesh(rad_mesh &m)
     points.reserve(nv);
     for (size_t v = 0; v < nv; v++)
         points.push_back(point_of(m, (int)v));
-    std::vector<std::vector<std::size_t>> polygons(nt);
+    std::vector<std::array<std::size_t, 3>> polygons(nt);
     for (size_t f = 0; f < nt; f++)
         polygons[f] = {(std::size_t)m.tri[3 * f], (std::size_t)m.tri[3 * f + 1],
                        (std::size_t)m.tri[3 * f + 2]};
@@ -226,11 +251,13 @@ void build_surface_mesh(rad_mesh &m)
 }
 
 // Local convexity at the interior edges of component c (cheap rejection).
+// A shared edge joins two faces of the same component, so the pairs grouped
+// under c (by their first face) are all of c's edge pairs.
 bool locally_convex(const rad_mesh &m, int c)
 {
-    const size_t nt = m.tri.size() / 3;
-    for (const rad_mesh_pair &p : m.pairs) {
-        if (p.contact != RAD_MESH_SHARED_EDGE || m.component[(size_t)p.a] != c)
+    for (int k = m.comp_pair_start[(size_t)c]; k < m.comp_pair_start[(size_t)c + 1]; k++) {
+        const rad_mesh_pair &p = m.pairs[(size_t)m.comp_pairs[(size_t)k]];
+        if (p.contact != RAD_MESH_SHARED_EDGE)
             continue;
         for (int b = 0; b < 3; b++) {
             int v = m.tri[3 * (size_t)p.b + (size_t)b];
@@ -238,7 +265,6 @@ bool locally_convex(const rad_mesh &m, int c)
                 return false;
         }
     }
-    (void)nt;
     return true;
 }
 
@@ -277,6 +303,7 @@ rad_mesh *build(const double *xyz, int nv, const int *tri, int nt, const int *in
     std::vector<int> parent;
     classify_edges(*m, half, parent);
     find_pairs(*m);
+    group_by_component(*m);
     build_surface_mesh(*m);
     return m.release();
 }
@@ -289,12 +316,11 @@ static int compute_component_convex(const rad_mesh *m, int c)
         return m->comp_convex[(size_t)c];
     int result = 0;
     if (locally_convex(*m, c)) {
-        std::vector<int> faces, verts;
-        for (size_t f = 0; f < m->component.size(); f++)
-            if (m->component[f] == c) {
-                faces.push_back((int)f);
-                verts.insert(verts.end(), &m->tri[3 * f], &m->tri[3 * f] + 3);
-            }
+        std::vector<int> faces(m->comp_faces.begin() + m->comp_face_start[(size_t)c],
+                               m->comp_faces.begin() + m->comp_face_start[(size_t)c + 1]);
+        std::vector<int> verts;
+        for (int f : faces)
+            verts.insert(verts.end(), &m->tri[3 * (size_t)f], &m->tri[3 * (size_t)f] + 3);
         std::sort(verts.begin(), verts.end());
         verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
         result = all_in_front(*m, faces, verts) ? 1 : 0;

@@ -16,6 +16,9 @@ struct rad_mesh {
     std::vector<rad_mesh_pair> pairs;
     std::vector<int> component;    // per face
     std::vector<char> comp_closed; // per component
+    // Faces and touching pairs grouped by component (compressed rows), so a
+    // per-component question costs that component's size only.
+    std::vector<int> comp_face_start, comp_faces, comp_pair_start, comp_pairs;
     // Convexity is computed on first request (it costs faces x vertices).
     mutable std::vector<signed char> comp_convex; // per component: -1 unknown
     mutable int convex_inside = -1;

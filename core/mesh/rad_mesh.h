@@ -73,9 +73,13 @@ int rad_mesh_face_count(const rad_mesh *mesh);
 const double *rad_mesh_vertices(const rad_mesh *mesh);   /* 3 per vertex */
 const int *rad_mesh_triangles(const rad_mesh *mesh);     /* 3 per face */
 const int *rad_mesh_input_faces(const rad_mesh *mesh);   /* 1 per face */
+/* The figures above.  convex_inside is computed on the first call (it costs
+ * up to faces x vertices orientation tests, less when a local test fails);
+ * that first call is not thread-safe. */
 void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info);
 
-/* Touching pairs, sorted by (a, b); owned by the mesh. */
+/* Touching pairs, sorted by (a, b); owned by the mesh.  Two faces with the
+ * same three corners (duplicates) are not listed; rad_scene warns about them. */
 int rad_mesh_pair_count(const rad_mesh *mesh);
 const rad_mesh_pair *rad_mesh_pairs(const rad_mesh *mesh);
 

@@ -21,7 +21,8 @@
  *  5. Clustering.  Initial linking is quadratic in the number of faces; a
  *     cluster hierarchy pays when there are many faces in many separate
  *     objects (cluster_min_faces faces in cluster_min_objects components).
- * Every decision can be forced on or off; the reason then says so. */
+ * Every decision can be forced on or off; the reason then says so.
+ * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -36,6 +37,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->cluster_min_faces = 5000;
     p->cluster_min_objects = 50;
     p->grey_tol = 1e-12;
+    p->plane_rel_tol = 1e-12;
 }
 
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out)
@@ -74,14 +76,14 @@ static rad_vec3 vertex(const double *xyz, int v)
 
 /* All corners of j on or behind the plane of i (a relative tolerance keeps a
  * shared plane from counting as "in front"). */
-static int behind(const double *xyz, const int *ti, const int *tj)
+static int behind(const double *xyz, const int *ti, const int *tj, double rel_tol)
 {
     rad_vec3 a = vertex(xyz, ti[0]), b = vertex(xyz, ti[1]), c = vertex(xyz, ti[2]);
     rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
     double scale = rad_vec3_norm(n) * (rad_vec3_norm(rad_vec3_sub(b, a)) + rad_vec3_norm(rad_vec3_sub(c, a)));
     for (int k = 0; k < 3; k++) {
         double h = rad_vec3_dot(n, rad_vec3_sub(vertex(xyz, tj[k]), a));
-        if (h > 1e-12 * scale)
+        if (h > rel_tol * scale)
             return 0;
     }
     return 1;
@@ -142,7 +144,8 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
         for (int i = 0; i < s->nt; i++)
             for (int j = i + 1; j < s->nt; j++) {
                 const int *ti = s->tri + 3 * (size_t)i, *tj = s->tri + 3 * (size_t)j;
-                away += behind(s->xyz, ti, tj) || behind(s->xyz, tj, ti);
+                away += behind(s->xyz, ti, tj, params->plane_rel_tol) ||
+                        behind(s->xyz, tj, ti, params->plane_rel_tol);
             }
         plan->pairs_facing_away = away;
         snprintf(why, sizeof why, "the kernel vanishes unless both cosines are positive: %lld of %lld "

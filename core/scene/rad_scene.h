@@ -134,10 +134,12 @@ typedef struct rad_effects_params {
     int cluster_min_faces;    /* clustering pays only with at least this many faces ... */
     int cluster_min_objects;  /* ... in at least this many connected components */
     double grey_tol;          /* channels within this absolute difference are grey */
+    double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
+                                 face's plane counts as on it (facing-away test) */
 } rad_effects_params;
 
 /* Everything automatic; pair scan up to 20000 faces; clustering from 5000
- * faces in 50 components; grey within 1e-12. */
+ * faces in 50 components; grey within 1e-12; plane tolerance 1e-12. */
 void rad_scene_effects_params_default(rad_effects_params *params);
 
 typedef struct rad_effect_decision {

@@ -495,7 +495,10 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
     if (!probe)
         return RAD_ERROR(RAD_EINPUT, "%s: cannot open: %s", path, strerror(errno));
     int c = fgetc(probe);
+    int read_error = ferror(probe) ? errno : 0;
     fclose(probe);
+    if (read_error)
+        return RAD_ERROR(RAD_EINPUT, "%s: cannot read: %s", path, strerror(read_error));
     if (c == EOF)
         return RAD_ERROR(RAD_EINPUT, "%s: the file is empty (empty scene)", path);
     rad_scene *s = scene_new(path);

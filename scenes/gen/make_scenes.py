@@ -9,6 +9,8 @@ the committed files; `git diff` after a run shows any drift).
 Conventions (DESIGN.md): faces are one-sided, the front is the side of the
 counter-clockwise winding's normal.  Enclosures face inwards, objects outwards.
 OBJ + MTL: Kd = reflectance per RGB channel, Ke = emitted exitance (W/m^2).
+References (papers/refs.bib): the Cornell box data [cornellbox], the plates'
+form factors [howell2010].  scenes/README.md records every scene's provenance.
 """
 import base64
 import math
@@ -367,6 +369,15 @@ def formats():
                 "end_header\n"
                 "0 0 0 1\n2 0 0 1\n2 1.5 0 1\n0 1.5 0 1\n1 0.75 2 1\n"
                 "4 0 1 2 3\n3 0 1 4\n")
+    # ASCII STL: a 1.5 x 2 rectangle as two facets (STL repeats every corner).
+    with open(os.path.join(d, "rectangle.stl"), "w") as f:
+        f.write("solid rectangle\n")
+        for tri in (((0, 0, 0), (1.5, 0, 0), (1.5, 2, 0)), ((0, 0, 0), (1.5, 2, 0), (0, 2, 0))):
+            f.write("  facet normal 0 0 1\n    outer loop\n")
+            for v in tri:
+                f.write("      vertex %s %s %s\n" % tuple(num(x) for x in v))
+            f.write("    endloop\n  endfacet\n")
+        f.write("endsolid rectangle\n")
     # OFF: a tetrahedron facing outward.
     with open(os.path.join(d, "tetra.off"), "w") as f:
         f.write("OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
@@ -437,6 +448,13 @@ def bad():
         "garbage.obj": "\x7fELF\x02\x01\x01 this is not a scene \x01\x02\x03\n%%%% 12 ab\n",
         "garbage.ply": "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n"
                        "zz yy\n",
+        "zero_area.ply": "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+                         "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n",
+        "index_out_of_range.ply": "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                  "property float y\nproperty float z\nelement face 1\n"
+                                  "property list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
         "good.mtl": good_mtl,
     }
     for name, text in files.items():
