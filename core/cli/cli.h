@@ -12,6 +12,7 @@ typedef struct cli_option {
     const char *name; /* "--n" */
     const char **value;
     int *flag;
+    const char *what; /* the positional entry only: what it holds ("scene") */
 } cli_option;
 
 /* Parse argv[first..argc) against a NULL-name-terminated option table.

@@ -118,8 +118,8 @@ int cli_ff(int argc, char **argv)
         tri_text[ntri++] = val;
     }
     cli_option options[] = {
-        {"--rule", &rule_text, NULL}, {"--tol", &tol_text, NULL}, {"--repeat", &repeat_text, NULL},
-        {"--help", NULL, &want_help}, {"-h", NULL, &want_help},   {NULL, NULL, NULL},
+        {"--rule", &rule_text, NULL, NULL}, {"--tol", &tol_text, NULL, NULL}, {"--repeat", &repeat_text, NULL, NULL},
+        {"--help", NULL, &want_help, NULL}, {"-h", NULL, &want_help, NULL},   {NULL, NULL, NULL, NULL},
     };
     rad_status st = cli_parse("ff", nrest, rest, 0, options);
     if (st != RAD_OK)

@@ -69,14 +69,14 @@ int cli_galerkin1d(int argc, char **argv)
     const char *n_text = NULL, *problem_text = "seed", *basis_text = "p0", *assembly_text = "exact";
     int want_help = 0, no_check = 0;
     cli_option options[] = {
-        {"--n", &n_text, NULL},
-        {"--problem", &problem_text, NULL},
-        {"--basis", &basis_text, NULL},
-        {"--assembly", &assembly_text, NULL},
-        {"--no-check", NULL, &no_check},
-        {"--help", NULL, &want_help},
-        {"-h", NULL, &want_help},
-        {NULL, NULL, NULL},
+        {"--n", &n_text, NULL, NULL},
+        {"--problem", &problem_text, NULL, NULL},
+        {"--basis", &basis_text, NULL, NULL},
+        {"--assembly", &assembly_text, NULL, NULL},
+        {"--no-check", NULL, &no_check, NULL},
+        {"--help", NULL, &want_help, NULL},
+        {"-h", NULL, &want_help, NULL},
+        {NULL, NULL, NULL, NULL},
     };
     rad_status st = cli_parse("galerkin1d", argc, argv, 2, options);
     if (st != RAD_OK)

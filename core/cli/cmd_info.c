@@ -49,36 +49,6 @@ static int fail(rad_status st)
     return rad_status_exit_code(st);
 }
 
-/* "r g b" or "v" (grey) -> three doubles; RAD_EINVAL names the option. */
-static rad_status parse_rgb(const char *option, const char *text, int max_exclusive_one, double out[3])
-{
-    double v[3];
-    int n = 0;
-    const char *p = text;
-    while (n < 3) {
-        char *end = NULL;
-        errno = 0;
-        double x = strtod(p, &end);
-        if (end == p)
-            break;
-        v[n++] = x;
-        p = end;
-    }
-    while (*p == ' ' || *p == '\t')
-        p++;
-    if ((n != 1 && n != 3) || *p != '\0')
-        return RAD_ERROR(RAD_EINVAL, "info: %s needs one or three numbers, got '%s'", option, text);
-    if (n == 1)
-        v[1] = v[2] = v[0];
-    for (int k = 0; k < 3; k++) {
-        if (!isfinite(v[k]) || v[k] < 0.0 || (max_exclusive_one && v[k] >= 1.0))
-            return RAD_ERROR(RAD_EINVAL, "info: %s values must be %s, got '%s'", option,
-                             max_exclusive_one ? "in [0, 1)" : "finite and >= 0", text);
-        out[k] = v[k];
-    }
-    return RAD_OK;
-}
-
 /* The shortest of %.15g, %.16g, %.17g that reads back as x exactly, so
  * 2.385 prints as 2.385 and every printed number is the stored double. */
 static const char *num(char buf[32], double x)
@@ -100,53 +70,18 @@ static void print_decision(const char *name, const rad_effect_decision *d)
 
 int cli_info(int argc, char **argv)
 {
-    const char *scale_text = NULL, *rho_text = NULL, *emission_text = NULL;
-    const char *mode_text[5] = {"auto", "auto", "auto", "auto", "auto"};
-    static const char *const mode_name[5] = {"--occlusion", "--colour", "--facing-away",
-                                             "--singular", "--clustering"};
-    int want_help = 0, drop = 0;
-    cli_option options[] = {
-        {"--scale", &scale_text, NULL},
-        {"--drop-degenerate", NULL, &drop},
-        {"--rho", &rho_text, NULL},
-        {"--emission", &emission_text, NULL},
-        {"--occlusion", &mode_text[0], NULL},
-        {"--colour", &mode_text[1], NULL},
-        {"--facing-away", &mode_text[2], NULL},
-        {"--singular", &mode_text[3], NULL},
-        {"--clustering", &mode_text[4], NULL},
-        {"--help", NULL, &want_help},
-        {"-h", NULL, &want_help},
-        {NULL, NULL, NULL},
-    };
-    /* The one positional argument, SCENE, is taken out before the options. */
     const char *scene_path = NULL;
-    char **rest = calloc((size_t)argc + 1, sizeof *rest);
-    if (!rest)
-        return fail(RAD_ERROR(RAD_ENOMEM, "info: no memory"));
-    int nrest = 0;
-    rest[nrest++] = argv[0];
-    rest[nrest++] = argv[1];
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (a[0] == '-') {
-            rest[nrest++] = argv[i];
-            int takes_value = 0;
-            for (const cli_option *o = options; o->name; o++)
-                if (o->value && strcmp(o->name, a) == 0)
-                    takes_value = 1;
-            if (takes_value && i + 1 < argc)
-                rest[nrest++] = argv[++i];
-        } else if (!scene_path) {
-            scene_path = a;
-        } else {
-            free(rest);
-            return fail(RAD_ERROR(RAD_EINVAL, "info: more than one scene given ('%s' and '%s')",
-                                  scene_path, a));
-        }
-    }
-    rad_status st = cli_parse("info", nrest, rest, 2, options);
-    free(rest);
+    int want_help = 0;
+    cli_scene_options so;
+    cli_scene_options_init(&so);
+    cli_option options[4 + CLI_SCENE_OPTION_COUNT] = {
+        {"", &scene_path, NULL, "scene"},
+        {"--help", NULL, &want_help, NULL},
+        {"-h", NULL, &want_help, NULL},
+    };
+    int nopt = 3 + cli_scene_options_add(&so, options + 3);
+    options[nopt] = (cli_option){NULL, NULL, NULL, NULL};
+    rad_status st = cli_parse("info", argc, argv, 2, options);
     if (st != RAD_OK)
         return fail(st);
     if (want_help) {
@@ -157,31 +92,11 @@ int cli_info(int argc, char **argv)
         return fail(RAD_ERROR(RAD_EINVAL, "info: a SCENE file is required (see 'radkit info --help')"));
 
     rad_scene_params params;
-    rad_scene_params_default(&params);
-    params.drop_degenerate = drop;
-    if (scale_text) {
-        char *end = NULL;
-        params.scale = strtod(scale_text, &end);
-        if (end == scale_text || *end != '\0' || !(params.scale > 0.0) || !isfinite(params.scale))
-            return fail(RAD_ERROR(RAD_EINVAL, "info: --scale must be a positive number, got '%s'",
-                                  scale_text));
-    }
-    if (rho_text && (st = parse_rgb("--rho", rho_text, 1, params.rho)) != RAD_OK)
-        return fail(st);
-    params.has_rho = rho_text != NULL;
-    if (emission_text && (st = parse_rgb("--emission", emission_text, 0, params.emission)) != RAD_OK)
-        return fail(st);
-    params.has_emission = emission_text != NULL;
     rad_effects_params eparams;
+    rad_scene_params_default(&params);
     rad_scene_effects_params_default(&eparams);
-    rad_effect_mode *modes[5] = {&eparams.occlusion, &eparams.colour, &eparams.facing_away,
-                                 &eparams.singular, &eparams.clustering};
-    for (int k = 0; k < 5; k++) {
-        char what[64];
-        snprintf(what, sizeof what, "info: %s", mode_name[k]);
-        if ((st = rad_scene_effect_mode_parse(what, mode_text[k], modes[k])) != RAD_OK)
-            return fail(st);
-    }
+    if ((st = cli_scene_options_apply("info", &so, &params, &eparams)) != RAD_OK)
+        return fail(st);
 
     rad_scene *scene = NULL;
     rad_mesh *mesh = NULL;

@@ -282,29 +282,29 @@ int cli_solve(int argc, char **argv)
     memset(&o, 0, sizeof o);
     cli_scene_options_init(&o.scene_opts);
     cli_option table[32] = {
-        {"", &o.scene, NULL},
-        {"--method", &o.method, NULL},
-        {"--rule", &o.rule, NULL},
-        {"--tol", &o.tol, NULL},
-        {"--solver", &o.solver, NULL},
-        {"--solver-tol", &o.solver_tol, NULL},
-        {"--max-iter", &o.max_iter, NULL},
-        {"--refine", &o.refine, NULL},
-        {"--threads", &o.threads, NULL},
-        {"--vis-strata", &o.strata, NULL},
-        {"--out", &o.out, NULL},
-        {"--ply", &o.ply, NULL},
-        {"--png", &o.png, NULL},
-        {"--image-size", &o.size, NULL},
-        {"--exposure", &o.exposure, NULL},
-        {"--stats", &o.stats, NULL},
-        {"--quiet", NULL, &o.quiet},
-        {"--help", NULL, &o.help},
-        {"-h", NULL, &o.help},
+        {"", &o.scene, NULL, "scene"},
+        {"--method", &o.method, NULL, NULL},
+        {"--rule", &o.rule, NULL, NULL},
+        {"--tol", &o.tol, NULL, NULL},
+        {"--solver", &o.solver, NULL, NULL},
+        {"--solver-tol", &o.solver_tol, NULL, NULL},
+        {"--max-iter", &o.max_iter, NULL, NULL},
+        {"--refine", &o.refine, NULL, NULL},
+        {"--threads", &o.threads, NULL, NULL},
+        {"--vis-strata", &o.strata, NULL, NULL},
+        {"--out", &o.out, NULL, NULL},
+        {"--ply", &o.ply, NULL, NULL},
+        {"--png", &o.png, NULL, NULL},
+        {"--image-size", &o.size, NULL, NULL},
+        {"--exposure", &o.exposure, NULL, NULL},
+        {"--stats", &o.stats, NULL, NULL},
+        {"--quiet", NULL, &o.quiet, NULL},
+        {"--help", NULL, &o.help, NULL},
+        {"-h", NULL, &o.help, NULL},
     };
     int nopt = 19;
     nopt += cli_scene_options_add(&o.scene_opts, table + nopt);
-    table[nopt] = (cli_option){NULL, NULL, NULL};
+    table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
 
     rad_status st = cli_parse("solve", argc, argv, 2, table);
     if (st != RAD_OK)

@@ -16,7 +16,8 @@ rad_status cli_parse(const char *command, int argc, char **argv, int first,
         if (positional && arg[0] != '-') {
             if (*positional->value)
                 return RAD_ERROR(RAD_EINVAL, "%s: more than one %s given ('%s' and '%s')", command,
-                                 "argument", *positional->value, arg);
+                                 positional->what ? positional->what : "argument",
+                                 *positional->value, arg);
             *positional->value = arg;
             continue;
         }

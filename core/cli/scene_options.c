@@ -1,6 +1,7 @@
 /* The options shared by the commands that read a scene (info, solve). */
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "cli.h"
@@ -30,12 +31,12 @@ void cli_scene_options_init(cli_scene_options *o)
 int cli_scene_options_add(cli_scene_options *o, cli_option *t)
 {
     int n = 0;
-    t[n++] = (cli_option){"--scale", &o->scale, NULL};
-    t[n++] = (cli_option){"--drop-degenerate", NULL, &o->drop_degenerate};
-    t[n++] = (cli_option){"--rho", &o->rho, NULL};
-    t[n++] = (cli_option){"--emission", &o->emission, NULL};
+    t[n++] = (cli_option){"--scale", &o->scale, NULL, NULL};
+    t[n++] = (cli_option){"--drop-degenerate", NULL, &o->drop_degenerate, NULL};
+    t[n++] = (cli_option){"--rho", &o->rho, NULL, NULL};
+    t[n++] = (cli_option){"--emission", &o->emission, NULL, NULL};
     for (int k = 0; k < 5; k++)
-        t[n++] = (cli_option){mode_option[k], &o->mode[k], NULL};
+        t[n++] = (cli_option){mode_option[k], &o->mode[k], NULL, NULL};
     return n;
 }
 
@@ -96,8 +97,11 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
     }
     rad_effect_mode *modes[5] = {&ep->occlusion, &ep->colour, &ep->facing_away, &ep->singular,
                                  &ep->clustering};
-    for (int k = 0; k < 5; k++)
-        if ((st = rad_scene_effect_mode_parse(mode_option[k], o->mode[k], modes[k])) != RAD_OK)
+    for (int k = 0; k < 5; k++) {
+        char what[64];
+        snprintf(what, sizeof what, "%s: %s", command, mode_option[k]);
+        if ((st = rad_scene_effect_mode_parse(what, o->mode[k], modes[k])) != RAD_OK)
             return st;
+    }
     return RAD_OK;
 }
