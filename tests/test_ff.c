@@ -554,8 +554,8 @@ TEST(ff_auto_meets_tolerance_and_reports_choice)
 {
     rad_vec3 P[NPAIRS][2][3];
     sample_pairs(P);
-    double tols[] = {1e-3, 1e-6, 1e-9};
-    for (int t = 0; t < 3; t++)
+    double tols[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-9};
+    for (int t = 0; t < 5; t++)
         for (int k = 0; k < NPAIRS; k++) {
             rad_ff_params p = rad_ff_defaults();
             p.tol = tols[t];
@@ -613,4 +613,65 @@ TEST(ff_adjacency_detection_is_relative_to_size)
     b[0] = V(s * 1e-6, 0, 0);
     CHECK(rad_ff_adjacency_detect(a, b, 1e-10, map) == RAD_FF_SHARE_VERTEX);
     CHECK_NEAR(rad_ff_triangle_distance(a, b), 0.0, 0.0, 1e-20);
+}
+
+static double lcg(unsigned long *state)
+{
+    *state = *state * 6364136223846793005UL + 1442695040888963407UL;
+    return (double)(*state >> 11) / 9007199254740992.0;
+}
+
+TEST(ff_auto_meets_tolerance_on_random_pairs)
+{
+    /* Random pairs of four kinds: edge-adjacent, vertex-adjacent, disjoint
+     * near and far, each wound to face the other where possible. */
+    unsigned long st = 2385;
+    double tols[] = {1e-3, 1e-5, 1e-6};
+    int checked = 0;
+    for (int k = 0; k < 48; k++) {
+        rad_vec3 a[3], b[3];
+        for (int v = 0; v < 3; v++) {
+            a[v] = V(lcg(&st), lcg(&st), 0.2 * lcg(&st));
+            b[v] = V(lcg(&st), lcg(&st), 0.3 + 2.0 * lcg(&st) * (k % 4 == 3 ? 4.0 : 0.3));
+        }
+        if (k % 4 == 0) { /* share an edge */
+            b[0] = a[0];
+            b[1] = a[1];
+        } else if (k % 4 == 1) { /* share a vertex */
+            b[0] = a[2];
+        }
+        if (rad_geom_triangle_is_degenerate(a[0], a[1], a[2], 1e-3) ||
+            rad_geom_triangle_is_degenerate(b[0], b[1], b[2], 1e-3))
+            continue;
+        /* Make a face up and b face a, when the geometry allows it. */
+        rad_vec3 na = rad_geom_triangle_normal(a[0], a[1], a[2]);
+        if (na.z < 0) {
+            rad_vec3 tmp = a[1];
+            a[1] = a[2];
+            a[2] = tmp;
+        }
+        rad_vec3 nb = rad_geom_triangle_normal(b[0], b[1], b[2]);
+        rad_vec3 ca = rad_geom_triangle_centroid(a[0], a[1], a[2]);
+        if (rad_vec3_dot(nb, rad_vec3_sub(ca, b[0])) < 0) {
+            rad_vec3 tmp = b[1];
+            b[1] = b[2];
+            b[2] = tmp;
+        }
+        rad_ff_result ex = ff(a, b, "exact");
+        if (!(ex.G > 0))
+            continue;
+        for (int t = 0; t < 3; t++) {
+            rad_ff_params p = rad_ff_defaults();
+            p.tol = tols[t];
+            rad_ff_rule r = {RAD_FF_AUTO, 0};
+            rad_ff_result o;
+            CHECK(rad_ff_compute(a, b, r, &p, &o) == RAD_OK);
+            char used[32];
+            rad_ff_rule_format(o.used, used, sizeof used);
+            CHECK_MSG(fabs(o.G - ex.G) <= tols[t] * ex.G, "pair %d (kind %d) tol %g: %s error %.3g", k, k % 4,
+                      tols[t], used, fabs(o.G - ex.G) / ex.G);
+            checked++;
+        }
+    }
+    CHECK(checked > 60);
 }

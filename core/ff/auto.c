@@ -9,15 +9,17 @@
  *    kernel is analytic on the pair and symmetric rules converge
  *    geometrically.  Evaluate gauss:P for P = 2, 4, 6, 8, 10, 14, 20 in turn
  *    and accept the first P whose value differs from the previous one by at
- *    most T/2 relative; that difference, which overestimates the error of the
+ *    most auto_safety T (0.1 T) relative; that difference, which overestimates the error of the
  *    higher rule when convergence is geometric, is the reported estimate.
  *    The ladder costs at most twice the evaluations of the accepted rule.
  * 3. Near (disjoint, auto_min_ratio <= rho < auto_near_ratio, no clamp
  *    active): the same ladder with analytic:P, whose closed-form inner integral
  *    absorbs the near-singularity (measured: 64 closed-form evaluations reach
  *    1e-6 at rho = 0.17, where gauss:P needs 28561 kernel evaluations).
- * 4. Adjacent, no clamp active, T >= 1e-3: ss:6 checked against ss:4 the
- *    same way (a few thousand evaluations, cheaper than exact).
+ * 4. Adjacent, no clamp active, T >= auto_ss_min_tol (1e-5): ss:N for
+ *    N = 3, 4, ... up to auto_ss_max (7), accepted when two consecutive N
+ *    agree to 0.1 T; the whole ladder costs about as much time as one exact
+ *    evaluation of an adjacent pair, so beyond it exact is cheaper.
  * 5. Everything else (near-touching, tighter tolerances on adjacent pairs,
  *    active clamps, a ladder that did not settle): exact, whose own error
  *    estimate is reported.  Measured cost (bench/ff.tsv): exact on an
@@ -55,7 +57,7 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
                 if (st != RAD_OK)
                     return st;
                 spent += cur.evals;
-                if (k > 0 && cur.G > 0.0 && fabs(cur.G - prev.G) <= 0.5 * tol * cur.G) {
+                if (k > 0 && cur.G > 0.0 && fabs(cur.G - prev.G) <= params->auto_safety * tol * cur.G) {
                     *v = cur;
                     v->rel_error = fabs(cur.G - prev.G) / cur.G;
                     v->evals = spent;
@@ -67,7 +69,7 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
             }
         }
     }
-    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL && tol >= 1e-3) {
+    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL && tol >= params->auto_ss_min_tol) {
         /* Shared vertices lie on both planes; a clamp is active only if a
          * non-shared vertex is behind or on the other plane. */
         int active = 0;
@@ -82,18 +84,24 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
                     active = 1;
             }
         if (!active) {
-            ff_value lo, hi;
-            rad_status st;
-            if ((st = ff_ss(pr, 4, &lo)) != RAD_OK || (st = ff_ss(pr, 6, &hi)) != RAD_OK)
-                return st;
-            spent += lo.evals + hi.evals;
-            if (hi.G > 0.0 && fabs(hi.G - lo.G) <= 0.5 * tol * hi.G) {
-                *v = hi;
-                v->rel_error = fabs(hi.G - lo.G) / hi.G;
-                v->evals = spent;
-                used->scheme = RAD_FF_SS;
-                used->order = 6;
-                return RAD_OK;
+            /* Consecutive N: Sauter-Schwab converges geometrically (an order of
+             * magnitude per step near N = 5 in the experiment), so the
+             * difference of two neighbours bounds the error of the higher. */
+            ff_value prev = {0}, cur = {0};
+            for (int n = 3; n <= params->auto_ss_max; n++) {
+                rad_status st = ff_ss(pr, n, &cur);
+                if (st != RAD_OK)
+                    return st;
+                spent += cur.evals;
+                if (n > 3 && cur.G > 0.0 && fabs(cur.G - prev.G) <= params->auto_safety * tol * cur.G) {
+                    *v = cur;
+                    v->rel_error = fabs(cur.G - prev.G) / cur.G;
+                    v->evals = spent;
+                    used->scheme = RAD_FF_SS;
+                    used->order = n;
+                    return RAD_OK;
+                }
+                prev = cur;
             }
         }
     }
