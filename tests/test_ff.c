@@ -2,6 +2,7 @@
  * C-14), coaxial disks as a polygon limit, closed-scene identities, reciprocity
  * and invariances, and the hard cases every scheme must survive. */
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 #include "ff_internal.h"
@@ -511,10 +512,20 @@ TEST(ff_hard_cases_no_nan_inf_or_negative)
         memcpy(c[n][0], base, sizeof base);
         memcpy(c[n++][1], s3, sizeof s3);
     }
+    /* vertex-adjacent, one facing pair and one straddling the other's plane */
+    {
+        rad_vec3 v1[3] = {V(0, 0, 0), V(-0.3, 0.5, 0.8), V(0.6, -0.1, 1.1)};
+        memcpy(c[n][0], base, sizeof base);
+        memcpy(c[n++][1], v1, sizeof v1);
+        rad_vec3 v2[3] = {V(0.35, 0.85, 0), V(0.9, 1.2, 0.7), V(-0.2, 1.4, -0.3)};
+        memcpy(c[n][0], base, sizeof base);
+        memcpy(c[n++][1], v2, sizeof v2);
+    }
     const char *rules[] = {"vertex", "centroid", "gauss:1", "gauss:7", "gauss:20", "analytic:2",
                            "analytic:10", "ss:3", "ss:8", "exact", "auto"};
     for (int k = 0; k < n; k++) {
         rad_ff_result ex = ff(c[k][0], c[k][1], "exact");
+        CHECK_MSG(ex.G > 0, "case %d: exact G = %g (a hard case must couple)", k, ex.G);
         for (int r = 0; r < 11; r++) {
             rad_ff_result o = ff(c[k][0], c[k][1], rules[r]);
             CHECK_MSG(isfinite(o.F12) && isfinite(o.F21) && o.F12 >= 0 && o.F21 >= 0,
@@ -674,4 +685,43 @@ TEST(ff_auto_meets_tolerance_on_random_pairs)
         }
     }
     CHECK(checked > 60);
+}
+
+/* No hidden global state: two threads computing different pairs at once get
+ * bit-identical results to a serial run. */
+typedef struct thread_job {
+    int first;
+    double G[NPAIRS * 4];
+} thread_job;
+
+static void *thread_run(void *arg)
+{
+    thread_job *job = arg;
+    rad_vec3 P[NPAIRS][2][3];
+    sample_pairs(P);
+    const char *rules[] = {"exact", "auto", "ss:6", "analytic:8"};
+    for (int rep = 0; rep < 3; rep++)
+        for (int k = 0; k < NPAIRS; k++)
+            for (int r = 0; r < 4; r++) {
+                int kk = (k + job->first) % NPAIRS;
+                rad_ff_rule rule;
+                rad_ff_result o;
+                rad_ff_rule_parse(rules[r], &rule);
+                rad_ff_compute(P[kk][0], P[kk][1], rule, NULL, &o);
+                job->G[kk * 4 + r] = o.G;
+            }
+    return NULL;
+}
+
+TEST(ff_is_reentrant_across_threads)
+{
+    thread_job serial = {0, {0}}, a = {1, {0}}, b = {3, {0}};
+    thread_run(&serial);
+    pthread_t ta, tb;
+    CHECK(pthread_create(&ta, NULL, thread_run, &a) == 0);
+    CHECK(pthread_create(&tb, NULL, thread_run, &b) == 0);
+    pthread_join(ta, NULL);
+    pthread_join(tb, NULL);
+    for (int k = 0; k < NPAIRS * 4; k++)
+        CHECK(serial.G[k] == a.G[k] && serial.G[k] == b.G[k]);
 }
