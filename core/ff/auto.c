@@ -47,7 +47,11 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
      * not count as an active clamp. */
     int clamped = pr->adj == RAD_FF_DISJOINT && clamp_active(pr, params->plane_rel_tol);
     if (pr->adj == RAD_FF_DISJOINT && !clamped) {
-        double rho = rad_ff_triangle_distance(pr->p[0], pr->p[1]); /* longest edge is 1 */
+        /* Local copies: GCC's -fsanitize build misreads the array bounds of
+         * pr->p[1] (a -Wstringop-overread false positive). */
+        rad_vec3 ti[3] = {pr->p[0][0], pr->p[0][1], pr->p[0][2]};
+        rad_vec3 tj[3] = {pr->p[1][0], pr->p[1][1], pr->p[1][2]};
+        double rho = rad_ff_triangle_distance(ti, tj); /* longest edge is 1 */
         if (rho >= params->auto_min_ratio) {
             static const int ladder[] = {2, 4, 6, 8, 10, 14, 20};
             int analytic = rho < params->auto_near_ratio;
