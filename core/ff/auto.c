@@ -16,10 +16,12 @@
  *    active): the same ladder with analytic:P, whose closed-form inner integral
  *    absorbs the near-singularity (measured: 64 closed-form evaluations reach
  *    1e-6 at rho = 0.17, where gauss:P needs 28561 kernel evaluations).
- * 4. Adjacent, no clamp active, T >= auto_ss_min_tol (1e-5): ss:N for
- *    N = 3, 4, ... up to auto_ss_max (7), accepted when two consecutive N
- *    agree to 0.1 T; the whole ladder costs about as much time as one exact
- *    evaluation of an adjacent pair, so beyond it exact is cheaper.
+ * 4. Adjacent, no clamp active: ss:N with N = ceil(2 + 1.35 log10(1/(0.1 T)))
+ *    (the experiment's adjacent pairs gain at least 0.7 decade per N), checked
+ *    against ss:N+1 and accepted when they agree to 0.1 T; tried only when
+ *    the two together cost at most auto_exact_cost kernel evaluations, the
+ *    time exact takes on an adjacent pair (bench/ff.tsv: about 230 us, i.e.
+ *    35000 evaluations at 6.5 ns).
  * 5. Everything else (near-touching, tighter tolerances on adjacent pairs,
  *    active clamps, a ladder that did not settle): exact, whose own error
  *    estimate is reported.  Measured cost (bench/ff.tsv): exact on an
@@ -73,7 +75,7 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
             }
         }
     }
-    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL && tol >= params->auto_ss_min_tol) {
+    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL) {
         /* Shared vertices lie on both planes; a clamp is active only if a
          * non-shared vertex is behind or on the other plane. */
         int active = 0;
@@ -88,24 +90,28 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
                     active = 1;
             }
         if (!active) {
-            /* Consecutive N: Sauter-Schwab converges geometrically (an order of
-             * magnitude per step near N = 5 in the experiment), so the
-             * difference of two neighbours bounds the error of the higher. */
-            ff_value prev = {0}, cur = {0};
-            for (int n = 3; n <= params->auto_ss_max; n++) {
-                rad_status st = ff_ss(pr, n, &cur);
-                if (st != RAD_OK)
+            /* Predict N from the measured convergence (at least 0.7 decade
+             * per N on the experiment's adjacent pairs), check it against
+             * N + 1, and do so only when the two cost less than exact. */
+            int n = (int)ceil(2.0 + 1.35 * log10(1.0 / (params->auto_safety * tol)));
+            if (n < 3)
+                n = 3;
+            long per = pr->adj == RAD_FF_SHARE_EDGE ? 5 : 2;
+            long cost = per * ((long)n * n * n + (long)(n + 1) * (n + 1) * (n + 1));
+            if (n + 1 <= RAD_FF_SS_MAX && cost <= params->auto_exact_cost) {
+                ff_value lo, hi;
+                rad_status st;
+                if ((st = ff_ss(pr, n, &lo)) != RAD_OK || (st = ff_ss(pr, n + 1, &hi)) != RAD_OK)
                     return st;
-                spent += cur.evals;
-                if (n > 3 && cur.G > 0.0 && fabs(cur.G - prev.G) <= params->auto_safety * tol * cur.G) {
-                    *v = cur;
-                    v->rel_error = fabs(cur.G - prev.G) / cur.G;
+                spent += lo.evals + hi.evals;
+                if (hi.G > 0.0 && fabs(hi.G - lo.G) <= params->auto_safety * tol * hi.G) {
+                    *v = hi;
+                    v->rel_error = fabs(hi.G - lo.G) / hi.G;
                     v->evals = spent;
                     used->scheme = RAD_FF_SS;
-                    used->order = n;
+                    used->order = n + 1;
                     return RAD_OK;
                 }
-                prev = cur;
             }
         }
     }

@@ -100,11 +100,10 @@ typedef struct rad_ff_params {
     double auto_near_ratio;   /* auto uses analytic:P instead of gauss:P for disjoint
                                  pairs closer than this times the longest edge (0.5) */
     double auto_min_ratio;    /* ... and exact for pairs closer than this (0.05) */
-    double auto_ss_min_tol;   /* auto tries ss:N on adjacent pairs only for tolerances
-                                 at least this loose (1e-5); exact otherwise */
     double auto_safety;       /* auto accepts a rule when it differs from the previous
                                  one of its ladder by at most this times T (0.1) */
-    int auto_ss_max;          /* largest N of auto's ss ladder (7) */
+    long auto_exact_cost;     /* exact's cost on an adjacent pair in kernel-evaluation
+                                 equivalents; auto tries ss:N only when cheaper (35000) */
     double tol;               /* relative accuracy auto aims for (1e-6) */
 } rad_ff_params;
 
