@@ -2,6 +2,7 @@
  * C-14), coaxial disks as a polygon limit, closed-scene identities, reciprocity
  * and invariances, and the hard cases every scheme must survive. */
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 #include "ff_internal.h"
@@ -511,10 +512,20 @@ TEST(ff_hard_cases_no_nan_inf_or_negative)
         memcpy(c[n][0], base, sizeof base);
         memcpy(c[n++][1], s3, sizeof s3);
     }
+    /* vertex-adjacent, one facing pair and one straddling the other's plane */
+    {
+        rad_vec3 v1[3] = {V(0, 0, 0), V(-0.3, 0.5, 0.8), V(0.6, -0.1, 1.1)};
+        memcpy(c[n][0], base, sizeof base);
+        memcpy(c[n++][1], v1, sizeof v1);
+        rad_vec3 v2[3] = {V(0.35, 0.85, 0), V(0.9, 1.2, 0.7), V(-0.2, 1.4, -0.3)};
+        memcpy(c[n][0], base, sizeof base);
+        memcpy(c[n++][1], v2, sizeof v2);
+    }
     const char *rules[] = {"vertex", "centroid", "gauss:1", "gauss:7", "gauss:20", "analytic:2",
                            "analytic:10", "ss:3", "ss:8", "exact", "auto"};
     for (int k = 0; k < n; k++) {
         rad_ff_result ex = ff(c[k][0], c[k][1], "exact");
+        CHECK_MSG(ex.G > 0, "case %d: exact G = %g (a hard case must couple)", k, ex.G);
         for (int r = 0; r < 11; r++) {
             rad_ff_result o = ff(c[k][0], c[k][1], rules[r]);
             CHECK_MSG(isfinite(o.F12) && isfinite(o.F21) && o.F12 >= 0 && o.F21 >= 0,
@@ -554,8 +565,8 @@ TEST(ff_auto_meets_tolerance_and_reports_choice)
 {
     rad_vec3 P[NPAIRS][2][3];
     sample_pairs(P);
-    double tols[] = {1e-3, 1e-6, 1e-9};
-    for (int t = 0; t < 3; t++)
+    double tols[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-9};
+    for (int t = 0; t < 5; t++)
         for (int k = 0; k < NPAIRS; k++) {
             rad_ff_params p = rad_ff_defaults();
             p.tol = tols[t];
@@ -613,4 +624,104 @@ TEST(ff_adjacency_detection_is_relative_to_size)
     b[0] = V(s * 1e-6, 0, 0);
     CHECK(rad_ff_adjacency_detect(a, b, 1e-10, map) == RAD_FF_SHARE_VERTEX);
     CHECK_NEAR(rad_ff_triangle_distance(a, b), 0.0, 0.0, 1e-20);
+}
+
+static double lcg(unsigned long *state)
+{
+    *state = *state * 6364136223846793005UL + 1442695040888963407UL;
+    return (double)(*state >> 11) / 9007199254740992.0;
+}
+
+TEST(ff_auto_meets_tolerance_on_random_pairs)
+{
+    /* Random pairs of four kinds: edge-adjacent, vertex-adjacent, disjoint
+     * near and far, each wound to face the other where possible. */
+    unsigned long st = 2385;
+    double tols[] = {1e-3, 1e-5, 1e-6};
+    int checked = 0;
+    for (int k = 0; k < 48; k++) {
+        rad_vec3 a[3], b[3];
+        for (int v = 0; v < 3; v++) {
+            a[v] = V(lcg(&st), lcg(&st), 0.2 * lcg(&st));
+            b[v] = V(lcg(&st), lcg(&st), 0.3 + 2.0 * lcg(&st) * (k % 4 == 3 ? 4.0 : 0.3));
+        }
+        if (k % 4 == 0) { /* share an edge */
+            b[0] = a[0];
+            b[1] = a[1];
+        } else if (k % 4 == 1) { /* share a vertex */
+            b[0] = a[2];
+        }
+        if (rad_geom_triangle_is_degenerate(a[0], a[1], a[2], 1e-3) ||
+            rad_geom_triangle_is_degenerate(b[0], b[1], b[2], 1e-3))
+            continue;
+        /* Make a face up and b face a, when the geometry allows it. */
+        rad_vec3 na = rad_geom_triangle_normal(a[0], a[1], a[2]);
+        if (na.z < 0) {
+            rad_vec3 tmp = a[1];
+            a[1] = a[2];
+            a[2] = tmp;
+        }
+        rad_vec3 nb = rad_geom_triangle_normal(b[0], b[1], b[2]);
+        rad_vec3 ca = rad_geom_triangle_centroid(a[0], a[1], a[2]);
+        if (rad_vec3_dot(nb, rad_vec3_sub(ca, b[0])) < 0) {
+            rad_vec3 tmp = b[1];
+            b[1] = b[2];
+            b[2] = tmp;
+        }
+        rad_ff_result ex = ff(a, b, "exact");
+        if (!(ex.G > 0))
+            continue;
+        for (int t = 0; t < 3; t++) {
+            rad_ff_params p = rad_ff_defaults();
+            p.tol = tols[t];
+            rad_ff_rule r = {RAD_FF_AUTO, 0};
+            rad_ff_result o;
+            CHECK(rad_ff_compute(a, b, r, &p, &o) == RAD_OK);
+            char used[32];
+            rad_ff_rule_format(o.used, used, sizeof used);
+            CHECK_MSG(fabs(o.G - ex.G) <= tols[t] * ex.G, "pair %d (kind %d) tol %g: %s error %.3g", k, k % 4,
+                      tols[t], used, fabs(o.G - ex.G) / ex.G);
+            checked++;
+        }
+    }
+    CHECK(checked > 60);
+}
+
+/* No hidden global state: two threads computing different pairs at once get
+ * bit-identical results to a serial run. */
+typedef struct thread_job {
+    int first;
+    double G[NPAIRS * 4];
+} thread_job;
+
+static void *thread_run(void *arg)
+{
+    thread_job *job = arg;
+    rad_vec3 P[NPAIRS][2][3];
+    sample_pairs(P);
+    const char *rules[] = {"exact", "auto", "ss:6", "analytic:8"};
+    for (int rep = 0; rep < 3; rep++)
+        for (int k = 0; k < NPAIRS; k++)
+            for (int r = 0; r < 4; r++) {
+                int kk = (k + job->first) % NPAIRS;
+                rad_ff_rule rule;
+                rad_ff_result o;
+                rad_ff_rule_parse(rules[r], &rule);
+                rad_ff_compute(P[kk][0], P[kk][1], rule, NULL, &o);
+                job->G[kk * 4 + r] = o.G;
+            }
+    return NULL;
+}
+
+TEST(ff_is_reentrant_across_threads)
+{
+    thread_job serial = {0, {0}}, a = {1, {0}}, b = {3, {0}};
+    thread_run(&serial);
+    pthread_t ta, tb;
+    CHECK(pthread_create(&ta, NULL, thread_run, &a) == 0);
+    CHECK(pthread_create(&tb, NULL, thread_run, &b) == 0);
+    pthread_join(ta, NULL);
+    pthread_join(tb, NULL);
+    for (int k = 0; k < NPAIRS * 4; k++)
+        CHECK(serial.G[k] == a.G[k] && serial.G[k] == b.G[k]);
 }

@@ -9,15 +9,19 @@
  *    kernel is analytic on the pair and symmetric rules converge
  *    geometrically.  Evaluate gauss:P for P = 2, 4, 6, 8, 10, 14, 20 in turn
  *    and accept the first P whose value differs from the previous one by at
- *    most T/2 relative; that difference, which overestimates the error of the
+ *    most auto_safety T (0.1 T) relative; that difference, which overestimates the error of the
  *    higher rule when convergence is geometric, is the reported estimate.
  *    The ladder costs at most twice the evaluations of the accepted rule.
  * 3. Near (disjoint, auto_min_ratio <= rho < auto_near_ratio, no clamp
  *    active): the same ladder with analytic:P, whose closed-form inner integral
  *    absorbs the near-singularity (measured: 64 closed-form evaluations reach
  *    1e-6 at rho = 0.17, where gauss:P needs 28561 kernel evaluations).
- * 4. Adjacent, no clamp active, T >= 1e-3: ss:6 checked against ss:4 the
- *    same way (a few thousand evaluations, cheaper than exact).
+ * 4. Adjacent, no clamp active: ss:N with N = ceil(2 + 1.35 log10(1/(0.1 T)))
+ *    (the experiment's adjacent pairs gain at least 0.7 decade per N), checked
+ *    against ss:N+1 and accepted when they agree to 0.1 T; tried only when
+ *    the two together cost at most auto_exact_cost kernel evaluations, the
+ *    time exact takes on an adjacent pair (bench/ff.tsv: about 230 us, i.e.
+ *    35000 evaluations at 6.5 ns).
  * 5. Everything else (near-touching, tighter tolerances on adjacent pairs,
  *    active clamps, a ladder that did not settle): exact, whose own error
  *    estimate is reported.  Measured cost (bench/ff.tsv): exact on an
@@ -45,7 +49,11 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
      * not count as an active clamp. */
     int clamped = pr->adj == RAD_FF_DISJOINT && clamp_active(pr, params->plane_rel_tol);
     if (pr->adj == RAD_FF_DISJOINT && !clamped) {
-        double rho = rad_ff_triangle_distance(pr->p[0], pr->p[1]); /* longest edge is 1 */
+        /* Local copies: GCC's -fsanitize build misreads the array bounds of
+         * pr->p[1] (a -Wstringop-overread false positive). */
+        rad_vec3 ti[3] = {pr->p[0][0], pr->p[0][1], pr->p[0][2]};
+        rad_vec3 tj[3] = {pr->p[1][0], pr->p[1][1], pr->p[1][2]};
+        double rho = rad_ff_triangle_distance(ti, tj); /* longest edge is 1 */
         if (rho >= params->auto_min_ratio) {
             static const int ladder[] = {2, 4, 6, 8, 10, 14, 20};
             int analytic = rho < params->auto_near_ratio;
@@ -55,7 +63,7 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
                 if (st != RAD_OK)
                     return st;
                 spent += cur.evals;
-                if (k > 0 && cur.G > 0.0 && fabs(cur.G - prev.G) <= 0.5 * tol * cur.G) {
+                if (k > 0 && cur.G > 0.0 && fabs(cur.G - prev.G) <= params->auto_safety * tol * cur.G) {
                     *v = cur;
                     v->rel_error = fabs(cur.G - prev.G) / cur.G;
                     v->evals = spent;
@@ -67,7 +75,7 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
             }
         }
     }
-    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL && tol >= 1e-3) {
+    if (pr->adj != RAD_FF_DISJOINT && pr->adj != RAD_FF_SHARE_ALL) {
         /* Shared vertices lie on both planes; a clamp is active only if a
          * non-shared vertex is behind or on the other plane. */
         int active = 0;
@@ -82,18 +90,28 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
                     active = 1;
             }
         if (!active) {
-            ff_value lo, hi;
-            rad_status st;
-            if ((st = ff_ss(pr, 4, &lo)) != RAD_OK || (st = ff_ss(pr, 6, &hi)) != RAD_OK)
-                return st;
-            spent += lo.evals + hi.evals;
-            if (hi.G > 0.0 && fabs(hi.G - lo.G) <= 0.5 * tol * hi.G) {
-                *v = hi;
-                v->rel_error = fabs(hi.G - lo.G) / hi.G;
-                v->evals = spent;
-                used->scheme = RAD_FF_SS;
-                used->order = 6;
-                return RAD_OK;
+            /* Predict N from the measured convergence (at least 0.7 decade
+             * per N on the experiment's adjacent pairs), check it against
+             * N + 1, and do so only when the two cost less than exact. */
+            int n = (int)ceil(2.0 + 1.35 * log10(1.0 / (params->auto_safety * tol)));
+            if (n < 3)
+                n = 3;
+            long per = pr->adj == RAD_FF_SHARE_EDGE ? 5 : 2;
+            long cost = per * ((long)n * n * n + (long)(n + 1) * (n + 1) * (n + 1));
+            if (n + 1 <= RAD_FF_SS_MAX && cost <= params->auto_exact_cost) {
+                ff_value lo, hi;
+                rad_status st;
+                if ((st = ff_ss(pr, n, &lo)) != RAD_OK || (st = ff_ss(pr, n + 1, &hi)) != RAD_OK)
+                    return st;
+                spent += lo.evals + hi.evals;
+                if (hi.G > 0.0 && fabs(hi.G - lo.G) <= params->auto_safety * tol * hi.G) {
+                    *v = hi;
+                    v->rel_error = fabs(hi.G - lo.G) / hi.G;
+                    v->evals = spent;
+                    used->scheme = RAD_FF_SS;
+                    used->order = n + 1;
+                    return RAD_OK;
+                }
             }
         }
     }

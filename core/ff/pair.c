@@ -26,6 +26,8 @@ rad_ff_params rad_ff_defaults(void)
                        .exact_flag_rel = 1e-10,
                        .auto_near_ratio = 0.5,
                        .auto_min_ratio = 0.05,
+                       .auto_exact_cost = 35000,
+                       .auto_safety = 0.1,
                        .tol = 1e-6};
     return p;
 }

@@ -10,8 +10,11 @@
  * visibility: this is the unoccluded form factor.
  *
  * Thread safety and cost: every function is re-entrant, keeps no global state
- * and allocates nothing; scratch lives on the stack (at most a few tens of kB,
- * for the highest orders).  One call computes one pair; the dense assembly may
+ * and allocates nothing; scratch lives on the stack: up to about 40 kB for
+ * the highest orders of gauss/analytic/ss, and about 140 kB inside exact (and
+ * auto), whose adaptive integrator (rad_quad_adapt) keeps its interval table
+ * on the stack.  Threads need stacks of at least 256 kB (OpenMP's default is
+ * 2-8 MB).  One call computes one pair; the dense assembly may
  * call it from many threads at once.
  *
  * Schemes (rad_ff_rule; text form in parentheses, as the CLI takes it):
@@ -100,6 +103,10 @@ typedef struct rad_ff_params {
     double auto_near_ratio;   /* auto uses analytic:P instead of gauss:P for disjoint
                                  pairs closer than this times the longest edge (0.5) */
     double auto_min_ratio;    /* ... and exact for pairs closer than this (0.05) */
+    double auto_safety;       /* auto accepts a rule when it differs from the previous
+                                 one of its ladder by at most this times T (0.1) */
+    long auto_exact_cost;     /* exact's cost on an adjacent pair in kernel-evaluation
+                                 equivalents; auto tries ss:N only when cheaper (35000) */
     double tol;               /* relative accuracy auto aims for (1e-6) */
 } rad_ff_params;
 

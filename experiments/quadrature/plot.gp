@@ -11,9 +11,9 @@ do for [out in "png pdf"] {
     set logscale xy
     set format y "10^{%L}"
     set format x "10^{%L}"
-    set yrange [1e-17:1e8]
+    set yrange [1e-17:1e7]
     set grid
-    set key bottom left font ",7" samplen 2
+    set key top right font ",7" samplen 2 maxrows 4 width -2
     col = (xv eq "evals") ? 3 : 4
     do for [i=1:8] {
       set title word(titles, i)
