@@ -101,6 +101,15 @@ int rad_vis_is_unoccluded(const rad_vis *vis);
 rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
                             unsigned char *blocked, rad_vis_stats *stats);
 
+/* As rad_vis_occluded for segments from points of triangle i to points of
+ * triangle j (e.g. the quadrature points of a form-factor rule): hits on i
+ * and j themselves are ignored, so end points on (or rounded slightly behind)
+ * their own triangles are safe.  Traces every segment: call
+ * rad_vis_pair_can_block first to skip pairs nothing can block. */
+rad_status rad_vis_occluded_between(const rad_vis *vis, size_t i, size_t j, size_t n,
+                                    const double *from, const double *to, unsigned char *blocked,
+                                    rad_vis_stats *stats);
+
 /* The sample points rad_vis_pair_fraction uses on triangle t (strata_per_edge^2
  * points, xyz interleaved, written to pts which must hold 3 * that many doubles). */
 rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts);
