@@ -50,9 +50,14 @@ typedef struct rad_vis_params {
      * every point of one triangle is joined to every point of the other, so a
      * pair costs strata_per_edge^4 rays.  Default 3 (81 rays). */
     int strata_per_edge;
-    /* 0: the point is the stratum's centroid (deterministic midpoint rule);
-     * 1: a point drawn uniformly in the stratum from a hash of (triangle,
-     * stratum, seed), still deterministic for any thread count.  Default 0. */
+    /* 1: a point drawn uniformly in each stratum from a hash of (triangle,
+     * stratum, seed): jittered stratified sampling, unbiased, deterministic for
+     * any thread count, and symmetric (a triangle's samples do not depend on
+     * its partner).  0: the stratum's centroid (a midpoint rule, which aliases
+     * with straight shadow edges).  Measured on the occluder test scene
+     * (blocked fraction 0.43067 exactly), error of the square-to-square
+     * estimate for 2, 4, 8, 12 strata per edge: centroid -0.024, -0.040,
+     * -0.0087, -0.026; jittered -0.087, -0.014, +0.0009, -0.0014.  Default 1. */
     int jitter;
     unsigned seed;
     /* Threads Embree may use to build the BVH (see the header comment).  Default 1. */

@@ -26,7 +26,7 @@ void rad_vis_params_default(rad_vis_params *params)
 {
     params->eps_rel = 1e-5;
     params->strata_per_edge = 3;
-    params->jitter = 0;
+    params->jitter = 1;
     params->seed = 0x5eedu;
     params->build_threads = 1;
     params->packet = 16;
