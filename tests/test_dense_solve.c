@@ -312,9 +312,8 @@ TEST(dense_rejects_bad_input_and_too_big)
 
 TEST(dense_results_do_not_depend_on_thread_count)
 {
-    enum { N = 57 };
-    static double G[N * N];
-    double A[N], rho[3 * N], E[3 * N], B1[3 * N], B2[3 * N];
+    enum { N = 300 }; /* above the size at which the loops go parallel */
+    static double G[N * N], A[N], rho[3 * N], E[3 * N], B1[3 * N], B2[3 * N];
     open_system(N, 11, 0.9, G, A);
     unsigned long long s = 3;
     for (int k = 0; k < 3 * N; k++) {

@@ -165,6 +165,27 @@ TEST(vis_pair_fraction_matches_brute_force_and_analytic_value)
             double want = brute_fraction(vis, xyz, tri, 6, i, j);
             CHECK_NEAR(f, want, 0.0, 1e-15);
             CHECK(want > 0.1 && want < 0.99);
+            /* The same segments through rad_vis_occluded_between. */
+            int m = rad_vis_sample_count(vis);
+            double *si = malloc(6 * (size_t)m * sizeof *si), *sj = si + 3 * m;
+            double *from = malloc(6 * (size_t)(m * m) * sizeof *from), *to = from + 3 * m * m;
+            unsigned char *bl = malloc((size_t)(m * m));
+            rad_vis_triangle_samples(vis, (size_t)i, si);
+            rad_vis_triangle_samples(vis, (size_t)j, sj);
+            for (int a = 0; a < m; a++)
+                for (int b = 0; b < m; b++)
+                    for (int c = 0; c < 3; c++) {
+                        from[3 * (a * m + b) + c] = si[3 * a + c];
+                        to[3 * (a * m + b) + c] = sj[3 * b + c];
+                    }
+            CHECK(rad_vis_occluded_between(vis, (size_t)i, (size_t)j, (size_t)(m * m), from, to, bl, NULL) == RAD_OK);
+            int nvis = 0;
+            for (int k = 0; k < m * m; k++)
+                nvis += !bl[k];
+            CHECK_NEAR((double)nvis / (m * m), want, 0.0, 1e-15);
+            free(si);
+            free(from);
+            free(bl);
             double g = -1; /* symmetric */
             CHECK(rad_vis_pair_fraction(vis, (size_t)j, (size_t)i, &g, NULL) == RAD_OK);
             CHECK_NEAR(g, f, 0.0, 1e-15);
@@ -395,6 +416,15 @@ TEST(vis_rejects_bad_input)
     p.eps_rel = 0.0;
     CHECK(rad_vis_create(xyz, 3, tri, 1, &p, &vis) == RAD_EINVAL);
     rad_vis_destroy(NULL);
+    /* An empty scene is valid: nothing blocks anything. */
+    CHECK(rad_vis_create(NULL, 0, NULL, 0, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    double a[3] = {0, 0, 0}, b[3] = {1, 2, 3};
+    unsigned char bl = 7;
+    CHECK(rad_vis_occluded(vis, 1, a, b, &bl, NULL) == RAD_OK && bl == 0);
+    CHECK(rad_vis_is_unoccluded(vis));
+    rad_vis_destroy(vis);
 }
 
 TEST(vis_geom_normal_follows_the_winding_in_every_branch)

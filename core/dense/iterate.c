@@ -24,6 +24,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Below this many faces an OpenMP region costs more than the O(n^2) loop it
+ * splits (waking threads on a loaded 2-core machine took ~0.1 ms a region). */
+enum { DENSE_PARALLEL_MIN = 256 };
+
 struct rad_dense_iter {
     int n;
     const double *G, *area;
@@ -41,7 +45,7 @@ static double residual(const rad_dense_iter *it)
 {
     int n = it->n;
     double rmax = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : rmax)
+#pragma omp parallel for schedule(static) reduction(max : rmax) if (n >= DENSE_PARALLEL_MIN)
     for (int i = 0; i < n; i++) {
         const double *g = it->G + (size_t)i * (size_t)n;
         double s = 0.0;

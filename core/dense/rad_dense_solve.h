@@ -51,7 +51,9 @@ typedef struct rad_dense_report {
     int factorizations; /* direct solvers: 1 for grey reflectance, 3 for coloured */
     int iterations;     /* iterative solvers: the most sweeps any channel needed */
     double residual;    /* the largest final relative residual ||r||_inf / ||E||_inf */
-    double rcond;       /* direct solvers: the smallest LAPACK estimate of 1/cond_1 */
+    double rcond;       /* direct solvers: the smallest LAPACK estimate of 1/cond_1 of the
+                           matrix factored: K = I - R F for LU, the scaled symmetric
+                           S = diag(A/rho) - G (reflecting faces only) for Cholesky */
 } rad_dense_report;
 
 /* Before allocating for n faces with `method`: RAD_ETOOBIG when G plus the

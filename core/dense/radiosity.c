@@ -30,6 +30,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Below this many faces an OpenMP region costs more than the O(n^2) loop it
+ * splits (waking threads on a loaded 2-core machine took ~0.1 ms a region). */
+enum { DENSE_PARALLEL_MIN = 256 };
+
 #include "rad_dense.h"
 
 static const char *const method_names[RAD_DENSE_METHOD_COUNT] = {
@@ -79,7 +83,7 @@ rad_status rad_dense_system_matrix(int n, const double *G, const double *area, c
         return RAD_ERROR(RAD_EINVAL, "system matrix: bad arguments (n = %d)", n);
     size_t nn = (size_t)n;
     /* K_ij = delta_ij - rho_i G_ij / A_i: column j of K from column j of G. */
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= DENSE_PARALLEL_MIN)
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             size_t k = (size_t)i + (size_t)j * nn;
@@ -163,7 +167,7 @@ static rad_status solve_cholesky(int n, const double *G, const double *area, con
     if (na == 0)
         goto done;
     size_t m = (size_t)na;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= DENSE_PARALLEL_MIN)
     for (int b = 0; b < na; b++)
         for (int a = b; a < na; a++) { /* lower triangle of S_aa */
             double g = G[(size_t)act[a] + (size_t)act[b] * (size_t)n];
@@ -280,7 +284,7 @@ rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area,
                 const double *b = B + (size_t)c * n, *e = E + (size_t)c * n;
                 const double *r = rho + (size_t)c * n;
                 double rmax = 0.0, emax = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : rmax, emax)
+#pragma omp parallel for schedule(static) reduction(max : rmax, emax) if (n >= DENSE_PARALLEL_MIN)
                 for (int i = 0; i < n; i++) {
                     const double *g = G + (size_t)i * (size_t)n;
                     double s = 0.0;

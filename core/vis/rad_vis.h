@@ -24,8 +24,9 @@
  * core for its BVH build and keep them spinning beside OpenMP's.  rad_vis creates
  * its device with "threads=N,set_affinity=0" (N = build_threads, default 1): the
  * build runs on N threads and all ray queries run on the calling (OpenMP) threads,
- * so the two thread pools never compete.  Building the BVH of 10^5 triangles on
- * one thread takes tens of milliseconds, negligible next to the ray work. */
+ * so the two thread pools never compete (checked: with build_threads = 1 the
+ * process has no extra thread during the build of 2 x 10^5 triangles, which
+ * takes tens of milliseconds, negligible next to the ray work). */
 #ifndef RAD_VIS_H
 #define RAD_VIS_H
 
@@ -49,9 +50,14 @@ typedef struct rad_vis_params {
      * every point of one triangle is joined to every point of the other, so a
      * pair costs strata_per_edge^4 rays.  Default 3 (81 rays). */
     int strata_per_edge;
-    /* 0: the point is the stratum's centroid (deterministic midpoint rule);
-     * 1: a point drawn uniformly in the stratum from a hash of (triangle,
-     * stratum, seed), still deterministic for any thread count.  Default 0. */
+    /* 1: a point drawn uniformly in each stratum from a hash of (triangle,
+     * stratum, seed): jittered stratified sampling, unbiased, deterministic for
+     * any thread count, and symmetric (a triangle's samples do not depend on
+     * its partner).  0: the stratum's centroid (a midpoint rule, which aliases
+     * with straight shadow edges).  Measured on the occluder test scene
+     * (blocked fraction 0.43067 exactly), error of the square-to-square
+     * estimate for 2, 4, 8, 12 strata per edge: centroid -0.024, -0.040,
+     * -0.0087, -0.026; jittered -0.087, -0.014, +0.0009, -0.0014.  Default 1. */
     int jitter;
     unsigned seed;
     /* Threads Embree may use to build the BVH (see the header comment).  Default 1. */
@@ -100,6 +106,15 @@ int rad_vis_is_unoccluded(const rad_vis *vis);
  * own OpenMP loop to parallelise). */
 rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
                             unsigned char *blocked, rad_vis_stats *stats);
+
+/* As rad_vis_occluded for segments from points of triangle i to points of
+ * triangle j (e.g. the quadrature points of a form-factor rule): hits on i
+ * and j themselves are ignored, so end points on (or rounded slightly behind)
+ * their own triangles are safe.  Traces every segment: call
+ * rad_vis_pair_can_block first to skip pairs nothing can block. */
+rad_status rad_vis_occluded_between(const rad_vis *vis, size_t i, size_t j, size_t n,
+                                    const double *from, const double *to, unsigned char *blocked,
+                                    rad_vis_stats *stats);
 
 /* The sample points rad_vis_pair_fraction uses on triangle t (strata_per_edge^2
  * points, xyz interleaved, written to pts which must hold 3 * that many doubles). */

@@ -8,12 +8,12 @@
  *    and has all six on one side; it is therefore the plane of i, the plane of
  *    j, or a plane through an edge of one triangle and a vertex of the other:
  *    20 candidates.  Keep each candidate (oriented outward) whose six points all
- *    lie on its inner side within tol; the kept planes bound H exactly.  The six
- *    planes of the pair's bounding box are added; they are redundant for H but
- *    reject hierarchy nodes cheaply.
+ *    lie on its inner side within tol; the kept planes bound H exactly.  The
+ *    pair's bounding box is tested first: redundant for H, but it rejects most
+ *    hierarchy nodes with six comparisons.
  * 2. A segment joining interior points of i and j meets a face plane of H only
  *    at its end points unless both triangles lie in that plane (a coplanar pair:
- *    then no plane is kept but those of the box, and the test answers 1).  So a
+ *    then no plane is kept and the test answers 1).  So a
  *    triangle k whose three vertices lie on or outside one kept plane (signed
  *    distance >= -tol) cannot cross the open segment: it is dismissed.
  * 3. Walk a bounding-volume hierarchy of triangle boxes (median split on the
@@ -37,6 +37,11 @@
 
 enum { LEAF_SIZE = 4 };
 
+/* fmin/fmax are library calls without -ffinite-math-only; these inline, and
+ * the inputs here are finite (checked in rad_vis_create). */
+static inline double dmin(double a, double b) { return a < b ? a : b; }
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
 /* ---- bounding-volume hierarchy over triangle boxes -------------------------- */
 
 typedef struct build_ctx {
@@ -54,8 +59,8 @@ static void tri_box(const rad_vis *vis, int t, double lo[3], double hi[3])
     for (int v = 0; v < 3; v++) {
         const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * (size_t)t + v];
         for (int c = 0; c < 3; c++) {
-            lo[c] = fmin(lo[c], p[c]);
-            hi[c] = fmax(hi[c], p[c]);
+            lo[c] = dmin(lo[c], p[c]);
+            hi[c] = dmax(hi[c], p[c]);
         }
     }
 }
@@ -104,10 +109,10 @@ static int build_node(build_ctx *bc, int first, int count)
         double lo[3], hi[3];
         tri_box(vis, vis->order[k], lo, hi);
         for (int c = 0; c < 3; c++) {
-            node->lo[c] = fmin(node->lo[c], lo[c]);
-            node->hi[c] = fmax(node->hi[c], hi[c]);
-            clo[c] = fmin(clo[c], bc->cen[3 * vis->order[k] + c]);
-            chi[c] = fmax(chi[c], bc->cen[3 * vis->order[k] + c]);
+            node->lo[c] = dmin(node->lo[c], lo[c]);
+            node->hi[c] = dmax(node->hi[c], hi[c]);
+            clo[c] = dmin(clo[c], bc->cen[3 * vis->order[k] + c]);
+            chi[c] = dmax(chi[c], bc->cen[3 * vis->order[k] + c]);
         }
     }
     node->first = first;
@@ -163,7 +168,7 @@ typedef struct plane {
     double d;   /* signed distance of x: dot(n, x) - d */
 } plane;
 
-enum { MAX_PLANES = 26 };
+enum { MAX_PLANES = 20 };
 
 /* Try the plane through a, b, c as a face of the hull of pts[6]. */
 static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6], double tol,
@@ -174,17 +179,17 @@ static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6],
     if (!(len > 0.0))
         return;
     n = rad_vec3_scale(n, 1.0 / len);
-    double d = rad_vec3_dot(n, a), dmin = INFINITY, dmax = -INFINITY;
+    double d = rad_vec3_dot(n, a), smin = INFINITY, smax = -INFINITY;
     for (int k = 0; k < 6; k++) {
         double s = rad_vec3_dot(n, pts[k]) - d;
-        dmin = fmin(dmin, s);
-        dmax = fmax(dmax, s);
+        smin = dmin(smin, s);
+        smax = dmax(smax, s);
     }
-    if (dmax <= tol && dmin >= -tol)
+    if (smax <= tol && smin >= -tol)
         return; /* all six in the plane: the hull is flat, this plane bounds nothing */
-    if (dmax <= tol) {
+    if (smax <= tol) {
         /* all on the negative side: n already points outward */
-    } else if (dmin >= -tol) {
+    } else if (smin >= -tol) {
         n = rad_vec3_scale(n, -1.0);
         d = -d;
     } else {
@@ -193,8 +198,10 @@ static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6],
     out[(*count)++] = (plane){n, d};
 }
 
-/* Builds the shaft's planes; returns the count, or -1 for a flat hull. */
-static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl)
+/* Builds the shaft's planes and the pair's bounding box (lo, hi); returns the
+ * plane count, or -1 for a flat hull. */
+static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl, double lo[3],
+                        double hi[3])
 {
     rad_vec3 pts[6];
     for (int v = 0; v < 3; v++) {
@@ -213,22 +220,34 @@ static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl)
     if (count == 0)
         return -1;
     for (int c = 0; c < 3; c++) {
-        double lo = INFINITY, hi = -INFINITY;
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
         for (int k = 0; k < 6; k++) {
             double x = c == 0 ? pts[k].x : c == 1 ? pts[k].y : pts[k].z;
-            lo = fmin(lo, x);
-            hi = fmax(hi, x);
+            lo[c] = dmin(lo[c], x);
+            hi[c] = dmax(hi[c], x);
         }
-        rad_vec3 e = rad_vec3_make(c == 0, c == 1, c == 2);
-        pl[count++] = (plane){e, hi};
-        pl[count++] = (plane){rad_vec3_scale(e, -1.0), -lo};
     }
     return count;
 }
 
-/* Nonzero when the box lies on or outside some plane. */
-static int box_outside(const vis_node *node, const plane *pl, int count, double tol)
+/* Nonzero when a box [blo, bhi] touches the pair's box [lo, hi] at most
+ * within tol, i.e. lies on or outside one of its six planes. */
+static int boxes_apart(const double blo[3], const double bhi[3], const double lo[3],
+                       const double hi[3], double tol)
 {
+    for (int c = 0; c < 3; c++)
+        if (blo[c] >= hi[c] - tol || bhi[c] <= lo[c] + tol)
+            return 1;
+    return 0;
+}
+
+/* Nonzero when the node's box lies on or outside the pair's box or a hull plane. */
+static int box_outside(const vis_node *node, const plane *pl, int count, const double lo[3],
+                       const double hi[3], double tol)
+{
+    if (boxes_apart(node->lo, node->hi, lo, hi, tol))
+        return 1;
     for (int p = 0; p < count; p++) {
         /* The smallest signed distance over the box is at the corner against n. */
         double x = pl[p].n.x > 0 ? node->lo[0] : node->hi[0];
@@ -240,9 +259,16 @@ static int box_outside(const vis_node *node, const plane *pl, int count, double 
     return 0;
 }
 
-static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int count)
+static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int count,
+                            const double lo[3], const double hi[3])
 {
     rad_vec3 v[3] = {vis_vertex(vis, k, 0), vis_vertex(vis, k, 1), vis_vertex(vis, k, 2)};
+    double tlo[3] = {dmin(v[0].x, dmin(v[1].x, v[2].x)), dmin(v[0].y, dmin(v[1].y, v[2].y)),
+                     dmin(v[0].z, dmin(v[1].z, v[2].z))};
+    double thi[3] = {dmax(v[0].x, dmax(v[1].x, v[2].x)), dmax(v[0].y, dmax(v[1].y, v[2].y)),
+                     dmax(v[0].z, dmax(v[1].z, v[2].z))};
+    if (boxes_apart(tlo, thi, lo, hi, vis->tol))
+        return 1;
     for (int p = 0; p < count; p++) {
         int out = 1;
         for (int c = 0; c < 3 && out; c++)
@@ -260,7 +286,8 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     if (vis->unoccluded)
         return 0;
     plane pl[MAX_PLANES];
-    int count = shaft_planes(vis, i, j, pl);
+    double lo[3], hi[3];
+    int count = shaft_planes(vis, i, j, pl, lo, hi);
     if (count < 0)
         return 1;
     int stack[128], top = 0;
@@ -268,12 +295,12 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
         stack[top++] = 0;
     while (top > 0) {
         const vis_node *node = &vis->nodes[stack[--top]];
-        if (box_outside(node, pl, count, vis->tol))
+        if (box_outside(node, pl, count, lo, hi, vis->tol))
             continue;
         if (node->left < 0) {
             for (int m = node->first; m < node->first + node->count; m++) {
                 size_t k = (size_t)vis->order[m];
-                if (k != i && k != j && !triangle_outside(vis, k, pl, count))
+                if (k != i && k != j && !triangle_outside(vis, k, pl, count, lo, hi))
                     return 1;
             }
         } else {

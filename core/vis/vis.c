@@ -26,7 +26,7 @@ void rad_vis_params_default(rad_vis_params *params)
 {
     params->eps_rel = 1e-5;
     params->strata_per_edge = 3;
-    params->jitter = 0;
+    params->jitter = 1;
     params->seed = 0x5eedu;
     params->build_threads = 1;
     params->packet = 16;
@@ -311,6 +311,24 @@ rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, co
         return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the occlusion query");
     vis_context vc;
     vis_context_init(&vc, RTC_INVALID_GEOMETRY_ID, RTC_INVALID_GEOMETRY_ID);
+    unsigned long long rays = 0;
+    vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
+    if (stats)
+        stats->rays += rays;
+    return RAD_OK;
+}
+
+rad_status rad_vis_occluded_between(const rad_vis *vis, size_t i, size_t j, size_t n,
+                                    const double *from, const double *to, unsigned char *blocked,
+                                    rad_vis_stats *stats)
+{
+    if (!vis || (n && (!from || !to || !blocked)))
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the occlusion query");
+    if (i >= vis->ntris || j >= vis->ntris)
+        return RAD_ERROR(RAD_EINVAL, "visibility: bad pair (%zu, %zu) of %zu triangles", i, j,
+                         vis->ntris);
+    vis_context vc;
+    vis_context_init(&vc, (unsigned)i, (unsigned)j);
     unsigned long long rays = 0;
     vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
     if (stats)
