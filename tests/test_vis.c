@@ -1,11 +1,14 @@
 /* rad_vis against an analytic occluder configuration and an independent
  * brute-force ray-triangle test (Moller-Trumbore in double, written here). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
 #include "rad_geom.h"
+#include "rad_mesh.h"
+#include "rad_scene.h"
 #include "rad_vis.h"
 
 /* Scene: bottom unit square z = 0 facing +z (triangles 0, 1), top unit square
@@ -441,4 +444,142 @@ TEST(vis_geom_normal_follows_the_winding_in_every_branch)
         rad_vec3 n = rad_geom_triangle_normal(tris[k][0], tris[k][1], tris[k][2]);
         CHECK_MSG(n.z > 0.999, "case %d: normal z = %g, want +1", k, n.z);
     }
+}
+
+/* The shaft test may only skip what no ray can find blocked: on the refined
+ * Cornell box, every pair it clears must have all its sample segments that
+ * carry light (both cosines positive) free when they are traced.  (Segments
+ * with a zero kernel, such as those between two floor elements that run in
+ * the floor's plane past the blocks' bottom edges, do not matter.)  Walls,
+ * floor and ceiling lie on the scene's convex hull and are never blockers, so
+ * most pairs are cleared without a plane. */
+TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenes/cornell/cornell.obj", harness_root());
+    rad_scene *scene = NULL;
+    rad_mesh *base = NULL, *mesh = NULL;
+    CHECK(rad_scene_load(path, NULL, &scene) == RAD_OK);
+    if (!scene)
+        return;
+    CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
+                          rad_scene_triangles(scene), rad_scene_triangle_count(scene), NULL, &base) == RAD_OK);
+    CHECK(rad_mesh_refine_uniform(base, 1, 100000, &mesh) == RAD_OK);
+    size_t n = (size_t)rad_mesh_face_count(mesh);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
+                         rad_mesh_triangles(mesh), n, NULL, &vis) == RAD_OK);
+    int ns = rad_vis_sample_count(vis);
+    double *si = malloc(3 * (size_t)ns * sizeof *si), *sj = malloc(3 * (size_t)ns * sizeof *sj);
+    double *from = malloc(3 * (size_t)ns * ns * sizeof *from), *to = malloc(3 * (size_t)ns * ns * sizeof *to);
+    unsigned char *blocked = malloc((size_t)ns * ns);
+    rad_vis_stats st = {0, 0, 0};
+    long cleared = 0, wrong = 0, total = 0, carrying = 0;
+    const double *xyz = rad_mesh_vertices(mesh);
+    const int *tri = rad_mesh_triangles(mesh);
+    for (size_t i = 0; i < n; i++) {
+        rad_vis_triangle_samples(vis, i, si);
+        rad_vec3 ni = rad_geom_triangle_normal(
+            rad_vec3_make(xyz[3 * tri[3 * i]], xyz[3 * tri[3 * i] + 1], xyz[3 * tri[3 * i] + 2]),
+            rad_vec3_make(xyz[3 * tri[3 * i + 1]], xyz[3 * tri[3 * i + 1] + 1], xyz[3 * tri[3 * i + 1] + 2]),
+            rad_vec3_make(xyz[3 * tri[3 * i + 2]], xyz[3 * tri[3 * i + 2] + 1], xyz[3 * tri[3 * i + 2] + 2]));
+        for (size_t j = i + 1; j < n; j++) {
+            total++;
+            if (rad_vis_pair_can_block(vis, i, j))
+                continue;
+            cleared++;
+            rad_vis_triangle_samples(vis, j, sj);
+            rad_vec3 nj = rad_geom_triangle_normal(
+                rad_vec3_make(xyz[3 * tri[3 * j]], xyz[3 * tri[3 * j] + 1], xyz[3 * tri[3 * j] + 2]),
+                rad_vec3_make(xyz[3 * tri[3 * j + 1]], xyz[3 * tri[3 * j + 1] + 1], xyz[3 * tri[3 * j + 1] + 2]),
+                rad_vec3_make(xyz[3 * tri[3 * j + 2]], xyz[3 * tri[3 * j + 2] + 1], xyz[3 * tri[3 * j + 2] + 2]));
+            for (int a = 0; a < ns; a++)
+                for (int b = 0; b < ns; b++) {
+                    memcpy(from + 3 * (a * ns + b), si + 3 * a, 3 * sizeof *si);
+                    memcpy(to + 3 * (a * ns + b), sj + 3 * b, 3 * sizeof *sj);
+                }
+            /* Hits on i and j themselves are ignored, as in rad_vis_pair_fraction:
+             * the measured red wall is folded, and rays between its halves
+             * graze their own (float) triangle. */
+            rad_vis_occluded_between(vis, i, j, (size_t)ns * ns, from, to, blocked, &st);
+            for (int k = 0; k < ns * ns; k++) {
+                rad_vec3 d = rad_vec3_make(to[3 * k] - from[3 * k], to[3 * k + 1] - from[3 * k + 1],
+                                           to[3 * k + 2] - from[3 * k + 2]);
+                if (!(rad_vec3_dot(ni, d) > 0.0) || !(rad_vec3_dot(nj, d) < 0.0))
+                    continue; /* zero kernel: visibility does not matter */
+                carrying++;
+                wrong += blocked[k];
+            }
+        }
+    }
+    CHECK_MSG(wrong == 0, "%ld sample segments blocked in pairs the shaft test cleared", wrong);
+    /* What clearing promises: the blocks (input faces 18..37) are the only
+     * blockers, so every pair whose box misses the blocks' box is cleared
+     * without a plane. */
+    const int *parent = rad_mesh_input_faces(mesh);
+    double blo[3] = {INFINITY, INFINITY, INFINITY}, bhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t t = 0; t < n; t++)
+        if (parent[t] >= 18)
+            for (int v = 0; v < 3; v++)
+                for (int c = 0; c < 3; c++) {
+                    blo[c] = fmin(blo[c], xyz[3 * tri[3 * t + v] + c]);
+                    bhi[c] = fmax(bhi[c], xyz[3 * tri[3 * t + v] + c]);
+                }
+    long away = 0, away_cleared = 0;
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = i + 1; j < n; j++) {
+            double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (int v = 0; v < 3; v++)
+                for (int c = 0; c < 3; c++) {
+                    lo[c] = fmin(lo[c], fmin(xyz[3 * tri[3 * i + v] + c], xyz[3 * tri[3 * j + v] + c]));
+                    hi[c] = fmax(hi[c], fmax(xyz[3 * tri[3 * i + v] + c], xyz[3 * tri[3 * j + v] + c]));
+                }
+            int apart = 0;
+            for (int c = 0; c < 3; c++)
+                apart |= lo[c] > bhi[c] + 1e-3 || hi[c] < blo[c] - 1e-3;
+            if (apart) {
+                away++;
+                away_cleared += !rad_vis_pair_can_block(vis, i, j);
+            }
+        }
+    CHECK_MSG(away > 500 && away_cleared == away, "%ld of %ld pairs away from the blocks cleared",
+              away_cleared, away);
+    CHECK(cleared < total); /* and the pairs behind the blocks are not */
+    CHECK(carrying > 100000); /* the check looked at many segments */
+    CHECK(!rad_vis_is_unoccluded(vis)); /* the blocks do occlude */
+    free(si);
+    free(sj);
+    free(from);
+    free(to);
+    free(blocked);
+    rad_vis_destroy(vis);
+    rad_mesh_destroy(mesh);
+    rad_mesh_destroy(base);
+    rad_scene_destroy(scene);
+}
+
+/* In an L-shaped room the walls of the inner corner are not on the hull: they
+ * must stay blockers, and a pair seen across the corner must be blocked. */
+TEST(vis_inner_corner_walls_still_block)
+{
+    /* Floor plan: the L = [0,2]x[0,1] u [0,1]x[1,2], height 1; the two walls of
+     * its inner corner are x = 1 (y in [1,2]) and y = 1 (x in [1,2]).  Upright
+     * receivers centred near (1.8, 0.8) and (0.8, 1.8) are joined by segments
+     * near x + y = 2.6, which cross both walls (at y = 1.6 and at x = 1.6). */
+    double xyz[] = {
+        1, 1, 0, 1, 2, 0, 1, 2, 1, 1, 1, 1,          /* wall x = 1 */
+        1, 1, 0, 1, 1, 1, 2, 1, 1, 2, 1, 0,          /* wall y = 1 */
+        1.7, 0.7, 0.05, 1.9, 0.7, 0.05, 1.8, 0.9, 1.0, /* receiver i, upright */
+        0.7, 1.7, 0.05, 0.9, 1.8, 1.0, 0.7, 1.9, 0.05, /* receiver j, upright */
+        0, 0, -0.5, 3, 0, -0.5, 0, 3, -0.5,          /* a floor far below: one plane */
+    };
+    int tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 17, tri, 7, NULL, &vis) == RAD_OK);
+    CHECK(rad_vis_pair_can_block(vis, 4, 5) == 1);
+    double frac = 1.0;
+    rad_vis_stats st = {0, 0, 0};
+    CHECK(rad_vis_pair_fraction(vis, 4, 5, &frac, &st) == RAD_OK);
+    CHECK_MSG(frac < 0.5, "fraction across the inner corner = %g", frac);
+    rad_vis_destroy(vis);
 }

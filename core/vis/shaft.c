@@ -16,19 +16,26 @@
  *    then no plane is kept and the test answers 1).  So a
  *    triangle k whose three vertices lie on or outside one kept plane (signed
  *    distance >= -tol) cannot cross the open segment: it is dismissed.
- * 3. Walk a bounding-volume hierarchy of triangle boxes (median split on the
- *    longest axis, leaves of at most 4): a node whose box lies on or outside one
- *    kept plane is skipped whole; the first triangle of a leaf other than i and
- *    j that is not dismissed makes the answer 1.
- * Cost: O(log n) nodes for pairs with nothing near their shaft, O(n) at worst.
+ * 3. Walk a bounding-volume hierarchy of the boxes of the potential blockers
+ *    (below; median split on the longest axis, leaves of at most 4): a node
+ *    whose box lies on or outside one kept plane is skipped whole; the first
+ *    triangle of a leaf other than i and j that is not dismissed makes the
+ *    answer 1.  The pair's box is tested against the root's box before any
+ *    plane is built: most pairs of a room never come near its furniture.
+ * Cost: O(1) for pairs away from every blocker, O(log n) nodes for pairs with
+ * nothing near their shaft, O(n) at worst.
  *
- * Whole-scene test (the effects plan's "no occlusion in a convex enclosure"):
- * no triangle k can cross a segment between two points of the scene if every
- * vertex lies on or in front of k's plane, because such a segment stays in the
- * closed front half-space and touches k's plane at most at an end point.
- * Coplanar triangles share a plane, so the distinct planes are checked (a
- * refined box has 6); if their count times the vertex count exceeds a work
- * budget the scene is assumed occluded, which is the conservative answer. */
+ * Which triangles can block at all: a triangle k whose plane has every vertex
+ * of the scene on one side (within tol) lies on the scene's convex hull, and a
+ * segment between two points of the scene stays in that closed half-space and
+ * touches k's plane at most at an end point: k blocks nothing.  The walls,
+ * floor and ceiling of a room are such triangles; only the furniture is left
+ * in the hierarchy.  When every plane has every vertex in front (a convex
+ * enclosure seen from inside: the effects plan's "no occlusion") the whole
+ * scene is unoccluded.  Coplanar triangles share a plane, so the distinct
+ * planes are checked (a refined room has a handful); if their count times the
+ * vertex count exceeds a work budget every triangle is kept as a possible
+ * blocker and the scene counts as occluded, the conservative answers. */
 #include "vis_internal.h"
 
 #include <math.h>
@@ -134,30 +141,114 @@ static int build_node(build_ctx *bc, int first, int count)
     return id;
 }
 
+static int cmp_plane(const void *a, const void *b)
+{
+    const double *x = a, *y = b;
+    for (int c = 0; c < 4; c++)
+        if (x[c] != y[c])
+            return x[c] < y[c] ? -1 : 1;
+    return 0;
+}
+
+/* Mark never_blocks[t] for triangles on a supporting plane of the scene, and
+ * set vis->unoccluded when every plane has the whole scene in front.  Returns 0
+ * on allocation failure. */
+static int classify_planes(rad_vis *vis, unsigned char *never_blocks)
+{
+    size_t n = vis->ntris;
+    vis->unoccluded = 1;
+    memset(never_blocks, 0, n);
+    /* Each triangle's plane (unit normal, offset) rounded to group coplanar
+     * ones, and the triangle: 5 doubles a record. */
+    double *pl = malloc(5 * n * sizeof *pl);
+    if (!pl)
+        return 0;
+    size_t m = 0;
+    const double quantum = 1e-9; /* relative rounding that merges equal planes */
+    for (size_t t = 0; t < n; t++) {
+        rad_vec3 a = vis_vertex(vis, t, 0), b = vis_vertex(vis, t, 1), c = vis_vertex(vis, t, 2);
+        rad_vec3 nn = rad_geom_triangle_normal(a, b, c);
+        if (rad_vec3_norm(nn) == 0.0) {
+            never_blocks[t] = 1; /* a degenerate triangle blocks nothing of positive measure */
+            continue;
+        }
+        double d = rad_vec3_dot(nn, a) / vis->scale;
+        pl[5 * m + 0] = round(nn.x / quantum) * quantum;
+        pl[5 * m + 1] = round(nn.y / quantum) * quantum;
+        pl[5 * m + 2] = round(nn.z / quantum) * quantum;
+        pl[5 * m + 3] = round(d / quantum) * quantum;
+        pl[5 * m + 4] = (double)t;
+        m++;
+    }
+    qsort(pl, m, 5 * sizeof *pl, cmp_plane);
+    size_t distinct = 0;
+    for (size_t k = 0; k < m; k++)
+        distinct += k == 0 || cmp_plane(pl + 5 * k, pl + 5 * (k - 1)) != 0;
+    const double budget = 4e8; /* plane-vertex tests we are willing to spend */
+    if ((double)distinct * (double)vis->nverts > budget) {
+        vis->unoccluded = 0;
+        free(pl);
+        return 1;
+    }
+    /* The rounded plane is within ~1e-9 L of the true one, far inside 1e3 tol. */
+    double slack = vis->tol + 4.0 * quantum * vis->scale;
+    for (size_t k = 0; k < m;) {
+        size_t end = k + 1;
+        while (end < m && cmp_plane(pl + 5 * end, pl + 5 * k) == 0)
+            end++;
+        rad_vec3 nn = rad_vec3_make(pl[5 * k], pl[5 * k + 1], pl[5 * k + 2]);
+        double d = pl[5 * k + 3] * vis->scale, lo = INFINITY, hi = -INFINITY;
+        for (size_t v = 0; v < vis->nverts; v++) {
+            const double *x = vis->xyz + 3 * v;
+            double s = nn.x * x[0] + nn.y * x[1] + nn.z * x[2] - d;
+            lo = dmin(lo, s);
+            hi = dmax(hi, s);
+        }
+        if (lo < -slack)
+            vis->unoccluded = 0;
+        if (lo >= -slack || hi <= slack)
+            for (size_t q = k; q < end; q++)
+                never_blocks[(size_t)pl[5 * q + 4]] = 1;
+        k = end;
+    }
+    free(pl);
+    return 1;
+}
+
 int vis_bvh_build(rad_vis *vis)
 {
     size_t n = vis->ntris;
     vis->nnodes = 0;
+    vis->unoccluded = 1;
     if (n == 0)
         return 1;
     /* A median-split tree with leaves of >= 1 triangle has fewer than 2n nodes. */
     vis->nodes = malloc(2 * n * sizeof *vis->nodes);
     vis->order = malloc(n * sizeof *vis->order);
     double *cen = malloc(3 * n * sizeof *cen);
-    if (!vis->nodes || !vis->order || !cen) {
+    unsigned char *never = malloc(n);
+    if (!vis->nodes || !vis->order || !cen || !never || !classify_planes(vis, never)) {
         free(cen);
+        free(never);
         return 0;
     }
+    size_t blockers = 0;
     for (size_t t = 0; t < n; t++) {
-        vis->order[t] = (int)t;
+        if (never[t])
+            continue;
+        vis->order[blockers++] = (int)t;
         for (int c = 0; c < 3; c++)
             cen[3 * t + c] = (vis->xyz[3 * (size_t)vis->tri[3 * t] + c] +
                               vis->xyz[3 * (size_t)vis->tri[3 * t + 1] + c] +
                               vis->xyz[3 * (size_t)vis->tri[3 * t + 2] + c]) / 3.0;
     }
-    build_ctx bc = {vis, cen, (int)(2 * n)};
-    build_node(&bc, 0, (int)n);
+    vis->blockers = blockers;
+    if (blockers > 0) {
+        build_ctx bc = {vis, cen, (int)(2 * blockers)};
+        build_node(&bc, 0, (int)blockers);
+    }
     free(cen);
+    free(never);
     return 1;
 }
 
@@ -285,14 +376,29 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
         return 1;
     if (vis->unoccluded)
         return 0;
-    plane pl[MAX_PLANES];
+    if (vis->nnodes == 0)
+        return 0; /* nothing in the scene can block */
     double lo[3], hi[3];
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (int v = 0; v < 3; v++) {
+        const double *a = vis->xyz + 3 * (size_t)vis->tri[3 * i + (size_t)v];
+        const double *b = vis->xyz + 3 * (size_t)vis->tri[3 * j + (size_t)v];
+        for (int c = 0; c < 3; c++) {
+            lo[c] = dmin(lo[c], dmin(a[c], b[c]));
+            hi[c] = dmax(hi[c], dmax(a[c], b[c]));
+        }
+    }
+    if (boxes_apart(vis->nodes[0].lo, vis->nodes[0].hi, lo, hi, vis->tol))
+        return 0;
+    plane pl[MAX_PLANES];
     int count = shaft_planes(vis, i, j, pl, lo, hi);
     if (count < 0)
         return 1;
     int stack[128], top = 0;
-    if (vis->nnodes > 0)
-        stack[top++] = 0;
+    stack[top++] = 0;
     while (top > 0) {
         const vis_node *node = &vis->nodes[stack[--top]];
         if (box_outside(node, pl, count, lo, hi, vis->tol))
@@ -311,66 +417,4 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
         }
     }
     return 0;
-}
-
-/* ---- the whole scene -------------------------------------------------------- */
-
-static int cmp_plane(const void *a, const void *b)
-{
-    const double *x = a, *y = b;
-    for (int c = 0; c < 4; c++)
-        if (x[c] != y[c])
-            return x[c] < y[c] ? -1 : 1;
-    return 0;
-}
-
-int vis_compute_unoccluded(const rad_vis *vis)
-{
-    size_t n = vis->ntris;
-    if (n == 0)
-        return 1;
-    /* Each triangle's plane (unit normal, offset), rounded to group coplanar ones. */
-    double *pl = malloc(4 * n * sizeof *pl);
-    if (!pl)
-        return 0;
-    size_t m = 0;
-    const double quantum = 1e-9; /* relative rounding that merges equal planes */
-    for (size_t t = 0; t < n; t++) {
-        rad_vec3 a = vis_vertex(vis, t, 0), b = vis_vertex(vis, t, 1), c = vis_vertex(vis, t, 2);
-        rad_vec3 nn = rad_geom_triangle_normal(a, b, c);
-        if (rad_vec3_norm(nn) == 0.0)
-            continue; /* a degenerate triangle blocks nothing of positive measure */
-        double d = rad_vec3_dot(nn, a) / vis->scale;
-        pl[4 * m + 0] = round(nn.x / quantum) * quantum;
-        pl[4 * m + 1] = round(nn.y / quantum) * quantum;
-        pl[4 * m + 2] = round(nn.z / quantum) * quantum;
-        pl[4 * m + 3] = round(d / quantum) * quantum;
-        m++;
-    }
-    qsort(pl, m, 4 * sizeof *pl, cmp_plane);
-    size_t distinct = 0;
-    for (size_t k = 0; k < m; k++)
-        if (k == 0 || cmp_plane(pl + 4 * k, pl + 4 * (distinct - 1)) != 0) {
-            memmove(pl + 4 * distinct, pl + 4 * k, 4 * sizeof *pl);
-            distinct++;
-        }
-    const double budget = 4e8; /* plane-vertex tests we are willing to spend */
-    int result = 1;
-    if ((double)distinct * (double)vis->nverts > budget)
-        result = 0;
-    /* The rounded plane is within ~1e-9 L of the true one, far inside 1e3 tol. */
-    double slack = vis->tol + 4.0 * quantum * vis->scale;
-    for (size_t p = 0; p < distinct && result; p++) {
-        rad_vec3 nn = rad_vec3_make(pl[4 * p], pl[4 * p + 1], pl[4 * p + 2]);
-        double d = pl[4 * p + 3] * vis->scale;
-        for (size_t v = 0; v < vis->nverts; v++) {
-            const double *x = vis->xyz + 3 * v;
-            if (nn.x * x[0] + nn.y * x[1] + nn.z * x[2] - d < -slack) {
-                result = 0;
-                break;
-            }
-        }
-    }
-    free(pl);
-    return result;
 }

@@ -203,7 +203,6 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
         status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy");
         goto fail;
     }
-    vis->unoccluded = vis_compute_unoccluded(vis);
     *out = vis;
     return RAD_OK;
 fail:

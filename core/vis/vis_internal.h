@@ -30,9 +30,10 @@ struct rad_vis {
     rad_vis_params params;
     double scale, eps, tol;
     int unoccluded;
-    vis_node *nodes;
+    vis_node *nodes;    /* hierarchy over the potential blockers only */
     int nnodes;
-    int *order;         /* triangle indices in BVH leaf order */
+    int *order;         /* blocker triangle indices in BVH leaf order */
+    size_t blockers;    /* triangles not on a supporting plane of the scene */
 };
 
 static inline rad_vec3 vis_vertex(const rad_vis *vis, size_t t, int corner)
@@ -58,7 +59,8 @@ void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const doubl
                       const double *to, unsigned char *blocked, unsigned long long *rays);
 
 /* shaft.c */
+/* Classify the triangles (which can block at all; is the scene unoccluded?)
+ * and build the shaft hierarchy over the potential blockers.  0: no memory. */
 int vis_bvh_build(rad_vis *vis);
-int vis_compute_unoccluded(const rad_vis *vis);
 
 #endif
