@@ -101,6 +101,62 @@ int harness_run(const char *const argv[], char **out, char **err)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+int harness_radkit_run(const char *command, const char *const args[], char **out, char **err)
+{
+    const char *argv[64] = {harness_radkit()};
+    int k = 1;
+    if (command)
+        argv[k++] = command;
+    for (int a = 0; args && args[a] && k < 63; a++)
+        argv[k++] = args[a];
+    argv[k] = NULL;
+    return harness_run(argv, out, err);
+}
+
+const char *harness_path(const char *rel)
+{
+    static char buf[8][1024];
+    static int next;
+    char *p = buf[next++ % 8];
+    snprintf(p, sizeof buf[0], "%s/%s", harness_root(), rel);
+    return p;
+}
+
+const char *harness_header(const char *out, const char *key, char *buf, size_t size)
+{
+    char pattern[128];
+    snprintf(pattern, sizeof pattern, "\n# %s = ", key);
+    const char *p = out ? strstr(out, pattern) : NULL;
+    if (!p || size == 0)
+        return NULL;
+    p += strlen(pattern);
+    size_t len = strcspn(p, "\n");
+    if (len >= size)
+        len = size - 1;
+    memcpy(buf, p, len);
+    buf[len] = '\0';
+    return buf;
+}
+
+void harness_expect_usage_error_at(const char *file, int line, const char *command,
+                                   const char *const args[], const char *needle)
+{
+    char *out, *err;
+    int code = harness_radkit_run(command, args, &out, &err);
+    const char *first = args && args[0] ? args[0] : "(no arguments)";
+    if (code != 2)
+        harness_fail(file, line, "%s %s: exit %d, want 2", command ? command : "", first, code);
+    if (strcmp(out, "") != 0)
+        harness_fail(file, line, "%s %s: stdout not empty", command ? command : "", first);
+    if (harness_count_lines(err) != 1 || strncmp(err, "radkit: ", 8) != 0)
+        harness_fail(file, line, "%s %s: stderr is not one 'radkit: ' line: %s", command ? command : "",
+                     first, err);
+    if (!strstr(err, needle))
+        harness_fail(file, line, "stderr '%s' does not name '%s'", err, needle);
+    free(out);
+    free(err);
+}
+
 int main(int argc, char **argv)
 {
     int passed = 0, failed = 0;

@@ -51,6 +51,26 @@ int harness_run(const char *const argv[], char **out, char **err);
 const char *harness_radkit(void);
 const char *harness_root(void);
 
+/* Run the radkit binary: `command` (e.g. "solve", or NULL) then args[]
+ * (NULL-terminated).  Output as for harness_run. */
+int harness_radkit_run(const char *command, const char *const args[], char **out, char **err);
+
+/* RADKIT_ROOT/rel, in one of 8 rotating buffers (so a few can be alive at once). */
+const char *harness_path(const char *rel);
+
+/* The value of a "# key = value" line of a program's output, copied to buf;
+ * NULL when there is no such line. */
+const char *harness_header(const char *out, const char *key, char *buf, size_t size);
+
+/* Bad usage or input: exit status 2, nothing on stdout, exactly one line on
+ * stderr that starts "radkit: " and contains `needle`.  Failures are reported
+ * at the caller's line. */
+void harness_expect_usage_error_at(const char *file, int line, const char *command,
+                                   const char *const args[], const char *needle);
+/* Variadic so that a compound literal's commas pass through: (command, args, needle). */
+#define HARNESS_EXPECT_USAGE_ERROR(command, ...)                                      \
+    harness_expect_usage_error_at(__FILE__, __LINE__, command, __VA_ARGS__)
+
 /* Number of lines in a string (a final line without '\n' counts). */
 int harness_count_lines(const char *s);
 

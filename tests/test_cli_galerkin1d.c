@@ -6,50 +6,21 @@
 
 #include "harness.h"
 
-static int run(const char *const args[], char **out, char **err)
-{
-    const char *argv[32] = {harness_radkit()};
-    int k = 0;
-    while (args[k] && k < 30) {
-        argv[k + 1] = args[k];
-        k++;
-    }
-    argv[k + 1] = NULL;
-    return harness_run(argv, out, err);
-}
-
-/* Value of a "# key = value" header line, or NULL. */
-static const char *header_value(const char *out, const char *key, char *buf, size_t size)
-{
-    char pattern[128];
-    snprintf(pattern, sizeof pattern, "# %s = ", key);
-    const char *p = strstr(out, pattern);
-    if (!p)
-        return NULL;
-    p += strlen(pattern);
-    size_t len = strcspn(p, "\n");
-    if (len >= size)
-        len = size - 1;
-    memcpy(buf, p, len);
-    buf[len] = '\0';
-    return buf;
-}
-
 TEST(cli_help_explains_every_option)
 {
     char *out, *err;
-    CHECK(run((const char *[]){"--help", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"--help", NULL}, &out, &err) == 0);
     CHECK(strstr(out, "galerkin1d") != NULL);
     free(out);
     free(err);
-    CHECK(run((const char *[]){"galerkin1d", "--help", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"galerkin1d", "--help", NULL}, &out, &err) == 0);
     const char *opts[] = {"--n", "--problem", "--basis", "--assembly", "gauss:K", "midpoint",
                           "exact", "seed", "exp", "p0", "p1", "--no-check"};
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         CHECK_MSG(strstr(out, opts[k]) != NULL, "help does not mention %s", opts[k]);
     free(out);
     free(err);
-    CHECK(run((const char *[]){"--version", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"--version", NULL}, &out, &err) == 0);
     CHECK(strncmp(out, "radkit ", 7) == 0);
     free(out);
     free(err);
@@ -58,7 +29,7 @@ TEST(cli_help_explains_every_option)
 TEST(cli_galerkin1d_p0_output_format)
 {
     char *out, *err, buf[128];
-    CHECK(run((const char *[]){"galerkin1d", "--n", "5", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"galerkin1d", "--n", "5", NULL}, &out, &err) == 0);
     CHECK(strcmp(err, "") == 0);
     const char *table = strstr(out, "\ni\tx\ty\ty_exact\n");
     CHECK(table != NULL);
@@ -71,7 +42,7 @@ TEST(cli_galerkin1d_p0_output_format)
                           "err_coef", "galerkin_residual", "rcond", "cond1_estimate", "solve_s",
                           "assemble_s"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
-        CHECK_MSG(header_value(out, keys[k], buf, sizeof buf) != NULL, "no '# %s' line", keys[k]);
+        CHECK_MSG(harness_header(out, keys[k], buf, sizeof buf) != NULL, "no '# %s' line", keys[k]);
     /* Seed, P0, exact: the coefficients are the cell means of y = x, i.e. x. */
     const char *row = table + 1;
     int rows = 0;
@@ -85,7 +56,7 @@ TEST(cli_galerkin1d_p0_output_format)
         rows++;
     }
     CHECK(rows == 5);
-    const char *res = header_value(out, "galerkin_residual", buf, sizeof buf);
+    const char *res = harness_header(out, "galerkin_residual", buf, sizeof buf);
     CHECK(res && atof(res) < 1e-13);
     free(out);
     free(err);
@@ -94,56 +65,43 @@ TEST(cli_galerkin1d_p0_output_format)
 TEST(cli_galerkin1d_p1_and_quadrature)
 {
     char *out, *err, buf[128];
-    CHECK(run((const char *[]){"galerkin1d", "--n=8", "--problem", "exp", "--basis", "p1",
+    CHECK(harness_radkit_run(NULL, (const char *[]){"galerkin1d", "--n=8", "--problem", "exp", "--basis", "p1",
                                "--assembly", "gauss:2", NULL}, &out, &err) == 0);
     const char *table = strstr(out, "\ni\t");
     CHECK(table && harness_count_lines(table + 1) == 1 + 9);
-    const char *assembly = header_value(out, "assembly", buf, sizeof buf);
+    const char *assembly = harness_header(out, "assembly", buf, sizeof buf);
     CHECK(assembly && strcmp(assembly, "gauss:2") == 0);
-    const char *coef_text = header_value(out, "err_coef", buf, sizeof buf);
+    const char *coef_text = harness_header(out, "err_coef", buf, sizeof buf);
     double coef = coef_text ? atof(coef_text) : NAN;
     CHECK_MSG(coef > 1e-6 && coef < 1e-2, "err_coef = %g", coef); /* quadrature error is seen */
     free(out);
     free(err);
 }
 
-/* Every bad input: exit 2, nothing on stdout, one line on stderr naming it. */
-static void expect_usage_error(const char *const args[], const char *needle)
-{
-    char *out, *err;
-    int code = run(args, &out, &err);
-    CHECK_MSG(code == 2, "exit %d for %s %s", code, args[1], args[2] ? args[2] : "");
-    CHECK(strcmp(out, "") == 0);
-    CHECK_MSG(harness_count_lines(err) == 1, "stderr has %d lines: %s", harness_count_lines(err), err);
-    CHECK_MSG(strstr(err, needle) != NULL, "stderr '%s' does not name '%s'", err, needle);
-    free(out);
-    free(err);
-}
-
 TEST(cli_galerkin1d_rejects_bad_input)
 {
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "0", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "-3", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "abc", NULL}, "abc");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "12abc", NULL}, "12abc");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "99999999999999999999999", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", NULL}, "--n");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--problem", "heat", NULL}, "heat");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--basis", "p2", NULL}, "p2");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--assembly", "gauss:0", NULL}, "gauss:0");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--assembly", "simpson", NULL}, "simpson");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "4", "--frobnicate", NULL}, "--frobnicate");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "100000", NULL}, "dense");
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "2000000000", NULL}, "--n");
-    expect_usage_error((const char *[]){"frobnicate", NULL}, "frobnicate");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "0", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "-3", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "abc", NULL}, "abc");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "12abc", NULL}, "12abc");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "99999999999999999999999", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "4", "--problem", "heat", NULL}, "heat");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "4", "--basis", "p2", NULL}, "p2");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "4", "--assembly", "gauss:0", NULL}, "gauss:0");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "4", "--assembly", "simpson", NULL}, "simpson");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "4", "--frobnicate", NULL}, "--frobnicate");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "100000", NULL}, "dense");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "2000000000", NULL}, "--n");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"frobnicate", NULL}, "frobnicate");
 }
 
 TEST(cli_galerkin1d_refuses_what_memory_cannot_hold)
 {
     /* 3000 unknowns need 69 MiB: refuse on a machine said to have 64 MiB. */
     setenv("RADKIT_MEMORY_LIMIT", "67108864", 1);
-    expect_usage_error((const char *[]){"galerkin1d", "--n", "3000", NULL}, "GiB");
+    HARNESS_EXPECT_USAGE_ERROR(NULL, (const char *[]){"galerkin1d", "--n", "3000", NULL}, "GiB");
     unsetenv("RADKIT_MEMORY_LIMIT");
 }

@@ -8,27 +8,6 @@
 
 #include "harness.h"
 
-static int solve(const char *const args[], char **out, char **err)
-{
-    const char *argv[40] = {harness_radkit(), "solve"};
-    int k = 0;
-    while (args[k] && k < 36) {
-        argv[k + 2] = args[k];
-        k++;
-    }
-    argv[k + 2] = NULL;
-    return harness_run(argv, out, err);
-}
-
-static char *scene(const char *rel)
-{
-    static char buf[8][1024];
-    static int next;
-    char *b = buf[next++ % 8];
-    snprintf(b, 1024, "%s/scenes/%s", harness_root(), rel);
-    return b;
-}
-
 /* Rows of the table: face, area, B_r, B_g, B_b.  Returns the row count. */
 static int read_rows(const char *out, double *B, int max)
 {
@@ -65,11 +44,12 @@ static double header_number(const char *out, const char *key)
 /* Closed, convex, uniform rho = 0.375 and E = 2.385: B = E / (1 - rho) = 3.816. */
 TEST(cli_solve_furnace_is_exact)
 {
-    const char *scenes[] = {"furnace_cube/cube.obj", "tetrahedron/tetrahedron.obj", "sphere/sphere_1.obj"};
+    const char *scenes[] = {"scenes/furnace_cube/cube.obj", "scenes/tetrahedron/tetrahedron.obj",
+                            "scenes/sphere/sphere_1.obj"};
     for (int s = 0; s < 3; s++) {
         char *out, *err;
         double B[3 * 200];
-        CHECK(solve((const char *[]){scene(scenes[s]), "--rule", "exact", "--quiet", NULL}, &out, &err) == 0);
+        CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scenes[s]), "--rule", "exact", "--quiet", NULL}, &out, &err) == 0);
         int rows = read_rows(out, B, 200);
         CHECK(rows > 0);
         for (int k = 0; k < 3 * rows; k++)
@@ -87,7 +67,7 @@ TEST(cli_solve_furnace_default_rule)
 {
     char *out, *err;
     double B[3 * 100];
-    CHECK(solve((const char *[]){scene("furnace_cube/cube.obj"), "--refine", "1", "--quiet", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--refine", "1", "--quiet", NULL}, &out, &err) == 0);
     int rows = read_rows(out, B, 100);
     CHECK(rows == 12);
     for (int k = 0; k < 3 * rows; k++)
@@ -102,7 +82,7 @@ TEST(cli_solve_rho_near_one_stays_accurate)
     for (int k = 0; k < 2; k++) {
         char *out, *err;
         double B[3 * 20], rho = atof(rhos[k]);
-        CHECK(solve((const char *[]){scene("furnace_cube/cube.obj"), "--rule", "exact", "--rho", rhos[k],
+        CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--rule", "exact", "--rho", rhos[k],
                                      "--quiet", NULL}, &out, &err) == 0);
         CHECK(read_rows(out, B, 20) == 12);
         for (int i = 0; i < 36; i++)
@@ -121,7 +101,7 @@ TEST(cli_solve_every_solver_agrees)
     int rows_ref = 0;
     for (int s = 0; s < 5; s++) {
         char *out, *err;
-        CHECK(solve((const char *[]){scene("cornell/cornell.obj"), "--refine", "1", "--rule", "gauss:2",
+        CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--refine", "1", "--rule", "gauss:2",
                                      "--solver", solvers[s], "--solver-tol", "1e-12", "--quiet", NULL},
                     &out, &err) == 0);
         int rows = read_rows(out, s ? B : ref, 200);
@@ -146,7 +126,7 @@ TEST(cli_solve_writes_its_outputs)
     snprintf(stats, sizeof stats, "%s.json", png);
     snprintf(tsv, sizeof tsv, "%s.tsv", png);
     char *out, *err;
-    CHECK(solve((const char *[]){scene("cornell/cornell.obj"), "--png", png, "--ply", ply, "--stats", stats,
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--png", png, "--ply", ply, "--stats", stats,
                                  "--out", tsv, "--image-size", "64x48", "--quiet", NULL}, &out, &err) == 0);
     CHECK(strcmp(out, "") == 0); /* the table went to --out */
     FILE *f = fopen(png, "rb");
@@ -181,40 +161,29 @@ TEST(cli_solve_writes_its_outputs)
     free(err);
 }
 
-static void expect_usage_error(const char *const args[], const char *needle)
-{
-    char *out, *err;
-    int code = solve(args, &out, &err);
-    CHECK_MSG(code == 2, "exit %d for '%s'", code, args[0] ? args[0] : "");
-    CHECK_MSG(harness_count_lines(err) == 1, "stderr: %s", err);
-    CHECK_MSG(strstr(err, needle) != NULL, "stderr '%s' does not name '%s'", err, needle);
-    free(out);
-    free(err);
-}
-
 TEST(cli_solve_rejects_bad_input)
 {
-    char *cube = scene("furnace_cube/cube.obj");
-    expect_usage_error((const char *[]){NULL}, "scene");
-    expect_usage_error((const char *[]){"/nonexistent/scene.obj", NULL}, "nonexistent");
-    expect_usage_error((const char *[]){scene("bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:");
-    expect_usage_error((const char *[]){scene("bad/zero_area.obj"), NULL}, "zero_area.obj");
-    expect_usage_error((const char *[]){scene("bad/rho_too_big.obj"), NULL}, "rho_too_big");
-    expect_usage_error((const char *[]){scene("bad/negative_emission.obj"), NULL}, "negative");
-    expect_usage_error((const char *[]){cube, "--rule", "simpson", NULL}, "simpson");
-    expect_usage_error((const char *[]){cube, "--solver", "magic", NULL}, "magic");
-    expect_usage_error((const char *[]){cube, "--method", "hier", NULL}, "hier");
-    expect_usage_error((const char *[]){cube, "--refine", "-1", NULL}, "--refine");
-    expect_usage_error((const char *[]){cube, "--tol", "0", NULL}, "--tol");
-    expect_usage_error((const char *[]){cube, "--image-size", "0x5", NULL}, "--image-size");
-    expect_usage_error((const char *[]){cube, "--rho", "1.0", NULL}, "--rho");
-    expect_usage_error((const char *[]){cube, cube, NULL}, "more than one");
+    const char *cube = harness_path("scenes/furnace_cube/cube.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){NULL}, "scene");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){"/nonexistent/scene.obj", NULL}, "nonexistent");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/zero_area.obj"), NULL}, "zero_area.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/rho_too_big.obj"), NULL}, "rho_too_big");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/negative_emission.obj"), NULL}, "negative");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--rule", "simpson", NULL}, "simpson");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--solver", "magic", NULL}, "magic");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", NULL}, "hier");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--refine", "-1", NULL}, "--refine");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--tol", "0", NULL}, "--tol");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--image-size", "0x5", NULL}, "--image-size");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--rho", "1.0", NULL}, "--rho");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, cube, NULL}, "more than one");
 }
 
 TEST(cli_solve_refuses_what_dense_cannot_hold)
 {
-    expect_usage_error((const char *[]){scene("cornell/cornell.obj"), "--refine", "8", NULL}, "--method hier");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--refine", "8", NULL}, "--method hier");
     setenv("RADKIT_MEMORY_LIMIT", "4000000", 1); /* 4 MB: 608 elements need ~6 MB */
-    expect_usage_error((const char *[]){scene("cornell/cornell.obj"), "--refine", "2", NULL}, "--method hier");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--refine", "2", NULL}, "--method hier");
     unsetenv("RADKIT_MEMORY_LIMIT");
 }

@@ -6,18 +6,6 @@
 
 #include "harness.h"
 
-static int run(const char *const args[], char **out, char **err)
-{
-    const char *argv[32] = {harness_radkit()};
-    int k = 0;
-    while (args[k] && k < 30) {
-        argv[k + 1] = args[k];
-        k++;
-    }
-    argv[k + 1] = NULL;
-    return harness_run(argv, out, err);
-}
-
 static const char *T1 = "0 0 0  1 0 0  0 1 0";
 static const char *T2 = "0 0 0, 0 0 1, 1 0 0"; /* commas are accepted too */
 
@@ -33,7 +21,7 @@ TEST(cli_ff_every_rule_prints_one_row)
     const char *rules[] = {"vertex", "centroid", "gauss:4", "analytic:6", "ss:6", "exact", "auto"};
     for (size_t r = 0; r < sizeof rules / sizeof rules[0]; r++) {
         char *out, *err;
-        int rc = run((const char *[]){"ff", "--tri", T1, "--tri", T2, "--rule", rules[r], NULL}, &out, &err);
+        int rc = harness_radkit_run(NULL, (const char *[]){"ff", "--tri", T1, "--tri", T2, "--rule", rules[r], NULL}, &out, &err);
         CHECK_MSG(rc == 0, "%s: exit %d, %s", rules[r], rc, err);
         CHECK(strcmp(err, "") == 0);
         const char *row = data_row(out);
@@ -63,20 +51,20 @@ TEST(cli_ff_every_rule_prints_one_row)
 TEST(cli_ff_auto_reports_its_choice_and_flags_out_of_range)
 {
     char *out, *err;
-    CHECK(run((const char *[]){"ff", "--tri", T1, "--tri", "0.2 0.1 7.3 0.3 1.1 7.2 1.2 0.2 7.4", "--rule",
+    CHECK(harness_radkit_run(NULL, (const char *[]){"ff", "--tri", T1, "--tri", "0.2 0.1 7.3 0.3 1.1 7.2 1.2 0.2 7.4", "--rule",
                                "auto", "--tol", "1e-4", NULL},
               &out, &err) == 0);
     CHECK(strstr(out, "\tgauss:") != NULL); /* a far pair: a symmetric rule */
     CHECK(strstr(out, "# tol = 0.0001") != NULL);
     free(out);
     free(err);
-    CHECK(run((const char *[]){"ff", "--tri", T1, "--tri", "0 0 1e-4 0 1 1e-4 1 0 1e-4", "--rule", "vertex", NULL},
+    CHECK(harness_radkit_run(NULL, (const char *[]){"ff", "--tri", T1, "--tri", "0 0 1e-4 0 1 1e-4 1 0 1e-4", "--rule", "vertex", NULL},
               &out, &err) == 0);
     CHECK(strstr(out, "out_of_range") != NULL);
     free(out);
     free(err);
     /* Facing away: zero, flagged, no evaluations. */
-    CHECK(run((const char *[]){"ff", "--tri", T1, "--tri", "0 0 1 1 0 1 0 1 1", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"ff", "--tri", T1, "--tri", "0 0 1 1 0 1 0 1 1", NULL}, &out, &err) == 0);
     const char *row = data_row(out);
     CHECK(row && strncmp(row, "exact\t0\t0\t0\t", 12) == 0 && strstr(row, "not_facing"));
     free(out);
@@ -86,14 +74,14 @@ TEST(cli_ff_auto_reports_its_choice_and_flags_out_of_range)
 TEST(cli_ff_help_explains_every_option)
 {
     char *out, *err;
-    CHECK(run((const char *[]){"ff", "--help", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"ff", "--help", NULL}, &out, &err) == 0);
     const char *words[] = {"--tri", "--rule", "--tol", "--repeat", "vertex", "centroid", "gauss:P",
                            "analytic:P", "ss:N", "exact", "auto", "rel_error", "flags"};
     for (size_t k = 0; k < sizeof words / sizeof words[0]; k++)
         CHECK_MSG(strstr(out, words[k]) != NULL, "help does not mention %s", words[k]);
     free(out);
     free(err);
-    CHECK(run((const char *[]){"--help", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run(NULL, (const char *[]){"--help", NULL}, &out, &err) == 0);
     CHECK(strstr(out, "  ff ") != NULL);
     free(out);
     free(err);
@@ -125,7 +113,7 @@ TEST(cli_ff_bad_input_exits_2_with_one_line)
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         char *out, *err;
-        int rc = run(cases[k].args, &out, &err);
+        int rc = harness_radkit_run(NULL, cases[k].args, &out, &err);
         CHECK_MSG(rc == 2, "case %zu: exit %d", k, rc);
         CHECK_MSG(strstr(err, cases[k].says) != NULL, "case %zu: stderr '%s' lacks '%s'", k, err, cases[k].says);
         CHECK_MSG(strncmp(err, "radkit: ", 8) == 0 && harness_count_lines(err) == 1, "case %zu: '%s'", k, err);

@@ -8,55 +8,17 @@
 
 #include "harness.h"
 
-static int info(const char *const args[], char **out, char **err)
-{
-    const char *argv[32] = {harness_radkit(), "info"};
-    int k = 0;
-    while (args[k] && k < 28) {
-        argv[k + 2] = args[k];
-        k++;
-    }
-    argv[k + 2] = NULL;
-    return harness_run(argv, out, err);
-}
-
-static char *scene(const char *rel)
-{
-    static char path[8][1024];
-    static int next;
-    char *p = path[next++ % 8];
-    snprintf(p, sizeof path[0], "%s/%s", harness_root(), rel);
-    return p;
-}
-
-/* Value of a "# key = value" line, or NULL. */
-static const char *value(const char *out, const char *key, char *buf, size_t size)
-{
-    char pattern[128];
-    snprintf(pattern, sizeof pattern, "\n# %s = ", key);
-    const char *p = strstr(out, pattern);
-    if (!p)
-        return NULL;
-    p += strlen(pattern);
-    size_t len = strcspn(p, "\n");
-    if (len >= size)
-        len = size - 1;
-    memcpy(buf, p, len);
-    buf[len] = '\0';
-    return buf;
-}
-
 static int value_is(const char *out, const char *key, const char *want)
 {
     char buf[512];
-    const char *v = value(out, key, buf, sizeof buf);
+    const char *v = harness_header(out, key, buf, sizeof buf);
     return v && strcmp(v, want) == 0;
 }
 
 TEST(cli_info_help_explains_every_option)
 {
     char *out, *err;
-    CHECK(info((const char *[]){"--help", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run("info", (const char *[]){"--help", NULL}, &out, &err) == 0);
     const char *opts[] = {"--scale", "--drop-degenerate", "--rho", "--emission", "--occlusion",
                           "--colour", "--facing-away", "--singular", "--clustering", "auto",
                           "example:"};
@@ -89,11 +51,11 @@ TEST(cli_info_every_shipped_scene)
                           "camera_position", "warnings"};
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
         char *out, *err, buf[512];
-        int code = info((const char *[]){scene(scenes[k]), NULL}, &out, &err);
+        int code = harness_radkit_run("info", (const char *[]){harness_path(scenes[k]), NULL}, &out, &err);
         CHECK_MSG(code == 0, "%s: exit %d: %s", scenes[k], code, err);
         CHECK_MSG(strcmp(err, "") == 0, "%s: stderr %s", scenes[k], err);
         for (size_t j = 0; j < sizeof keys / sizeof keys[0]; j++)
-            CHECK_MSG(value(out, keys[j], buf, sizeof buf), "%s: no '# %s' line", scenes[k], keys[j]);
+            CHECK_MSG(harness_header(out, keys[j], buf, sizeof buf), "%s: no '# %s' line", scenes[k], keys[j]);
         CHECK(strstr(out, "\nmaterial\tname\trho_r\trho_g\trho_b\tE_r\tE_g\tE_b\tfaces\tarea\n") != NULL);
         free(out);
         free(err);
@@ -103,7 +65,7 @@ TEST(cli_info_every_shipped_scene)
 TEST(cli_info_reports_the_cube)
 {
     char *out, *err, buf[256];
-    CHECK(info((const char *[]){scene("scenes/furnace_cube/cube.obj"), NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), NULL}, &out, &err) == 0);
     CHECK(value_is(out, "faces", "12") && value_is(out, "vertices", "8"));
     CHECK(value_is(out, "emitters", "12") && value_is(out, "materials", "1"));
     CHECK(value_is(out, "total_area", "9.375")); /* 6 x 1.25^2 */
@@ -111,21 +73,21 @@ TEST(cli_info_reports_the_cube)
     CHECK(value_is(out, "closed", "yes") && value_is(out, "convex", "yes"));
     CHECK(value_is(out, "pairs_shared_edge", "18") && value_is(out, "pairs_shared_vertex", "28"));
     CHECK(value_is(out, "effect_occlusion", "off") && value_is(out, "effect_colour", "off"));
-    CHECK(strstr(value(out, "effect_occlusion_reason", buf, sizeof buf), "convex") != NULL);
+    CHECK(strstr(harness_header(out, "effect_occlusion_reason", buf, sizeof buf), "convex") != NULL);
     /* The material row: the MTL's values. */
     CHECK(strstr(out, "\n0\tfurnace\t0.375\t0.375\t0.375\t2.385\t2.385\t2.385\t12\t9.375\n") != NULL);
     free(out);
     free(err);
     /* Overrides. */
-    CHECK(info((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--occlusion", "on",
+    CHECK(harness_radkit_run("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--occlusion", "on",
                                 "--colour=on", "--singular", "off", NULL}, &out, &err) == 0);
     CHECK(value_is(out, "effect_occlusion", "on") && value_is(out, "effect_colour", "on"));
     CHECK(value_is(out, "effect_singular", "off"));
-    CHECK(strstr(value(out, "effect_occlusion_reason", buf, sizeof buf), "forced on") != NULL);
+    CHECK(strstr(harness_header(out, "effect_occlusion_reason", buf, sizeof buf), "forced on") != NULL);
     free(out);
     free(err);
     /* --scale 2: areas x 4; --rho / --emission replace the materials. */
-    CHECK(info((const char *[]){"--scale", "2", scene("scenes/furnace_cube/cube.obj"), "--rho",
+    CHECK(harness_radkit_run("info", (const char *[]){"--scale", "2", harness_path("scenes/furnace_cube/cube.obj"), "--rho",
                                 "0.25 0.5 0.75", "--emission", "3", NULL}, &out, &err) == 0);
     CHECK(value_is(out, "total_area", "37.5"));
     CHECK(strstr(out, "\n0\tfurnace\t0.25\t0.5\t0.75\t3\t3\t3\t12\t37.5\n") != NULL);
@@ -137,7 +99,7 @@ TEST(cli_info_reports_the_cube)
 TEST(cli_info_drop_degenerate)
 {
     char *out, *err;
-    CHECK(info((const char *[]){scene("scenes/bad/zero_area.obj"), "--drop-degenerate", NULL}, &out,
+    CHECK(harness_radkit_run("info", (const char *[]){harness_path("scenes/bad/zero_area.obj"), "--drop-degenerate", NULL}, &out,
                &err) == 0);
     CHECK(value_is(out, "faces", "1") && value_is(out, "dropped_degenerate", "1"));
     CHECK(strstr(out, "# warning = dropped 1 degenerate") != NULL);
@@ -145,53 +107,40 @@ TEST(cli_info_drop_degenerate)
     free(err);
 }
 
-static void expect_bad(const char *const args[], const char *needle)
-{
-    char *out, *err;
-    int code = info(args, &out, &err);
-    CHECK_MSG(code == 2, "exit %d for %s", code, args[0] ? args[0] : "(none)");
-    CHECK(strcmp(out, "") == 0);
-    CHECK_MSG(harness_count_lines(err) == 1, "stderr: %s", err);
-    CHECK_MSG(strncmp(err, "radkit: ", 8) == 0, "stderr: %s", err);
-    CHECK_MSG(strstr(err, needle) != NULL, "stderr '%s' does not name '%s'", err, needle);
-    free(out);
-    free(err);
-}
-
 TEST(cli_info_rejects_every_bad_input)
 {
-    expect_bad((const char *[]){scene("scenes/bad/missing_mtl.obj"), NULL},
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/missing_mtl.obj"), NULL},
                "missing_mtl.obj:1: cannot open material library");
-    expect_bad((const char *[]){scene("scenes/bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:4: vertex coordinate: NaN");
-    expect_bad((const char *[]){scene("scenes/bad/inf_vertex.obj"), NULL}, "inf_vertex.obj:3:");
-    expect_bad((const char *[]){scene("scenes/bad/index_out_of_range.obj"), NULL},
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:4: vertex coordinate: NaN");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/inf_vertex.obj"), NULL}, "inf_vertex.obj:3:");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/index_out_of_range.obj"), NULL},
                "index_out_of_range.obj:8: face index 9 is out of range");
-    expect_bad((const char *[]){scene("scenes/bad/zero_area.obj"), NULL}, "zero_area.obj:9: degenerate (zero-area)");
-    expect_bad((const char *[]){scene("scenes/bad/rho_too_big.obj"), NULL}, "rho_too_big.mtl:2: material 'm': reflectance");
-    expect_bad((const char *[]){scene("scenes/bad/negative_emission.obj"), NULL},
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/zero_area.obj"), NULL}, "zero_area.obj:9: degenerate (zero-area)");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/rho_too_big.obj"), NULL}, "rho_too_big.mtl:2: material 'm': reflectance");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/negative_emission.obj"), NULL},
                "negative_emission.mtl:3: material 'm': negative emission");
-    expect_bad((const char *[]){scene("scenes/bad/malformed_number.obj"), NULL}, "malformed_number.obj:3:");
-    expect_bad((const char *[]){scene("scenes/bad/undefined_material.obj"), NULL}, "undefined_material.obj:6:");
-    expect_bad((const char *[]){scene("scenes/bad/nonconvex_polygon.obj"), NULL},
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/malformed_number.obj"), NULL}, "malformed_number.obj:3:");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/undefined_material.obj"), NULL}, "undefined_material.obj:6:");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/nonconvex_polygon.obj"), NULL},
                "nonconvex_polygon.obj:7: face 0 is a non-convex polygon");
-    expect_bad((const char *[]){scene("scenes/bad/no_faces.obj"), NULL}, "no faces");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/no_faces.obj"), NULL}, "no faces");
     /* Other formats name the face: Assimp must not drop the degenerate one. */
-    expect_bad((const char *[]){scene("scenes/bad/zero_area.ply"), NULL}, "zero_area.ply: face 1: degenerate");
-    expect_bad((const char *[]){scene("scenes/bad/index_out_of_range.ply"), NULL}, "out of range");
-    expect_bad((const char *[]){scene("scenes/bad/empty.obj"), NULL}, "empty");
-    expect_bad((const char *[]){scene("scenes/bad/garbage.obj"), NULL}, "garbage.obj:1: unknown OBJ statement");
-    expect_bad((const char *[]){scene("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");
-    expect_bad((const char *[]){scene("scenes/bad/no_such_file.obj"), NULL}, "no_such_file.obj: cannot open");
-    expect_bad((const char *[]){scene("scenes/bad"), NULL}, "Is a directory");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/zero_area.ply"), NULL}, "zero_area.ply: face 1: degenerate");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/index_out_of_range.ply"), NULL}, "out of range");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/empty.obj"), NULL}, "empty");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/garbage.obj"), NULL}, "garbage.obj:1: unknown OBJ statement");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/no_such_file.obj"), NULL}, "no_such_file.obj: cannot open");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad"), NULL}, "Is a directory");
     /* Usage errors. */
-    expect_bad((const char *[]){NULL}, "SCENE");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), scene("scenes/cornell/cornell.obj"), NULL},
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){NULL}, "SCENE");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), harness_path("scenes/cornell/cornell.obj"), NULL},
                "more than one scene");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--scale", "0", NULL}, "--scale");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--scale", "2x", NULL}, "--scale");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--rho", "0.5 1 0.5", NULL}, "--rho");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--rho", "0.5 0.5", NULL}, "--rho");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--emission", "-1", NULL}, "--emission");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--occlusion", "maybe", NULL}, "--occlusion");
-    expect_bad((const char *[]){scene("scenes/furnace_cube/cube.obj"), "--frobnicate", NULL}, "--frobnicate");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--scale", "0", NULL}, "--scale");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--scale", "2x", NULL}, "--scale");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--rho", "0.5 1 0.5", NULL}, "--rho");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--rho", "0.5 0.5", NULL}, "--rho");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--emission", "-1", NULL}, "--emission");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--occlusion", "maybe", NULL}, "--occlusion");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--frobnicate", NULL}, "--frobnicate");
 }

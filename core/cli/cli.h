@@ -23,6 +23,10 @@ typedef struct cli_option {
 rad_status cli_parse(const char *command, int argc, char **argv, int first,
                      const cli_option *options);
 
+/* Print the last error as "radkit: <message>" on stderr and return the exit
+ * status for st (rad_status_exit_code). */
+int cli_fail(rad_status st);
+
 /* Parse a whole positive integer in [1, max]; RAD_EINVAL names the option. */
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 

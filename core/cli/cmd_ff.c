@@ -41,12 +41,6 @@ static const char help[] =
     "\n"
     "example: radkit ff --tri \"0 0 0 1 0 0 0 1 0\" --tri \"0 0 0 0 0 1 1 0 0\" --rule ss:8\n";
 
-static int fail(rad_status st)
-{
-    fprintf(stderr, "radkit: %s\n", rad_error_message());
-    return rad_status_exit_code(st);
-}
-
 static rad_status parse_triangle(int which, const char *text, rad_vec3 t[3])
 {
     double c[9];
@@ -103,18 +97,18 @@ int cli_ff(int argc, char **argv)
         const char *val = NULL;
         if (strcmp(a, "--tri") == 0) {
             if (i + 1 >= argc)
-                return fail(RAD_ERROR(RAD_EINVAL, "ff: option --tri needs a value"));
+                return cli_fail(RAD_ERROR(RAD_EINVAL, "ff: option --tri needs a value"));
             val = argv[++i];
         } else if (strncmp(a, "--tri=", 6) == 0) {
             val = a + 6;
         } else {
             if (nrest >= 63)
-                return fail(RAD_ERROR(RAD_EINVAL, "ff: too many arguments"));
+                return cli_fail(RAD_ERROR(RAD_EINVAL, "ff: too many arguments"));
             rest[nrest++] = argv[i];
             continue;
         }
         if (ntri >= 2)
-            return fail(RAD_ERROR(RAD_EINVAL, "ff: --tri given more than twice"));
+            return cli_fail(RAD_ERROR(RAD_EINVAL, "ff: --tri given more than twice"));
         tri_text[ntri++] = val;
     }
     cli_option options[] = {
@@ -123,18 +117,18 @@ int cli_ff(int argc, char **argv)
     };
     rad_status st = cli_parse("ff", nrest, rest, 0, options);
     if (st != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (want_help) {
         fputs(help, stdout);
         return 0;
     }
     if (ntri != 2)
-        return fail(RAD_ERROR(RAD_EINVAL, "ff: two --tri \"x1 y1 z1 x2 y2 z2 x3 y3 z3\" are required, got %d "
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "ff: two --tri \"x1 y1 z1 x2 y2 z2 x3 y3 z3\" are required, got %d "
                                           "(see 'radkit ff --help')", ntri));
     rad_vec3 t[2][3];
     for (int k = 0; k < 2; k++)
         if ((st = parse_triangle(k + 1, tri_text[k], t[k])) != RAD_OK)
-            return fail(st);
+            return cli_fail(st);
     rad_ff_rule rule;
     if ((st = rad_ff_rule_parse(rule_text, &rule)) != RAD_OK) {
         fprintf(stderr, "radkit: ff: --rule: %s\n", rad_error_message());
@@ -145,12 +139,12 @@ int cli_ff(int argc, char **argv)
         char *end = NULL;
         double tol = strtod(tol_text, &end);
         if (end == tol_text || *end != '\0' || !(tol > 0.0 && tol < 1.0))
-            return fail(RAD_ERROR(RAD_EINVAL, "ff: --tol must be a number with 0 < T < 1, got '%s'", tol_text));
+            return cli_fail(RAD_ERROR(RAD_EINVAL, "ff: --tol must be a number with 0 < T < 1, got '%s'", tol_text));
         params.tol = tol;
     }
     int repeat = 1;
     if ((st = cli_parse_positive_int("ff: --repeat", repeat_text, 100000000L, &repeat)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
 
     rad_ff_result res;
     double t0 = rad_sys_seconds();

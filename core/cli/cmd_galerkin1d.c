@@ -58,12 +58,6 @@ static rad_status solve_once(const rad_g1d_problem *problem, rad_g1d_basis basis
     return st;
 }
 
-static int fail(rad_status st)
-{
-    fprintf(stderr, "radkit: %s\n", rad_error_message());
-    return rad_status_exit_code(st);
-}
-
 int cli_galerkin1d(int argc, char **argv)
 {
     const char *n_text = NULL, *problem_text = "seed", *basis_text = "p0", *assembly_text = "exact";
@@ -80,22 +74,22 @@ int cli_galerkin1d(int argc, char **argv)
     };
     rad_status st = cli_parse("galerkin1d", argc, argv, 2, options);
     if (st != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (want_help) {
         fputs(help, stdout);
         return 0;
     }
     if (!n_text)
-        return fail(RAD_ERROR(RAD_EINVAL, "galerkin1d: --n N is required (see 'radkit galerkin1d --help')"));
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "galerkin1d: --n N is required (see 'radkit galerkin1d --help')"));
 
     int n = 0;
     rad_g1d_basis basis;
     rad_g1d_assembly assembly;
     const rad_g1d_problem *problem = rad_galerkin1d_problem_find(problem_text);
     if ((st = cli_parse_positive_int("galerkin1d: --n", n_text, 1L << 30, &n)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (!problem)
-        return fail(RAD_ERROR(RAD_EINVAL, "galerkin1d: unknown problem '%s' (expected seed or exp)",
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "galerkin1d: unknown problem '%s' (expected seed or exp)",
                               problem_text));
     if ((st = rad_galerkin1d_basis_parse(basis_text, &basis)) != RAD_OK ||
         (st = rad_galerkin1d_assembly_parse(assembly_text, &assembly)) != RAD_OK) {
@@ -104,14 +98,14 @@ int cli_galerkin1d(int argc, char **argv)
     }
     size_t dim = rad_galerkin1d_dim(basis, n);
     if ((st = rad_dense_check_size(dim, 1, "galerkin1d")) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
 
     double *A = malloc(dim * dim * sizeof *A);
     double *vec = malloc(3 * dim * sizeof *vec);
     if (!A || !vec) {
         free(A);
         free(vec);
-        return fail(RAD_ERROR(RAD_ENOMEM, "galerkin1d: no memory for %zu unknowns", dim));
+        return cli_fail(RAD_ERROR(RAD_ENOMEM, "galerkin1d: no memory for %zu unknowns", dim));
     }
     double *b = vec, *y = vec + dim, *y_ref = vec + 2 * dim;
     double rcond = 0.0, assemble_s = 0.0, solve_s = 0.0, check_s = 0.0, residual = NAN;
@@ -162,5 +156,5 @@ int cli_galerkin1d(int argc, char **argv)
 out:
     free(A);
     free(vec);
-    return st == RAD_OK ? 0 : fail(st);
+    return st == RAD_OK ? 0 : cli_fail(st);
 }

@@ -12,21 +12,16 @@
 #include "rad_scene.h"
 #include "rad_version.h"
 
-static const char help[] =
+static const char help_head[] =
     "usage: radkit info SCENE [--scale S] [--drop-degenerate] [--rho \"r g b\"]\n"
     "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
     "                         [--facing-away M] [--singular M] [--clustering M]\n"
     "\n"
     "Load SCENE (OBJ+MTL, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
     "\n"
-    "  --scale S          multiply every coordinate by S > 0 (e.g. 0.001 for mm -> m)\n"
-    "  --drop-degenerate  drop zero-area triangles (counted) instead of failing\n"
-    "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
-    "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
-    "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
-    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M\n"
-    "                     override one decision of the effects plan: M is auto\n"
-    "                     (decide from the scene, the default), on or off\n"
+    ;
+
+static const char help_tail[] =
     "\n"
     "Output: '# key = value' lines: the counts (faces, vertices, materials,\n"
     "emitters: faces with emission > 0), total_area, emitting_area, bbox_min,\n"
@@ -42,12 +37,6 @@ static const char help[] =
     "index otherwise) and exit with status 2.\n"
     "\n"
     "example: radkit info scenes/cornell/cornell.obj\n";
-
-static int fail(rad_status st)
-{
-    fprintf(stderr, "radkit: %s\n", rad_error_message());
-    return rad_status_exit_code(st);
-}
 
 /* The shortest of %.15g, %.16g, %.17g that reads back as x exactly, so
  * 2.385 prints as 2.385 and every printed number is the stored double. */
@@ -83,25 +72,25 @@ int cli_info(int argc, char **argv)
     options[nopt] = (cli_option){NULL, NULL, NULL, NULL};
     rad_status st = cli_parse("info", argc, argv, 2, options);
     if (st != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (want_help) {
-        fputs(help, stdout);
+        printf("%s%s%s", help_head, cli_scene_options_help, help_tail);
         return 0;
     }
     if (!scene_path)
-        return fail(RAD_ERROR(RAD_EINVAL, "info: a SCENE file is required (see 'radkit info --help')"));
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "info: a SCENE file is required (see 'radkit info --help')"));
 
     rad_scene_params params;
     rad_effects_params eparams;
     rad_scene_params_default(&params);
     rad_scene_effects_params_default(&eparams);
     if ((st = cli_scene_options_apply("info", &so, &params, &eparams)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
 
     rad_scene *scene = NULL;
     rad_mesh *mesh = NULL;
     if ((st = rad_scene_load(scene_path, &params, &scene)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
                          rad_scene_triangles(scene), rad_scene_triangle_count(scene),
                          rad_scene_triangle_faces(scene), &mesh);
@@ -182,5 +171,5 @@ int cli_info(int argc, char **argv)
 out:
     rad_mesh_destroy(mesh);
     rad_scene_destroy(scene);
-    return st == RAD_OK ? 0 : fail(st);
+    return st == RAD_OK ? 0 : cli_fail(st);
 }

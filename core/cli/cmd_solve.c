@@ -79,12 +79,6 @@ typedef struct solve_options {
     cli_scene_options scene_opts;
 } solve_options;
 
-static int fail(rad_status st)
-{
-    fprintf(stderr, "radkit: %s\n", rad_error_message());
-    return rad_status_exit_code(st);
-}
-
 static rad_status parse_double(const char *option, const char *text, double lo, double *out)
 {
     char *end = NULL;
@@ -308,13 +302,13 @@ int cli_solve(int argc, char **argv)
 
     rad_status st = cli_parse("solve", argc, argv, 2, table);
     if (st != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.help) {
         printf("%s%s%s", help_head, cli_scene_options_help, help_tail);
         return 0;
     }
     if (!o.scene)
-        return fail(RAD_ERROR(RAD_EINVAL, "solve: no scene given (see 'radkit solve --help')"));
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: no scene given (see 'radkit solve --help')"));
 
     /* ---- parameters ---- */
     rad_scene_params sp;
@@ -322,46 +316,46 @@ int cli_solve(int argc, char **argv)
     rad_scene_params_default(&sp);
     rad_scene_effects_params_default(&ep);
     if ((st = cli_scene_options_apply("solve", &o.scene_opts, &sp, &ep)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.method && strcmp(o.method, "dense") != 0) {
         if (strcmp(o.method, "hier") == 0 || strcmp(o.method, "cluster") == 0)
-            return fail(RAD_ERROR(RAD_EINVAL, "solve: --method %s is not available yet; use dense",
+            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --method %s is not available yet; use dense",
                                   o.method));
-        return fail(RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense)", o.method));
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense)", o.method));
     }
     rad_assembly_params ap;
     rad_assembly_params_default(&ap);
     if (o.rule && (st = rad_ff_rule_parse(o.rule, &ap.rule)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.tol && (st = parse_double("--tol", o.tol, 0.0, &ap.ff.tol)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     rad_dense_params dp;
     rad_dense_params_default(&dp);
     if (o.solver && (st = rad_dense_method_parse(o.solver, &dp.method)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.solver_tol && (st = parse_double("--solver-tol", o.solver_tol, 0.0, &dp.tol)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     int refine = 0, threads = 0, strata = 3;
     if (o.max_iter && (st = cli_parse_positive_int("solve: --max-iter", o.max_iter, 100000000, &dp.max_iter)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.refine && strcmp(o.refine, "0") != 0 &&
         (st = cli_parse_positive_int("solve: --refine", o.refine, 12, &refine)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.threads && (st = cli_parse_positive_int("solve: --threads", o.threads, 1024, &threads)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     if (o.strata && (st = cli_parse_positive_int("solve: --vis-strata", o.strata, 16, &strata)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     int width = 512, height = 512;
     if (o.size) {
         char tail = 0;
         if (sscanf(o.size, "%dx%d%c", &width, &height, &tail) != 2 || width < 1 || height < 1 ||
             width > 16384 || height > 16384)
-            return fail(RAD_ERROR(RAD_EINVAL, "solve: --image-size must be WxH with 1 <= W, H <= "
+            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --image-size must be WxH with 1 <= W, H <= "
                                               "16384, got '%s'", o.size));
     }
     double exposure = 0.0;
     if (o.exposure && (st = parse_double("--exposure", o.exposure, 0.0, &exposure)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     ap.threads = threads;
     int show_progress = !o.quiet && isatty(2);
     if (show_progress)
@@ -376,7 +370,7 @@ int cli_solve(int argc, char **argv)
     int *element_material = NULL;
     FILE *out = stdout;
     if ((st = rad_scene_load(o.scene, &sp, &scene)) != RAD_OK)
-        return fail(st);
+        return cli_fail(st);
     int faces = rad_scene_triangle_count(scene);
     if ((st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
                               rad_scene_triangles(scene), faces, NULL, &base)) != RAD_OK)
@@ -530,5 +524,5 @@ done:
     rad_mesh_destroy(mesh);
     rad_mesh_destroy(base);
     rad_scene_destroy(scene);
-    return st == RAD_OK ? 0 : fail(st);
+    return st == RAD_OK ? 0 : cli_fail(st);
 }

@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,4 +62,10 @@ rad_status cli_parse_positive_int(const char *option, const char *text, long max
         return RAD_ERROR(RAD_ETOOBIG, "%s = %ld is too large (at most %ld)", option, v, max);
     *out = (int)v;
     return RAD_OK;
+}
+
+int cli_fail(rad_status st)
+{
+    fprintf(stderr, "radkit: %s\n", rad_error_message());
+    return rad_status_exit_code(st);
 }
