@@ -89,6 +89,14 @@ static rad_status parse_double(const char *option, const char *text, double lo, 
     return RAD_OK;
 }
 
+static void solver_progress(int channel, int iteration, double residual, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr, "\rradkit: solving channel %d: sweep %d, residual %.2e   ", channel, iteration,
+            residual);
+    fflush(stderr);
+}
+
 static void progress_line(double done, void *ctx)
 {
     (void)ctx;
@@ -358,8 +366,10 @@ int cli_solve(int argc, char **argv)
         return cli_fail(st);
     ap.threads = threads;
     int show_progress = !o.quiet && isatty(2);
-    if (show_progress)
+    if (show_progress) {
         ap.progress = progress_line;
+        dp.progress = solver_progress;
+    }
 
     /* ---- scene, mesh, plan ---- */
     double t_start = rad_sys_seconds();
@@ -450,7 +460,10 @@ int cli_solve(int argc, char **argv)
         goto done;
     double t_assembled = rad_sys_seconds();
     rad_dense_report report;
-    if ((st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &dp, &report)) != RAD_OK)
+    st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &dp, &report);
+    if (show_progress && dp.method != RAD_DENSE_LU && dp.method != RAD_DENSE_CHOLESKY)
+        fputc('\n', stderr);
+    if (st != RAD_OK)
         goto done;
     double t_solved = rad_sys_seconds();
 

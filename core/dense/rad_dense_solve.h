@@ -41,6 +41,10 @@ typedef struct rad_dense_params {
      * bounds the error by about tol ||B||_inf.  Default 1e-10. */
     double tol;
     int max_iter; /* iteration (sweep) cap of the iterative solvers; default 10000 */
+    /* Called by the iterative solvers after every sweep of every channel with
+     * its relative residual; NULL (the default) for none. */
+    void (*progress)(int channel, int iteration, double residual, void *ctx);
+    void *progress_ctx;
 } rad_dense_params;
 
 void rad_dense_params_default(rad_dense_params *params);

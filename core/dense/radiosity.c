@@ -61,6 +61,8 @@ void rad_dense_params_default(rad_dense_params *params)
     params->method = RAD_DENSE_LU;
     params->tol = 1e-10;
     params->max_iter = 10000;
+    params->progress = NULL;
+    params->progress_ctx = NULL;
 }
 
 static int is_direct(rad_dense_method m) { return m == RAD_DENSE_LU || m == RAD_DENSE_CHOLESKY; }
@@ -217,8 +219,11 @@ static rad_status solve_iterative(int n, const double *G, const double *area, co
         rad_dense_iter *it = NULL;
         rad_status status = rad_dense_iter_create(n, G, area, rho + (size_t)c * n,
                                                   E + (size_t)c * n, p->method, p, &it);
-        while (status == RAD_OK && (status = rad_dense_iter_test(it)) == RAD_CONTINUE)
+        while (status == RAD_OK && (status = rad_dense_iter_test(it)) == RAD_CONTINUE) {
             status = rad_dense_iter_step(it);
+            if (status == RAD_OK && p->progress)
+                p->progress(c, rad_dense_iter_count(it), rad_dense_iter_residual(it), p->progress_ctx);
+        }
         if (status == RAD_OK) {
             memcpy(B + (size_t)c * n, rad_dense_iter_solution(it), (size_t)n * sizeof *B);
             if (rad_dense_iter_count(it) > rep->iterations)
