@@ -20,10 +20,11 @@ cd "$here"
 mkdir -p data figures
 version=$("$RADKIT" --version)
 
-run() { # rule refine outfile
-  rule=${1%%:*}; tol=""
-  case "$1" in auto:*) tol="--tol ${1#auto:}";; *) rule=$1;; esac
-  "$RADKIT" solve "$scene" --refine "$2" --rule "$rule" $tol --solver lu --quiet --out "$3"
+# (sh variables are global: run's own names must not be the loop's.)
+run() { # rule[:tol] refine outfile
+  run_rule=$1; run_tol=""
+  case "$1" in auto:*) run_rule=auto; run_tol="--tol ${1#auto:}";; esac
+  "$RADKIT" solve "$scene" --refine "$2" --rule "$run_rule" $run_tol --solver lu --quiet --out "$3"
 }
 
 ref=data/reference.tsv
