@@ -187,3 +187,19 @@ TEST(cli_solve_refuses_what_dense_cannot_hold)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--refine", "2", NULL}, "--method hier");
     unsetenv("RADKIT_MEMORY_LIMIT");
 }
+
+TEST(cli_solve_help_explains_every_option)
+{
+    char *out, *err;
+    CHECK(harness_radkit_run("solve", (const char *[]){"--help", NULL}, &out, &err) == 0);
+    const char *opts[] = {"--method", "--rule", "--tol", "--solver", "--solver-tol", "--max-iter",
+                          "--refine", "--threads", "--vis-strata", "--out", "--ply", "--png",
+                          "--image-size", "--exposure", "--stats", "--quiet", "--scale",
+                          "--drop-degenerate", "--rho", "--emission", "--occlusion", "--colour",
+                          "--facing-away", "--singular", "--clustering", "cholesky", "southwell",
+                          "exact", "auto"};
+    for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
+        CHECK_MSG(strstr(out, opts[k]) != NULL, "solve --help does not mention %s", opts[k]);
+    free(out);
+    free(err);
+}
