@@ -382,6 +382,11 @@ int cli_solve(int argc, char **argv)
     if ((st = rad_scene_load(o.scene, &sp, &scene)) != RAD_OK)
         return cli_fail(st);
     int faces = rad_scene_triangle_count(scene);
+    /* The scene's warnings (no emitter, duplicate faces, ...) go to stderr and
+     * into the table's header: a scene without light solves to zeros. */
+    if (!o.quiet)
+        for (int w = 0; w < rad_scene_warning_count(scene); w++)
+            fprintf(stderr, "radkit: warning: %s\n", rad_scene_warning(scene, w));
     if ((st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
                               rad_scene_triangles(scene), faces, NULL, &base)) != RAD_OK)
         goto done;
@@ -492,6 +497,8 @@ int cli_solve(int argc, char **argv)
     fprintf(out, "# rule = %s\n# tol = %g\n# solver = %s\n", rule_text, ap.ff.tol,
             rad_dense_method_name(dp.method));
     fprintf(out, "# faces = %d\n# elements = %d\n# refine = %d\n", faces, n, refine);
+    for (int w = 0; w < rad_scene_warning_count(scene); w++)
+        fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
     const rad_effect_decision *dec[5] = {&plan.occlusion, &plan.colour, &plan.facing_away,
                                          &plan.singular, &plan.clustering};
     static const char *const dec_name[5] = {"occlusion", "colour", "facing_away", "singular", "clustering"};
