@@ -25,6 +25,10 @@ static double rnd(unsigned long long *s)
 int main(int argc, char **argv)
 {
     const char *threads = getenv("OPENBLAS_NUM_THREADS");
+    /* Repetitions (the best is kept): DENSE_BENCH_REPS, default 3; one is
+     * enough where a single solve takes minutes. */
+    const char *reps_env = getenv("DENSE_BENCH_REPS");
+    int reps = reps_env && atoi(reps_env) > 0 ? atoi(reps_env) : 3;
     printf("method\tthreads\tn\tseconds\tGFLOP_per_s\trelative_to_dgesv\n");
     for (int a = 1; a < argc; a++) {
         int n = atoi(argv[a]);
@@ -55,7 +59,7 @@ int main(int argc, char **argv)
         rad_dense_system_matrix(n, G, area, rho, K);
         double flops = 2.0 / 3.0 * n * (double)n * n + 2.0 * n * (double)n;
         double best[2] = {1e300, 1e300};
-        for (int rep = 0; rep < 3; rep++)
+        for (int rep = 0; rep < reps; rep++)
             for (int method = 0; method < 2; method++) {
                 memcpy(W, K, nn * sizeof *W);
                 memcpy(x, b, (size_t)n * sizeof *x);

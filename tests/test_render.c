@@ -169,3 +169,44 @@ TEST(render_rejects_bad_cameras)
     CHECK(rgb[0] == 0 || rgb[0] == rgb[3 * (9 * 4 + 4)]);
     rad_vis_destroy(vis);
 }
+
+/* The shading mesh splits vertices at creases and material boundaries only:
+ * a closed cube of 12 triangles over 8 corners has 6 flat faces of 4 corners,
+ * so 24 shading vertices; the two triangles of a face share their diagonal;
+ * a different material on one of them splits that diagonal too. */
+TEST(render_shading_mesh_splits_at_creases_and_materials)
+{
+    double xyz[24];
+    for (int v = 0; v < 8; v++) {
+        xyz[3 * v] = (v & 1) ? 1.7 : 0.0;
+        xyz[3 * v + 1] = (v & 2) ? 2.385 : 0.0;
+        xyz[3 * v + 2] = (v & 4) ? 0.9 : 0.0;
+    }
+    /* Faces as corner quads (a b c d in order around the face), two triangles each. */
+    int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    int tri[36];
+    for (int f = 0; f < 6; f++) {
+        int *q = quads[f], t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+        memcpy(tri + 6 * f, t, sizeof t);
+    }
+    double *sx = NULL;
+    int *st = NULL;
+    size_t nv = 0;
+    CHECK(rad_render_shading_mesh(xyz, tri, 12, NULL, &sx, &nv, &st) == RAD_OK);
+    CHECK_MSG(nv == 24, "%zu shading vertices", nv);
+    for (int k = 0; k < 36; k++)
+        for (int c = 0; c < 3; c++)
+            CHECK(sx[3 * st[k] + c] == xyz[3 * tri[k] + c]); /* positions kept */
+    for (int f = 0; f < 6; f++) /* the diagonal corners q0 and q2 are shared within a face */
+        CHECK(st[6 * f] == st[6 * f + 3] && st[6 * f + 2] == st[6 * f + 4]);
+    free(sx);
+    free(st);
+
+    int material[12] = {0};
+    material[1] = 1; /* the second triangle of face 0 */
+    CHECK(rad_render_shading_mesh(xyz, tri, 12, material, &sx, &nv, &st) == RAD_OK);
+    CHECK_MSG(nv == 26, "%zu shading vertices with a second material", nv);
+    CHECK(st[0] != st[3] && st[2] != st[4]);
+    free(sx);
+    free(st);
+}

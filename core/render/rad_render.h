@@ -42,6 +42,16 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
                             const int *tri, const double *B, const rad_render_camera *cam,
                             const rad_io_tonemap *tm, unsigned char *rgb, rad_vis_stats *stats);
 
+/* A mesh for display: every vertex of tri (ntris triangles over xyz) is split
+ * by the plane and material of the triangles that use it, so that smooth
+ * (vertex-averaged) shading never mixes surfaces across a crease or a
+ * material boundary.  Triangles keep their order and corner order; material
+ * may be NULL (one material).  *xyz_out (3 per vertex) and *tri_out (3 per
+ * triangle) are malloc'ed for the caller to free. */
+rad_status rad_render_shading_mesh(const double *xyz, const int *tri, size_t ntris,
+                                   const int *material, double **xyz_out, size_t *nv_out,
+                                   int **tri_out);
+
 /* Write 8-bit RGB (rows from the top) as PNG with libpng.  RAD_EIO with
  * libpng's message on failure. */
 rad_status rad_render_write_png(const char *path, int width, int height, const unsigned char *rgb);
