@@ -30,7 +30,8 @@
  *    rad_vis_pair_can_block clears the pair of input triangles (a sub-element
  *    pair's shaft lies inside its input pair's).  Otherwise vis_points points
  *    on each element (centroid, or its children's centroids) are joined
- *    pairwise and V = unblocked / vis_points^2 (rad_vis_occluded).
+ *    pairwise and V = unblocked / vis_points^2 (rad_vis_occluded_between,
+ *    which ignores hits on the two input triangles the points lie on).
  * 6. Solve: steps until the test passes, refine, repeat until a pass refines
  *    nothing.  The final B is consistent with the final links. */
 #include "rad_hier.h"
@@ -204,7 +205,11 @@ static rad_status estimate(rad_hier *h, int r, int s, int *facing, hier_link *ou
                     to[3 * (i * m + j) + c] = b[3 * j + c];
                 }
         rad_vis_stats vs = {0, 0, 0};
-        st = rad_vis_occluded(h->vis, (size_t)n, from, to, blocked, &vs);
+        /* the end points lie on the two input triangles: ignore hits on them,
+           so float rounding of the vertices can never block a segment at its
+           own end (rad_vis.h recommends this call for such end points) */
+        st = rad_vis_occluded_between(h->vis, (size_t)er->face, (size_t)es->face, (size_t)n, from,
+                                      to, blocked, &vs);
         if (st != RAD_OK)
             return st;
         h->st.rays += vs.rays;
