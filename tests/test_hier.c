@@ -249,6 +249,8 @@ TEST(hier_agrees_with_dense_on_the_same_leaves)
     double A = total_area(&s, NULL);
     rad_hier_params p;
     rad_hier_params_default(&p);
+    /* A fixed rule, so hierarchy and dense compute the very same couplings. */
+    CHECK(rad_ff_rule_parse("gauss:4", &p.rule) == RAD_OK);
     p.tol = 1e-12;
     p.eps = 1e-12;
     p.min_area = A / 200.0;
@@ -392,11 +394,12 @@ static double occluded_form_factor_monte_carlo(long samples)
  * and occluder: the receiver's power sum A_L B_L = 0.385 * A_e F_er (blocked),
  * A_e = 1.  Without visibility the same run gives the unblocked F (0.19982,
  * the closed form for unit squares at distance 1).  With visibility, the
- * element-pair sampling (4 x 4 rays per link) converges as links refine near
- * the shadow; the measured bias is -3.5% (the fixed sample points, the
- * centroids of each element's children, alias with the occluder's straight
- * shadow edges, as rad_vis.h reports for centroid sampling); the tolerance
- * 5% is that plus headroom, far below the 50% the occluder removes. */
+ * element-pair sampling (4 x 4 jittered rays per link) converges as links
+ * refine near the shadow.  Two things made this agree (0.09947 against Monte
+ * Carlo's 0.09945): links not fully visible are refined on their unoccluded
+ * transport, and the sample points are jittered; with centroid samples and
+ * F V in the oracle it came out 3.5% dark.  Tolerance 1%: Monte Carlo's own
+ * standard error is about 0.07% at 2e6 samples. */
 TEST(hier_visibility_matches_monte_carlo)
 {
     scene_arrays s;
@@ -438,7 +441,7 @@ TEST(hier_visibility_matches_monte_carlo)
                "(%zu leaves, %zu links, %llu rays)\n", power[0] / 0.385, power[1] / 0.385, mc,
                ss.elements, ss.links, ss.rays);
         CHECK_NEAR(power[0] / 0.385, 0.1998244, 1e-3, 0.0);
-        CHECK_NEAR(power[1] / 0.385, mc, 0.05, 0.0);
+        CHECK_NEAR(power[1] / 0.385, mc, 0.01, 0.0);
     }
     rad_hier_destroy(open);
     rad_hier_destroy(shadowed);

@@ -68,3 +68,19 @@ TEST(hier_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--eps", "1e-3", NULL}, "--method hier");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--png", "x.png", NULL}, "--png");
 }
+
+/* Until hierarchical visibility agrees with dense on the Cornell box, hier
+ * refuses occluded scenes (exit 2, naming the reason) instead of answering
+ * 5% dark; --occlusion off is the explicit way to solve without visibility. */
+TEST(cli_hier_refuses_occluded_scenes)
+{
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "hier", NULL}, "occlusion");
+    char *out, *err;
+    CHECK(harness_radkit_run("solve", (const char *[]){cornell, "--method", "hier", "--eps", "1e-2",
+                                                       "--occlusion", "off", "--quiet", NULL},
+                             &out, &err) == 0);
+    CHECK(strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n") != NULL);
+    free(out);
+    free(err);
+}

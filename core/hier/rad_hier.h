@@ -42,7 +42,8 @@ typedef struct rad_hier_params {
     double min_area;      /* no element is split into children smaller than this; >= 0.
                              Default 0 (then max_depth alone bounds refinement) */
     int max_depth;        /* quadtree levels below an input triangle; default 8 */
-    rad_ff_rule rule;     /* form-factor estimate per link; default gauss:4 */
+    rad_ff_rule rule;     /* form-factor estimate per link; default auto */
+    /* ff.tol (auto's tolerance) defaults to 1e-3 here */
     rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
     int vis_points;       /* visibility samples per element, 1 (centroid) or 4 (the
                              centroids of its four children): vis_points^2 rays per
