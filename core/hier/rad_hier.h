@@ -1,0 +1,114 @@
+/* rad_hier: hierarchical radiosity (Hanrahan, Salzman, Aupperle 1991,
+ * refs.bib key hanrahan1991) for piecewise-constant (P0) elements.
+ *
+ * Each input triangle is the root of a quadtree of elements (1 -> 4 midpoint
+ * split).  Links join a receiver element to a source element at whatever level
+ * their interaction deserves; a link carries the receiver's form factor
+ * F_rs = G_rs / A_r (rad_ff, unoccluded, cosines clamped) and a visible
+ * fraction V_rs.  The system solved is the hierarchical form of
+ *     B_i = E_i + rho_i sum_j F_ij B_j
+ * (DESIGN.md conventions: per-channel arrays n x 3 column-major, B in W/m^2).
+ *
+ * Refinement oracle (BF): a link is refined when
+ *     max_c rho_r[c] * F_rs * V_rs * max_c B_s[c]  >  eps * E_max,
+ * the radiosity the link would add to its receiver, relative to E_max, the
+ * largest emission of any input triangle and channel.  So eps is dimensionless:
+ * eps = 1e-3 refines every link that carries more than 0.1% of the brightest
+ * emitter's exitance.  The larger element of the pair is split (the other one
+ * if the larger may not be split); an element may be split when its children
+ * (area / 4) are at least min_area and its depth is below max_depth.
+ *
+ * Usage: rad_hier_create (initial linking), then either rad_hier_solve (the
+ * whole loop) or the steps: rad_hier_step / rad_hier_test (gather and
+ * push-pull until converged) and rad_hier_refine (one BF pass), repeated until
+ * rad_hier_refine refines nothing.  Single-threaded. */
+#ifndef RAD_HIER_H
+#define RAD_HIER_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+#include "rad_ff.h"
+#include "rad_vis.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_hier rad_hier;
+
+typedef struct rad_hier_params {
+    double eps;           /* BF threshold relative to E_max (see above); > 0.  Default 1e-3 */
+    double min_area;      /* no element is split into children smaller than this; >= 0.
+                             Default 0 (then max_depth alone bounds refinement) */
+    int max_depth;        /* quadtree levels below an input triangle; default 8 */
+    rad_ff_rule rule;     /* form-factor estimate per link; default auto */
+    /* ff.tol (auto's tolerance) defaults to 1e-3 here */
+    rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
+    int vis_points;       /* visibility samples per element, 1 (centroid) or 4 (the
+                             centroids of its four children): vis_points^2 rays per
+                             link that something may block.  Default 4 */
+    double tol;           /* gather/push-pull stops when the largest change of a leaf
+                             radiosity in one step is <= tol * the largest leaf
+                             radiosity; default 1e-10 */
+    int max_iterations;   /* steps per solve before RAD_ENUMERIC; default 10000 */
+    int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
+    size_t max_elements;  /* RAD_ETOOBIG beyond this many elements (all levels); 4e6 */
+    size_t max_links;     /* RAD_ETOOBIG beyond this many links; 5e7 */
+} rad_hier_params;
+
+void rad_hier_params_default(rad_hier_params *params);
+
+typedef struct rad_hier_stats {
+    size_t elements;      /* leaves */
+    size_t nodes;         /* elements at every level */
+    size_t links;         /* live links */
+    long long kernel_evals; /* rad_ff kernel evaluations over all links ever estimated */
+    unsigned long long rays;
+    long long iterations; /* gather/push-pull steps, all rounds */
+    long long refinements;/* links refined (replaced by finer ones), all rounds */
+    int rounds;           /* refinement rounds that refined something */
+    double residual;      /* last step's largest change relative to the largest B */
+} rad_hier_stats;
+
+/* Build the roots (one per input triangle; xyz: 3 * nverts doubles, tri:
+ * 3 * ntris indices, rho and E: ntris x 3 column-major, copied) and link every
+ * pair of input triangles that face each other (both directions).  B starts
+ * at E.  vis may be NULL (no occlusion); it is borrowed and must outlive the
+ * rad_hier.  RAD_EINVAL for bad parameters (eps <= 0, min_area < 0, ...),
+ * RAD_EINPUT for an index out of range, rho outside [0,1), E < 0 or a
+ * degenerate triangle (naming it). */
+rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
+                           const double *rho, const double *E, const rad_vis *vis,
+                           const rad_hier_params *params, rad_hier **out);
+void rad_hier_destroy(rad_hier *h);
+
+/* One Jacobi step: gather B_gathered = sum F V B_source on every receiver,
+ * then push (add ancestors' gathered radiosity on the way down, leaves take
+ * B = E + rho * total) and pull (parents take the area-weighted mean of their
+ * children).  RAD_ENUMERIC if a radiosity is not finite. */
+rad_status rad_hier_step(rad_hier *h);
+/* RAD_OK when the last step changed no leaf by more than tol * max B,
+ * RAD_CONTINUE otherwise (also before the first step). */
+rad_status rad_hier_test(const rad_hier *h);
+/* One BF pass over every link with the current B; links made by splitting
+ * are examined in the same pass.  *refined (may be NULL) gets the number of
+ * links refined.  RAD_ETOOBIG past max_elements / max_links. */
+rad_status rad_hier_refine(rad_hier *h, long long *refined);
+/* The whole algorithm: steps to convergence, refine, repeat until a round
+ * refines nothing (or max_rounds).  RAD_ENUMERIC when a solve does not
+ * converge in max_iterations steps. */
+rad_status rad_hier_solve(rad_hier *h);
+
+void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats);
+
+/* The leaves, in a fixed order: count, then per leaf (each pointer may be
+ * NULL) its input triangle, its area, its corners (9 doubles: a, b, c, counter
+ * -clockwise like its input triangle) and B (leaf_count x 3 column-major). */
+size_t rad_hier_leaf_count(const rad_hier *h);
+void rad_hier_leaves(const rad_hier *h, int *face, double *area, double *corners, double *B);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

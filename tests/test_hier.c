@@ -1,0 +1,521 @@
+/* Hierarchical radiosity (rad_hier) against independent references: the
+ * furnace B = E / (1 - rho), the dense solution assembled and solved on the
+ * same leaves, the minimum area, the growth of links with elements, and the
+ * rejection of bad parameters. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "rad_dense_solve.h"
+#include "rad_hier.h"
+#include "rad_radiosity.h"
+#include "rad_scene.h"
+#include "rad_vis.h"
+
+/* A scene's triangles with rho and E per triangle (n x 3 column-major). */
+typedef struct scene_arrays {
+    rad_scene *scene;
+    int n;
+    double *rho, *E;
+} scene_arrays;
+
+static int load(const char *rel, scene_arrays *s)
+{
+    memset(s, 0, sizeof *s);
+    CHECK(rad_scene_load(harness_path(rel), NULL, &s->scene) == RAD_OK);
+    if (!s->scene)
+        return 0;
+    s->n = rad_scene_triangle_count(s->scene);
+    s->rho = malloc(3 * (size_t)s->n * sizeof *s->rho);
+    s->E = malloc(3 * (size_t)s->n * sizeof *s->E);
+    const int *mat = rad_scene_triangle_materials(s->scene);
+    const rad_material *m = rad_scene_materials(s->scene);
+    for (int t = 0; t < s->n; t++)
+        for (int c = 0; c < 3; c++) {
+            s->rho[t + c * s->n] = m[mat[t]].rho[c];
+            s->E[t + c * s->n] = m[mat[t]].emission[c];
+        }
+    return 1;
+}
+
+static void unload(scene_arrays *s)
+{
+    rad_scene_destroy(s->scene);
+    free(s->rho);
+    free(s->E);
+}
+
+static rad_hier *run(const scene_arrays *s, const rad_vis *vis, const rad_hier_params *p)
+{
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(rad_scene_vertices(s->scene), (size_t)rad_scene_vertex_count(s->scene),
+                          rad_scene_triangles(s->scene), (size_t)s->n, s->rho, s->E, vis, p,
+                          &h) == RAD_OK);
+    if (h)
+        CHECK_MSG(rad_hier_solve(h) == RAD_OK, "solve: %s", rad_error_message());
+    return h;
+}
+
+static double total_area(const scene_arrays *s, double *areas)
+{
+    const double *xyz = rad_scene_vertices(s->scene);
+    const int *tri = rad_scene_triangles(s->scene);
+    double sum = 0.0;
+    for (int t = 0; t < s->n; t++) {
+        rad_vec3 v[3];
+        for (int k = 0; k < 3; k++) {
+            const double *q = xyz + 3 * tri[3 * t + k];
+            v[k] = rad_vec3_make(q[0], q[1], q[2]);
+        }
+        double a = rad_geom_triangle_area(v[0], v[1], v[2]);
+        if (areas)
+            areas[t] = a;
+        sum += a;
+    }
+    return sum;
+}
+
+/* The leaves of h solved densely with the same rule and no occlusion: the
+ * largest |B_hier - B_dense| over leaves and channels, relative to the largest
+ * dense B. */
+static double dense_difference(const rad_hier *h, const scene_arrays *s, rad_ff_rule rule)
+{
+    size_t n = rad_hier_leaf_count(h);
+    int *face = malloc(n * sizeof *face), *tri = malloc(3 * n * sizeof *tri);
+    double *corners = malloc(9 * n * sizeof *corners), *Bh = malloc(3 * n * sizeof *Bh);
+    double *Bd = malloc(3 * n * sizeof *Bd), *rho = malloc(3 * n * sizeof *rho);
+    double *E = malloc(3 * n * sizeof *E), *area = malloc(n * sizeof *area);
+    double *G = malloc(n * n * sizeof *G);
+    double worst = INFINITY;
+    if (!face || !tri || !corners || !Bh || !Bd || !rho || !E || !area || !G)
+        goto done;
+    rad_hier_leaves(h, face, NULL, corners, Bh);
+    for (size_t k = 0; k < n; k++) {
+        for (int v = 0; v < 3; v++)
+            tri[3 * k + (size_t)v] = (int)(3 * k) + v;
+        for (int c = 0; c < 3; c++) {
+            rho[k + c * n] = s->rho[face[k] + c * s->n];
+            E[k + c * n] = s->E[face[k] + c * s->n];
+        }
+    }
+    rad_assembly_params ap;
+    rad_assembly_params_default(&ap);
+    ap.rule = rule;
+    ap.threads = 1;
+    CHECK(rad_radiosity_assemble(corners, tri, (int)n, NULL, &ap, G, area, NULL) == RAD_OK);
+    rad_dense_params dp;
+    rad_dense_params_default(&dp);
+    CHECK(rad_dense_radiosity_solve((int)n, G, area, rho, E, Bd, &dp, NULL) == RAD_OK);
+    double diff = 0.0, bmax = 0.0;
+    for (size_t k = 0; k < 3 * n; k++) {
+        diff = fmax(diff, fabs(Bh[k] - Bd[k]));
+        bmax = fmax(bmax, fabs(Bd[k]));
+    }
+    worst = bmax > 0.0 ? diff / bmax : diff;
+done:
+    free(face);
+    free(tri);
+    free(corners);
+    free(Bh);
+    free(Bd);
+    free(rho);
+    free(E);
+    free(area);
+    free(G);
+    return worst;
+}
+
+/* The closed convex cube with rho 0.375 and E 2.385 everywhere: B = E/(1-rho)
+ * = 3.816 exactly.  With the exact rule every row of F sums to 1 to about
+ * 1e-13 (rad_ff's exact tolerances), so the only errors are those row sums
+ * times B/(1-rho) and the iteration's stopping tolerance (1e-12 here, which
+ * bounds the error by 1e-12 rho/(1-rho) B): 1e-9 relative leaves a wide margin.
+ * A tiny eps refines every link until both ends reach min_area (a quarter of
+ * a face triangle: one level), so all links join leaves, where the rows sum
+ * to 1 exactly in exact arithmetic. */
+TEST(hier_furnace_cube_exact_under_refinement)
+{
+    scene_arrays s;
+    if (!load("scenes/furnace_cube/cube.obj", &s))
+        return;
+    double areas[64];
+    CHECK(s.n == 12);
+    total_area(&s, areas);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+    p.eps = 1e-12;
+    p.min_area = areas[0] / 4.0 * (1.0 - 1e-9);
+    p.tol = 1e-12;
+    rad_hier *h = run(&s, NULL, &p);
+    if (h) {
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        CHECK(st.elements == 48); /* every triangle split once, and only once */
+        CHECK(st.refinements > 0 && st.rounds >= 1);
+        size_t n = rad_hier_leaf_count(h);
+        double *B = malloc(3 * n * sizeof *B);
+        rad_hier_leaves(h, NULL, NULL, NULL, B);
+        double want = 2.385 / (1.0 - 0.375), worst = 0.0;
+        for (size_t k = 0; k < 3 * n; k++)
+            worst = fmax(worst, fabs(B[k] - want));
+        CHECK_MSG(worst <= 1e-9 * want, "furnace: worst |B - 3.816| = %.3g", worst);
+        printf("# hier furnace (exact, 1 level): %zu leaves, %zu links, %lld steps, "
+               "max |B - E/(1-rho)| = %.2e\n", st.elements, st.links, st.iterations, worst);
+        free(B);
+    }
+    rad_hier_destroy(h);
+    unload(&s);
+}
+
+/* The same furnace with links left at mixed levels (moderate eps).  Then B
+ * is NOT uniform: a leaf below a refined receiver uses its own F for some
+ * sources and its ancestor's average F for others, so its row of the
+ * hierarchical operator need not sum to 1 (HSA 1991's BF oracle bounds the
+ * radiosity a link carries, not this error).  Power is conserved by links and
+ * push-pull (sum over links of A_r F_rs is that of the roots, exactly with
+ * the exact rule), so the area-weighted mean of B stays close to E/(1-rho)
+ * while single leaves deviate.  Measured (exact rule, min_area A/64):
+ * eps 0.1: mean 3.1e-3, pointwise 0.15; eps 0.03: 4.2e-3, 0.17; eps 0.01:
+ * 2.5e-3, 0.11; eps 0.003: 3.7e-4, 0.034.  The checks (mean < 1%, pointwise
+ * < 25%, and smaller at eps 0.01 than at 0.1) are those figures with
+ * headroom: they catch a broken push-pull or lost links (which move the mean
+ * by the missing power), not the method's own error. */
+TEST(hier_furnace_cube_mixed_levels)
+{
+    scene_arrays s;
+    if (!load("scenes/furnace_cube/cube.obj", &s))
+        return;
+    double areas[64];
+    total_area(&s, areas);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+    p.min_area = areas[0] / 64.0 * (1.0 - 1e-9);
+    p.tol = 1e-12;
+    const double eps[3] = {0.1, 0.03, 0.01};
+    double spread[3], mean_err[3];
+    for (int k = 0; k < 3; k++) {
+        p.eps = eps[k];
+        spread[k] = mean_err[k] = INFINITY;
+        rad_hier *h = run(&s, NULL, &p);
+        if (!h)
+            continue;
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        size_t n = rad_hier_leaf_count(h);
+        double *B = malloc(3 * n * sizeof *B), *A = malloc(n * sizeof *A);
+        rad_hier_leaves(h, NULL, A, NULL, B);
+        double want = 2.385 / (1.0 - 0.375), sum = 0.0, asum = 0.0;
+        spread[k] = 0.0;
+        for (size_t j = 0; j < n; j++) {
+            spread[k] = fmax(spread[k], fabs(B[j] - want) / want);
+            sum += A[j] * B[j];
+            asum += A[j];
+        }
+        mean_err[k] = fabs(sum / asum - want) / want;
+        printf("# hier furnace (exact, eps %g, min_area A/64): %zu leaves, %zu links, "
+               "area-mean rel error %.2e, max pointwise rel error %.2e\n", eps[k], st.elements,
+               st.links, mean_err[k], spread[k]);
+        free(B);
+        free(A);
+        rad_hier_destroy(h);
+        CHECK_MSG(mean_err[k] < 1e-2, "eps %g: area-mean error %.3g", eps[k], mean_err[k]);
+        CHECK_MSG(spread[k] < 0.25, "eps %g: pointwise error %.3g", eps[k], spread[k]);
+    }
+    CHECK(spread[2] < spread[0]);
+    unload(&s);
+}
+
+/* With a tiny eps every link is refined until neither end may be split, so
+ * every link joins two leaves and the hierarchical system IS the dense system
+ * on the leaves (same rule, same orientation of each pair).  Agreement is then
+ * limited by the two solvers: Jacobi stopped at a step change of 1e-12 of max
+ * B (error <= 1e-12 rho/(1-rho) max B, about 4e-12 for rho <= 0.8) and LU
+ * (rcond-limited, ~1e-15); gauss:4 is symmetric in the pair up to rounding.
+ * Hence 1e-9 relative (measured 1.4e-12).  At eps 1e-2 and 1e-3 links stay at
+ * coarser levels and the difference is the hierarchy's own error, which the
+ * BF oracle does not bound (see the mixed-level furnace test): measured
+ * 2.1e-2 and 8.2e-3 of max B (about 2 eps and 8 eps); the check, 20 eps, is
+ * that with headroom and catches a broken hierarchy (lost links, wrong
+ * push-pull give errors of order 1). */
+TEST(hier_agrees_with_dense_on_the_same_leaves)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    double A = total_area(&s, NULL);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    /* A fixed rule, so hierarchy and dense compute the very same couplings. */
+    CHECK(rad_ff_rule_parse("gauss:4", &p.rule) == RAD_OK);
+    p.tol = 1e-12;
+    p.eps = 1e-12;
+    p.min_area = A / 200.0;
+    rad_hier *h = run(&s, NULL, &p);
+    if (h) {
+        double d = dense_difference(h, &s, p.rule);
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        printf("# hier vs dense, Cornell, eps 1e-12, min_area A/200: %zu leaves, %zu links, "
+               "%lld steps, max |dB|/max B = %.2e\n", st.elements, st.links, st.iterations, d);
+        CHECK_MSG(d <= 1e-9, "leaf-level hierarchy differs from dense by %.3g", d);
+    }
+    rad_hier_destroy(h);
+    const double eps[2] = {1e-2, 1e-3};
+    for (int k = 0; k < 2; k++) {
+        p.eps = eps[k];
+        p.min_area = A / 2000.0;
+        h = run(&s, NULL, &p);
+        if (h) {
+            double d = dense_difference(h, &s, p.rule);
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            printf("# hier vs dense, Cornell, eps %g, min_area A/2000: %zu leaves, %zu links, "
+                   "%lld steps, %d rounds, max |dB|/max B = %.2e\n", eps[k], st.elements,
+                   st.links, st.iterations, st.rounds, d);
+            CHECK_MSG(d <= 20 * eps[k], "eps %g: hierarchy differs from dense by %.3g", eps[k], d);
+        }
+        rad_hier_destroy(h);
+    }
+    unload(&s);
+}
+
+TEST(hier_min_area_is_respected)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    double areas[64];
+    CHECK(s.n <= 64);
+    double A = total_area(&s, areas);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.eps = 1e-4;
+    p.min_area = A / 700.0;
+    rad_hier *h = run(&s, NULL, &p);
+    if (h) {
+        size_t n = rad_hier_leaf_count(h);
+        int *face = malloc(n * sizeof *face);
+        double *area = malloc(n * sizeof *area);
+        rad_hier_leaves(h, face, area, NULL, NULL);
+        int small_roots = 0, violations = 0;
+        double smallest = INFINITY;
+        for (size_t k = 0; k < n; k++) {
+            smallest = fmin(smallest, area[k]);
+            if (area[k] < p.min_area) {
+                /* allowed only for an input triangle that was already smaller */
+                if (fabs(area[k] - areas[face[k]]) <= 1e-12 * areas[face[k]])
+                    small_roots++;
+                else
+                    violations++;
+            }
+        }
+        CHECK(violations == 0);
+        CHECK(n > (size_t)s.n);                /* refinement happened */
+        CHECK(smallest < 4.0 * p.min_area);    /* and went down to min_area */
+        printf("# hier min_area A/700 = %.4g: %zu leaves, smallest %.4g, %d input triangles "
+               "already smaller\n", p.min_area, n, smallest, small_roots);
+        free(face);
+        free(area);
+    }
+    rad_hier_destroy(h);
+    unload(&s);
+}
+
+/* Links against leaves as eps shrinks (Cornell box, no occlusion so that the
+ * test stays fast).  HSA 1991 argue O(n) links for a fixed geometry; with a
+ * floor on the element area the exponent measured between the two smallest
+ * eps is printed; the test asks links < elements^1.5 (the brief's bound; the
+ * issue's target is about 1.1, measured in experiments). */
+TEST(hier_links_grow_subquadratically)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    double A = total_area(&s, NULL);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.min_area = A / 20000.0;
+    p.tol = 1e-8;
+    const double eps[4] = {3e-2, 1e-2, 3e-3, 1e-3};
+    double lx[4] = {0}, ly[4] = {0};
+    for (int k = 0; k < 4; k++) {
+        p.eps = eps[k];
+        rad_hier *h = run(&s, NULL, &p);
+        if (!h)
+            break;
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        lx[k] = log((double)st.elements);
+        ly[k] = log((double)st.links);
+        printf("# hier Cornell eps %-6g leaves %6zu links %8zu steps %4lld rounds %d "
+               "links/leaf %.1f\n", eps[k], st.elements, st.links, st.iterations, st.rounds,
+               (double)st.links / (double)st.elements);
+        if (k == 3)
+            CHECK_MSG((double)st.links < pow((double)st.elements, 1.5),
+                      "links %zu >= leaves^1.5 = %.0f", st.links,
+                      pow((double)st.elements, 1.5));
+        rad_hier_destroy(h);
+    }
+    double slope = (ly[3] - ly[1]) / (lx[3] - lx[1]);
+    printf("# hier Cornell: links ~ leaves^%.2f (eps 1e-2 -> 1e-3)\n", slope);
+    CHECK(lx[3] > lx[1]); /* smaller eps refined more */
+    unload(&s);
+}
+
+/* Emitter z = 0 (up), receiver z = 1 (down), both [0,1]^2; the occluder is
+ * [0.25,0.75]^2 at z = 0.5.  A segment between the plates crosses z = 0.5 at
+ * its midpoint, so it is blocked exactly when the midpoint lies in the
+ * occluder.  F = int int [unblocked] cos cos / (pi r^2) = int int 1/(pi r^4),
+ * by Monte Carlo with a fixed seed (as in test_solve.c). */
+static double occluded_form_factor_monte_carlo(long samples)
+{
+    unsigned long long state = 0x9e3779b97f4a7c15ull;
+    double sum = 0.0;
+    for (long k = 0; k < samples; k++) {
+        double u[4];
+        for (int j = 0; j < 4; j++) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            u[j] = (double)(state >> 11) * (1.0 / 9007199254740992.0);
+        }
+        double mx = 0.5 * (u[0] + u[2]), my = 0.5 * (u[1] + u[3]);
+        if (mx > 0.25 && mx < 0.75 && my > 0.25 && my < 0.75)
+            continue;
+        double dx = u[2] - u[0], dy = u[3] - u[1], r2 = dx * dx + dy * dy + 1.0;
+        sum += 1.0 / (3.14159265358979323846 * r2 * r2);
+    }
+    return sum / (double)samples;
+}
+
+/* The occluder scene with a receiver of reflectance 0.385 and black emitter
+ * and occluder: the receiver's power sum A_L B_L = 0.385 * A_e F_er (blocked),
+ * A_e = 1.  Without visibility the same run gives the unblocked F (0.19982,
+ * the closed form for unit squares at distance 1).  With visibility, the
+ * element-pair sampling (4 x 4 jittered rays per link) converges as links
+ * refine near the shadow.  Two things made this agree (0.09947 against Monte
+ * Carlo's 0.09945): links not fully visible are refined on their unoccluded
+ * transport, and the sample points are jittered; with centroid samples and
+ * F V in the oracle it came out 3.5% dark.  Tolerance 1%: Monte Carlo's own
+ * standard error is about 0.07% at 2e6 samples. */
+TEST(hier_visibility_matches_monte_carlo)
+{
+    scene_arrays s;
+    if (!load("scenes/occluder/occluder.obj", &s))
+        return;
+    for (int c = 0; c < 3; c++) {
+        s.rho[2 + c * s.n] = 0.385;
+        s.rho[3 + c * s.n] = 0.385;
+    }
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                         rad_scene_triangles(s.scene), (size_t)s.n, NULL, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    CHECK(rad_ff_rule_parse("gauss:6", &p.rule) == RAD_OK);
+    p.eps = 1e-4;
+    p.min_area = 0.5 / 256.0;
+    rad_hier *open = run(&s, NULL, &p), *shadowed = run(&s, vis, &p);
+    if (open && shadowed) {
+        rad_hier_stats so, ss;
+        rad_hier_get_stats(open, &so);
+        rad_hier_get_stats(shadowed, &ss);
+        CHECK(so.rays == 0 && ss.rays > 0);
+        double power[2] = {0, 0};
+        for (int w = 0; w < 2; w++) {
+            const rad_hier *h = w ? shadowed : open;
+            size_t n = rad_hier_leaf_count(h);
+            int *f = malloc(n * sizeof *f);
+            double *a = malloc(n * sizeof *a), *b = malloc(3 * n * sizeof *b);
+            rad_hier_leaves(h, f, a, NULL, b);
+            for (size_t k = 0; k < n; k++)
+                power[w] += (f[k] == 2 || f[k] == 3) ? a[k] * b[k] : 0.0;
+            free(f);
+            free(a);
+            free(b);
+        }
+        double mc = occluded_form_factor_monte_carlo(2000000);
+        printf("# hier occluder: F open %.5f (exact 0.19982), F blocked %.5f, Monte Carlo %.5f "
+               "(%zu leaves, %zu links, %llu rays)\n", power[0] / 0.385, power[1] / 0.385, mc,
+               ss.elements, ss.links, ss.rays);
+        CHECK_NEAR(power[0] / 0.385, 0.1998244, 1e-3, 0.0);
+        CHECK_NEAR(power[1] / 0.385, mc, 0.01, 0.0);
+    }
+    rad_hier_destroy(open);
+    rad_hier_destroy(shadowed);
+    rad_vis_destroy(vis);
+    unload(&s);
+}
+
+TEST(hier_step_test_api)
+{
+    scene_arrays s;
+    if (!load("scenes/furnace_cube/cube.obj", &s))
+        return;
+    rad_hier *h = NULL;
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    CHECK(rad_hier_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                          rad_scene_triangles(s.scene), (size_t)s.n, s.rho, s.E, NULL, &p,
+                          &h) == RAD_OK);
+    if (h) {
+        CHECK(rad_hier_test(h) == RAD_CONTINUE); /* before any step */
+        int steps = 0;
+        while (rad_hier_test(h) == RAD_CONTINUE && steps < 1000) {
+            CHECK(rad_hier_step(h) == RAD_OK);
+            steps++;
+        }
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        CHECK(st.iterations == steps && st.residual <= p.tol);
+        /* Jacobi contracts by rho = 0.375 per step: about log(1e-10)/log(0.375) = 23 */
+        CHECK(steps >= 15 && steps <= 40);
+        CHECK(st.elements == 12 && st.links == 12 * 10); /* each face sees the 10 off its plane */
+    }
+    rad_hier_destroy(h);
+    unload(&s);
+}
+
+TEST(hier_rejects_bad_parameters)
+{
+    double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, rho[3] = {0.5, 0.5, 0.5}, E[3] = {1, 1, 1};
+    int tri[3] = {0, 1, 2};
+    rad_hier *h = (rad_hier *)&h;
+    rad_hier_params p;
+    const double bad_eps[4] = {0.0, -1.0, NAN, INFINITY};
+    for (int k = 0; k < 4; k++) {
+        rad_hier_params_default(&p);
+        p.eps = bad_eps[k];
+        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+        CHECK(h == NULL);
+        CHECK(strstr(rad_error_message(), "eps") != NULL);
+    }
+    rad_hier_params_default(&p);
+    p.min_area = -1e-3;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    CHECK(strstr(rad_error_message(), "min_area") != NULL);
+    rad_hier_params_default(&p);
+    p.vis_points = 2;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    /* bad input */
+    rad_hier_params_default(&p);
+    double rho_bad[3] = {1.0, 0.5, 0.5};
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho_bad, E, NULL, &p, &h) == RAD_EINPUT);
+    int tri_bad[3] = {0, 1, 3};
+    CHECK(rad_hier_create(xyz, 3, tri_bad, 1, rho, E, NULL, &p, &h) == RAD_EINPUT);
+    double xyz_flat[9] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
+    CHECK(rad_hier_create(xyz_flat, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINPUT);
+    /* too big */
+    rad_hier_params_default(&p);
+    p.max_links = 5;
+    scene_arrays s;
+    if (load("scenes/furnace_cube/cube.obj", &s)) {
+        CHECK(rad_hier_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                              rad_scene_triangles(s.scene), (size_t)s.n, s.rho, s.E, NULL, &p,
+                              &h) == RAD_ETOOBIG);
+        unload(&s);
+    }
+    rad_hier_destroy(NULL);
+}
