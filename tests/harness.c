@@ -157,6 +157,55 @@ void harness_expect_usage_error_at(const char *file, int line, const char *comma
     free(err);
 }
 
+/* Emitter z = 0 (up), receiver z = 1 (down), both [0,1]^2; the occluder is
+ * [0.25,0.75]^2 at z = 0.5.  A segment between the plates crosses z = 0.5 at
+ * its midpoint, so it is blocked exactly when the midpoint lies in the
+ * occluder.  F = int int [unblocked] cos cos / (pi r^2) = int int 1/(pi r^4),
+ * estimated with a fixed-seed generator. */
+double harness_occluder_form_factor_mc(long samples)
+{
+    unsigned long long state = 0x9e3779b97f4a7c15ull;
+    double sum = 0.0;
+    for (long s = 0; s < samples; s++) {
+        double u[4];
+        for (int k = 0; k < 4; k++) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            u[k] = (double)(state >> 11) * (1.0 / 9007199254740992.0);
+        }
+        double mx = 0.5 * (u[0] + u[2]), my = 0.5 * (u[1] + u[3]);
+        if (mx > 0.25 && mx < 0.75 && my > 0.25 && my < 0.75)
+            continue;
+        double dx = u[2] - u[0], dy = u[3] - u[1], r2 = dx * dx + dy * dy + 1.0;
+        sum += 1.0 / (3.14159265358979323846 * r2 * r2);
+    }
+    return sum / samples;
+}
+
+/* Rows of the table: face, area, B_r, B_g, B_b.  Returns the row count. */
+int harness_face_table(const char *out, double *B, int max)
+{
+    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n");
+    if (!p)
+        return -1;
+    p = strchr(p + 1, '\n') + 1;
+    int rows = 0;
+    while (*p && rows < max) {
+        int f;
+        double a, r, g, b;
+        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf", &f, &a, &r, &g, &b) != 5 || f != rows)
+            return -1;
+        B[3 * rows] = r;
+        B[3 * rows + 1] = g;
+        B[3 * rows + 2] = b;
+        rows++;
+        p = strchr(p, '\n');
+        if (!p)
+            break;
+        p++;
+    }
+    return rows;
+}
+
 int main(int argc, char **argv)
 {
     int passed = 0, failed = 0;

@@ -71,6 +71,15 @@ void harness_expect_usage_error_at(const char *file, int line, const char *comma
 #define HARNESS_EXPECT_USAGE_ERROR(command, ...)                                      \
     harness_expect_usage_error_at(__FILE__, __LINE__, command, __VA_ARGS__)
 
+/* The per-face table of `radkit solve` (face, area, B_r, B_g, B_b): B receives
+ * 3 values a row; returns the row count, or -1 if the table is missing or
+ * malformed. */
+int harness_face_table(const char *out, double *B, int max);
+
+/* The independent reference for scenes/occluder: Monte Carlo estimate of the
+ * blocked form factor between the unit plates (fixed seed; see harness.c). */
+double harness_occluder_form_factor_mc(long samples);
+
 /* Number of lines in a string (a final line without '\n' counts). */
 int harness_count_lines(const char *s);
 

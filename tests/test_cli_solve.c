@@ -8,31 +8,6 @@
 
 #include "harness.h"
 
-/* Rows of the table: face, area, B_r, B_g, B_b.  Returns the row count. */
-static int read_rows(const char *out, double *B, int max)
-{
-    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n");
-    if (!p)
-        return -1;
-    p = strchr(p + 1, '\n') + 1;
-    int rows = 0;
-    while (*p && rows < max) {
-        int f;
-        double a, r, g, b;
-        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf", &f, &a, &r, &g, &b) != 5)
-            return -1;
-        B[3 * rows] = r;
-        B[3 * rows + 1] = g;
-        B[3 * rows + 2] = b;
-        rows++;
-        p = strchr(p, '\n');
-        if (!p)
-            break;
-        p++;
-    }
-    return rows;
-}
-
 static double header_number(const char *out, const char *key)
 {
     char pattern[128];
@@ -50,7 +25,7 @@ TEST(cli_solve_furnace_is_exact)
         char *out, *err;
         double B[3 * 200];
         CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scenes[s]), "--rule", "exact", "--quiet", NULL}, &out, &err) == 0);
-        int rows = read_rows(out, B, 200);
+        int rows = harness_face_table(out, B, 200);
         CHECK(rows > 0);
         for (int k = 0; k < 3 * rows; k++)
             CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-9, 0.0);
@@ -68,7 +43,7 @@ TEST(cli_solve_furnace_default_rule)
     char *out, *err;
     double B[3 * 100];
     CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--refine", "1", "--quiet", NULL}, &out, &err) == 0);
-    int rows = read_rows(out, B, 100);
+    int rows = harness_face_table(out, B, 100);
     CHECK(rows == 12);
     for (int k = 0; k < 3 * rows; k++)
         CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-5, 0.0);
@@ -84,7 +59,7 @@ TEST(cli_solve_rho_near_one_stays_accurate)
         double B[3 * 20], rho = atof(rhos[k]);
         CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"), "--rule", "exact", "--rho", rhos[k],
                                      "--quiet", NULL}, &out, &err) == 0);
-        CHECK(read_rows(out, B, 20) == 12);
+        CHECK(harness_face_table(out, B, 20) == 12);
         for (int i = 0; i < 36; i++)
             CHECK_NEAR(B[i], 2.385 / (1.0 - rho), 1e-9, 0.0);
         double rcond = header_number(out, "rcond");
@@ -104,7 +79,7 @@ TEST(cli_solve_every_solver_agrees)
         CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"), "--refine", "1", "--rule", "gauss:2",
                                      "--solver", solvers[s], "--solver-tol", "1e-12", "--quiet", NULL},
                     &out, &err) == 0);
-        int rows = read_rows(out, s ? B : ref, 200);
+        int rows = harness_face_table(out, s ? B : ref, 200);
         if (s == 0)
             rows_ref = rows;
         CHECK(rows == rows_ref && rows == 38);

@@ -366,30 +366,6 @@ TEST(hier_links_grow_subquadratically)
     unload(&s);
 }
 
-/* Emitter z = 0 (up), receiver z = 1 (down), both [0,1]^2; the occluder is
- * [0.25,0.75]^2 at z = 0.5.  A segment between the plates crosses z = 0.5 at
- * its midpoint, so it is blocked exactly when the midpoint lies in the
- * occluder.  F = int int [unblocked] cos cos / (pi r^2) = int int 1/(pi r^4),
- * by Monte Carlo with a fixed seed (as in test_solve.c). */
-static double occluded_form_factor_monte_carlo(long samples)
-{
-    unsigned long long state = 0x9e3779b97f4a7c15ull;
-    double sum = 0.0;
-    for (long k = 0; k < samples; k++) {
-        double u[4];
-        for (int j = 0; j < 4; j++) {
-            state = state * 6364136223846793005ull + 1442695040888963407ull;
-            u[j] = (double)(state >> 11) * (1.0 / 9007199254740992.0);
-        }
-        double mx = 0.5 * (u[0] + u[2]), my = 0.5 * (u[1] + u[3]);
-        if (mx > 0.25 && mx < 0.75 && my > 0.25 && my < 0.75)
-            continue;
-        double dx = u[2] - u[0], dy = u[3] - u[1], r2 = dx * dx + dy * dy + 1.0;
-        sum += 1.0 / (3.14159265358979323846 * r2 * r2);
-    }
-    return sum / (double)samples;
-}
-
 /* The occluder scene with a receiver of reflectance 0.385 and black emitter
  * and occluder: the receiver's power sum A_L B_L = 0.385 * A_e F_er (blocked),
  * A_e = 1.  Without visibility the same run gives the unblocked F (0.19982,
@@ -436,7 +412,7 @@ TEST(hier_visibility_matches_monte_carlo)
             free(a);
             free(b);
         }
-        double mc = occluded_form_factor_monte_carlo(2000000);
+        double mc = harness_occluder_form_factor_mc(2000000);
         printf("# hier occluder: F open %.5f (exact 0.19982), F blocked %.5f, Monte Carlo %.5f "
                "(%zu leaves, %zu links, %llu rays)\n", power[0] / 0.385, power[1] / 0.385, mc,
                ss.elements, ss.links, ss.rays);

@@ -7,31 +7,6 @@
 
 #include "harness.h"
 
-/* The B columns of the table after the header row; -1 when malformed. */
-static int table_rows(const char *out, double *B, int max)
-{
-    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n");
-    if (!p)
-        return -1;
-    p = strchr(p + 1, '\n') + 1;
-    int rows = 0;
-    while (*p && rows < max) {
-        int f;
-        double a, r, g, b;
-        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf", &f, &a, &r, &g, &b) != 5 || f != rows)
-            return -1;
-        B[3 * rows] = r;
-        B[3 * rows + 1] = g;
-        B[3 * rows + 2] = b;
-        rows++;
-        p = strchr(p, '\n');
-        if (!p)
-            break;
-        p++;
-    }
-    return rows;
-}
-
 /* Furnace cube (rho 0.375, E 2.385): B = 3.816.  --eps 1e-9 refines every
  * link until min_area stops it; --min-area 0.19 lets each face triangle
  * (area 0.78125) split exactly once (children 0.195 >= 0.19, grandchildren
@@ -47,7 +22,7 @@ TEST(hier_cli_furnace_cube)
     if (!out)
         return;
     double B[3 * 12];
-    CHECK(table_rows(out, B, 12) == 12);
+    CHECK(harness_face_table(out, B, 12) == 12);
     for (int k = 0; k < 36; k++)
         CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-6, 0.0);
     CHECK(harness_header(out, "method", buf, sizeof buf) && strcmp(buf, "hier") == 0);

@@ -33,30 +33,6 @@ static rad_mesh *load_refined(const char *rel, int levels, rad_scene **scene_out
     return mesh;
 }
 
-/* Emitter z = 0 (up), receiver z = 1 (down), both [0,1]^2; the occluder is
- * [0.25,0.75]^2 at z = 0.5.  A segment between the plates crosses z = 0.5 at
- * its midpoint, so it is blocked exactly when the midpoint lies in the
- * occluder.  F = int int [unblocked] cos cos / (pi r^2) = int int 1/(pi r^4),
- * estimated with a fixed-seed generator. */
-static double occluded_form_factor_monte_carlo(long samples)
-{
-    unsigned long long state = 0x9e3779b97f4a7c15ull;
-    double sum = 0.0;
-    for (long s = 0; s < samples; s++) {
-        double u[4];
-        for (int k = 0; k < 4; k++) {
-            state = state * 6364136223846793005ull + 1442695040888963407ull;
-            u[k] = (double)(state >> 11) * (1.0 / 9007199254740992.0);
-        }
-        double mx = 0.5 * (u[0] + u[2]), my = 0.5 * (u[1] + u[3]);
-        if (mx > 0.25 && mx < 0.75 && my > 0.25 && my < 0.75)
-            continue;
-        double dx = u[2] - u[0], dy = u[3] - u[1], r2 = dx * dx + dy * dy + 1.0;
-        sum += 1.0 / (3.14159265358979323846 * r2 * r2);
-    }
-    return sum / samples;
-}
-
 TEST(solve_occluder_blocked_form_factor_matches_monte_carlo)
 {
     rad_scene *scene = NULL;
@@ -90,7 +66,7 @@ TEST(solve_occluder_blocked_form_factor_matches_monte_carlo)
             if (strcmp(mats[mat[parent[j]]].name, "receiver") == 0)
                 coupling += G[i + (size_t)j * n];
     }
-    double F = coupling / emitter_area, reference = occluded_form_factor_monte_carlo(4000000);
+    double F = coupling / emitter_area, reference = harness_occluder_form_factor_mc(4000000);
     /* Monte Carlo: 4e6 samples, relative standard error ~ 5e-4.  radkit: 81
      * stratified rays per element pair, 32 x 32 element pairs. */
     CHECK_MSG(fabs(F - reference) < 0.02 * reference, "F = %.5f, Monte Carlo %.5f", F, reference);
