@@ -445,3 +445,25 @@ TEST(io_dat_header_and_rows)
     free(s);
     remove(path);
 }
+
+/* Face averages by hand: face 0 has elements of area 0.5 and 1.5 with values
+ * 2 and 6 (red): (0.5*2 + 1.5*6)/2 = 5; face 1 has one element (value 3.25);
+ * face 2 has none and stays 0. */
+TEST(io_face_averages_by_hand)
+{
+    int face_of[3] = {0, 1, 0};
+    double area[3] = {0.5, 0.7, 1.5};
+    double B[9] = {2, 3.25, 6, /* green */ 1, 0, 1, /* blue */ 0, 4, 8};
+    double fa[3], fb[9];
+    CHECK(rad_io_face_averages(3, face_of, area, B, 3, fa, fb) == RAD_OK);
+    CHECK_NEAR(fa[0], 2.0, 1e-15, 0.0);
+    CHECK_NEAR(fa[1], 0.7, 1e-15, 0.0);
+    CHECK(fa[2] == 0.0);
+    CHECK_NEAR(fb[0], 5.0, 1e-15, 0.0);
+    CHECK_NEAR(fb[1], 3.25, 1e-15, 0.0);
+    CHECK(fb[2] == 0.0 && fb[5] == 0.0 && fb[8] == 0.0);
+    CHECK_NEAR(fb[3], 1.0, 1e-15, 0.0);  /* green, face 0 */
+    CHECK_NEAR(fb[6], 6.0, 1e-15, 0.0);  /* blue, face 0: (0.5*0 + 1.5*8)/2 */
+    int bad[3] = {0, 3, 0};
+    CHECK(rad_io_face_averages(3, bad, area, B, 3, fa, fb) == RAD_EINPUT);
+}

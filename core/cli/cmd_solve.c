@@ -322,11 +322,9 @@ static int solve_hier(const solve_options *o, const rad_scene_params *sp,
     }
     double *area = leaf, *B = leaf + n, *face_B = face_area + faces;
     rad_hier_leaves(h, leaf_face, area, NULL, B);
-    for (size_t i = 0; i < n; i++) {
-        int f = leaf_face[i];
-        face_area[f] += area[i];
-        for (int c = 0; c < 3; c++)
-            face_B[f + c * faces] += area[i] * B[i + (size_t)c * n];
+    if ((st = rad_io_face_averages(n, leaf_face, area, B, (size_t)faces, face_area, face_B)) != RAD_OK) {
+        free(face_area);
+        goto done;
     }
     if (o->out && !(out = fopen(o->out, "w"))) {
         free(face_area);
@@ -349,14 +347,7 @@ static int solve_hier(const solve_options *o, const rad_scene_params *sp,
     fprintf(out, "# time_setup_s = %.4f\n# time_solve_s = %.4f\n# time_total_s = %.4f\n"
                  "# memory_peak_bytes = %.0f\n", t_setup - t_start, t_solved - t_setup,
             rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
-    fprintf(out, "face\tarea\tB_r\tB_g\tB_b\n");
-    for (int f = 0; f < faces; f++) {
-        double a = face_area[f];
-        fprintf(out, "%d\t%.10g", f, a);
-        for (int c = 0; c < 3; c++)
-            fprintf(out, "\t%.12g", a > 0.0 ? face_B[f + c * faces] / a : 0.0);
-        fputc('\n', out);
-    }
+    rad_io_print_faces(out, (size_t)faces, face_area, face_B);
     free(face_area);
     if (out != stdout && fclose(out) != 0)
         st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o->out);
@@ -581,11 +572,9 @@ int cli_solve(int argc, char **argv)
         goto done;
     }
     double *face_B = face_area + faces;
-    for (int i = 0; i < n; i++) {
-        int f = parent[i];
-        face_area[f] += areas[i];
-        for (int c = 0; c < 3; c++)
-            face_B[f + c * faces] += areas[i] * B[i + c * n];
+    if ((st = rad_io_face_averages((size_t)n, parent, areas, B, (size_t)faces, face_area, face_B)) != RAD_OK) {
+        free(face_area);
+        goto done;
     }
 
     if (o.out && !(out = fopen(o.out, "w"))) {
@@ -618,14 +607,7 @@ int cli_solve(int argc, char **argv)
                  "# time_solve_s = %.4f\n# time_total_s = %.4f\n# memory_peak_bytes = %.0f\n",
             t_setup - t_start, t_vis - t_setup - 0.0, t_assembled - t_vis, t_solved - t_assembled,
             rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
-    fprintf(out, "face\tarea\tB_r\tB_g\tB_b\n");
-    for (int f = 0; f < faces; f++) {
-        double a = face_area[f];
-        fprintf(out, "%d\t%.10g", f, a);
-        for (int c = 0; c < 3; c++)
-            fprintf(out, "\t%.12g", a > 0.0 ? face_B[f + c * faces] / a : 0.0);
-        fputc('\n', out);
-    }
+    rad_io_print_faces(out, (size_t)faces, face_area, face_B);
     free(face_area);
     if (out != stdout && fclose(out) != 0)
         st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o.out);

@@ -55,6 +55,18 @@ rad_status rad_io_vertex_values(size_t nverts, const double *xyz, size_t ntris, 
 
 /* ---- writers --------------------------------------------------------------- */
 
+/* Per input face: its total area and the area-weighted average of its
+ * elements' values.  face_of[i] (< nfaces) is element i's face; elem_B and
+ * face_B are n x 3 column-major (face_B: nfaces x 3).  A face without elements
+ * gets area 0 and value 0.  RAD_EINPUT for a face index out of range. */
+rad_status rad_io_face_averages(size_t nelem, const int *face_of, const double *elem_area,
+                                const double *elem_B, size_t nfaces, double *face_area,
+                                double *face_B);
+
+/* The per-face table (header row face, area, B_r, B_g, B_b, then one row per
+ * face) to an open stream; rad_io_write_faces_tsv and `radkit solve` use it. */
+void rad_io_print_faces(FILE *f, size_t n, const double *area, const double *B);
+
 rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area, const double *B,
                                   const rad_io_kv *header, size_t nheader);
 

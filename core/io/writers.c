@@ -60,10 +60,37 @@ rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area
         return status;
     fprintf(f, "# radkit %s per-face radiosity (W/m^2)\n", RAD_VERSION);
     write_header(f, header, nheader);
+    rad_io_print_faces(f, n, area, B);
+    return close_out(path, f);
+}
+
+void rad_io_print_faces(FILE *f, size_t n, const double *area, const double *B)
+{
     fprintf(f, "face\tarea\tB_r\tB_g\tB_b\n");
     for (size_t i = 0; i < n; i++)
         fprintf(f, "%zu\t%.17g\t%.17g\t%.17g\t%.17g\n", i, area[i], B[i], B[i + n], B[i + 2 * n]);
-    return close_out(path, f);
+}
+
+rad_status rad_io_face_averages(size_t nelem, const int *face_of, const double *elem_area,
+                                const double *elem_B, size_t nfaces, double *face_area,
+                                double *face_B)
+{
+    memset(face_area, 0, nfaces * sizeof *face_area);
+    memset(face_B, 0, 3 * nfaces * sizeof *face_B);
+    for (size_t i = 0; i < nelem; i++) {
+        if (face_of[i] < 0 || (size_t)face_of[i] >= nfaces)
+            return RAD_ERROR(RAD_EINPUT, "face averages: element %zu names face %d of %zu", i,
+                             face_of[i], nfaces);
+        size_t f = (size_t)face_of[i];
+        face_area[f] += elem_area[i];
+        for (size_t c = 0; c < 3; c++)
+            face_B[f + c * nfaces] += elem_area[i] * elem_B[i + c * nelem];
+    }
+    /* sums of area x value -> averages; an empty face stays 0 */
+    for (size_t f = 0; f < nfaces; f++)
+        for (size_t c = 0; c < 3; c++)
+            face_B[f + c * nfaces] = face_area[f] > 0.0 ? face_B[f + c * nfaces] / face_area[f] : 0.0;
+    return RAD_OK;
 }
 
 /* Little-endian bytes regardless of the host's order. */
