@@ -153,6 +153,8 @@ TEST(cli_solve_rejects_bad_input)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--image-size", "0x5", NULL}, "--image-size");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--rho", "1.0", NULL}, "--rho");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, cube, NULL}, "more than one");
+    /* Coordinates so large that products of four lengths overflow. */
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--scale", "1e150", NULL}, "scale the scene down");
 }
 
 TEST(cli_solve_refuses_what_dense_cannot_hold)

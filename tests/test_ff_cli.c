@@ -97,6 +97,7 @@ TEST(cli_ff_bad_input_exits_2_with_one_line)
         {{"ff", "--tri", T1, "--tri", "0 0 0 1 0 0 1 0 0", NULL}, "degenerate"},
         {{"ff", "--tri", T1, "--tri", "0 0 1 nan 0 1 0 1 1", NULL}, "not finite"},
         {{"ff", "--tri", T1, "--tri", "0 0 1 inf 0 1 0 1 1", NULL}, "not finite"},
+        {{"ff", "--tri", "0 0 0 1e200 0 0 0 1e200 0", "--tri", T2, NULL}, "scale the pair down"},
         {{"ff", "--tri", T1, "--tri", "0 0 1 1 0 1 0 1", NULL}, "expected 9 coordinates, got 8"},
         {{"ff", "--tri", T1, "--tri", "0 0 1 1 0 1 0 1 1 5", NULL}, "expected 9 coordinates, got 10"},
         {{"ff", "--tri", T1, "--tri", "0 0 1 1 0 x 0 1 1", NULL}, "not a number"},

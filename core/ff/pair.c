@@ -135,6 +135,10 @@ rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rul
         for (int v = 0; v < 3; v++)
             if (!rad_vec3_is_finite(t[k][v]))
                 return RAD_ERROR(RAD_EINPUT, "triangle %d, vertex %d: non-finite coordinate", k + 1, v + 1);
+            else if (!rad_vec3_in_range(t[k][v]))
+                return RAD_ERROR(RAD_EINPUT, "triangle %d, vertex %d: a coordinate beyond %g, where "
+                                 "form-factor products overflow; scale the pair down", k + 1, v + 1,
+                                 RAD_GEOM_MAX_COORD);
         if (rad_geom_triangle_is_degenerate(t[k][0], t[k][1], t[k][2], p.degenerate_rel_tol))
             return RAD_ERROR(RAD_EINPUT, "triangle %d is degenerate (zero area or collinear vertices)", k + 1);
     }

@@ -27,6 +27,16 @@ static inline rad_vec3 rad_vec3_cross(rad_vec3 a, rad_vec3 b)
 static inline double rad_vec3_norm(rad_vec3 a) { return sqrt(rad_vec3_dot(a, a)); }
 static inline int rad_vec3_is_finite(rad_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
+/* The largest coordinate magnitude radkit accepts.  Form factors multiply up
+ * to four lengths (r^4 in the kernel, A_i A_j in the couplings): beyond 1e75
+ * such products can overflow double precision; rescale the scene instead. */
+#define RAD_GEOM_MAX_COORD 1e75
+static inline int rad_vec3_in_range(rad_vec3 a)
+{
+    return fabs(a.x) <= RAD_GEOM_MAX_COORD && fabs(a.y) <= RAD_GEOM_MAX_COORD &&
+           fabs(a.z) <= RAD_GEOM_MAX_COORD;
+}
+
 /* Area of triangle abc (>= 0). */
 double rad_geom_triangle_area(rad_vec3 a, rad_vec3 b, rad_vec3 c);
 /* Unit normal of the counter-clockwise winding; (0,0,0) for a degenerate triangle. */

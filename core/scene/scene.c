@@ -398,6 +398,10 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
         if (!isfinite(s->xyz[i]))
             return RAD_ERROR(RAD_EINPUT, "%s: vertex %zu has a %s coordinate", s->source, i / 3,
                              isnan(s->xyz[i]) ? "NaN" : "infinite");
+        if (fabs(s->xyz[i]) > RAD_GEOM_MAX_COORD)
+            return RAD_ERROR(RAD_EINPUT, "%s: vertex %zu has coordinate %g (after --scale %g), beyond "
+                             "%g, where form-factor products overflow; scale the scene down",
+                             s->source, i / 3, s->xyz[i], p->scale, RAD_GEOM_MAX_COORD);
     }
     if (s->camera.from_scene)
         for (int k = 0; k < 3; k++) {
