@@ -289,10 +289,9 @@ static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6],
     out[(*count)++] = (plane){n, d};
 }
 
-/* Builds the shaft's planes and the pair's bounding box (lo, hi); returns the
- * plane count, or -1 for a flat hull. */
-static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl, double lo[3],
-                        double hi[3])
+/* The kept face planes of the hull of triangles i and j (the caller has the
+ * pair's bounding box already); -1 when none is kept (a coplanar pair). */
+static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl)
 {
     rad_vec3 pts[6];
     for (int v = 0; v < 3; v++) {
@@ -308,18 +307,7 @@ static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl, doubl
             for (int v = 0; v < 3; v++)
                 try_plane(e[k], e[(k + 1) % 3], o[v], pts, vis->tol, pl, &count);
     }
-    if (count == 0)
-        return -1;
-    for (int c = 0; c < 3; c++) {
-        lo[c] = INFINITY;
-        hi[c] = -INFINITY;
-        for (int k = 0; k < 6; k++) {
-            double x = c == 0 ? pts[k].x : c == 1 ? pts[k].y : pts[k].z;
-            lo[c] = dmin(lo[c], x);
-            hi[c] = dmax(hi[c], x);
-        }
-    }
-    return count;
+    return count == 0 ? -1 : count;
 }
 
 /* Nonzero when a box [blo, bhi] touches the pair's box [lo, hi] at most
@@ -394,7 +382,7 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     if (boxes_apart(vis->nodes[0].lo, vis->nodes[0].hi, lo, hi, vis->tol))
         return 0;
     plane pl[MAX_PLANES];
-    int count = shaft_planes(vis, i, j, pl, lo, hi);
+    int count = shaft_planes(vis, i, j, pl);
     if (count < 0)
         return 1;
     int stack[128], top = 0;
