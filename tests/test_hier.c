@@ -178,8 +178,9 @@ TEST(hier_furnace_cube_exact_under_refinement)
  * push-pull (sum over links of A_r F_rs is that of the roots, exactly with
  * the exact rule), so the area-weighted mean of B stays close to E/(1-rho)
  * while single leaves deviate.  Measured (exact rule, min_area A/64):
- * eps 0.1: mean 3.1e-3, pointwise 0.15; eps 0.03: 4.2e-3, 0.17; eps 0.01:
- * 2.5e-3, 0.11; eps 0.003: 3.7e-4, 0.034.  The checks (mean < 1%, pointwise
+ * BF eps 0.1: mean 3.2e-3, pointwise 0.15; eps 0.03: 3.6e-3, 0.13; eps 0.01:
+ * 9.9e-4, 0.059 (eps relative to the mean reflected radiosity); error oracle
+ * 1.7e-3/0.14, 4.4e-3/0.17, 2.7e-3/0.14 with 4x fewer links.  The checks (mean < 1%, pointwise
  * < 25%, and smaller at eps 0.01 than at 0.1) are those figures with
  * headroom: they catch a broken push-pull or lost links (which move the mean
  * by the missing power), not the method's own error. */
@@ -190,42 +191,51 @@ TEST(hier_furnace_cube_mixed_levels)
         return;
     double areas[64];
     total_area(&s, areas);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
-    p.min_area = areas[0] / 64.0 * (1.0 - 1e-9);
-    p.tol = 1e-12;
-    const double eps[3] = {0.1, 0.03, 0.01};
-    double spread[3], mean_err[3];
-    for (int k = 0; k < 3; k++) {
-        p.eps = eps[k];
-        spread[k] = mean_err[k] = INFINITY;
-        rad_hier *h = run(&s, NULL, &p);
-        if (!h)
-            continue;
-        rad_hier_stats st;
-        rad_hier_get_stats(h, &st);
-        size_t n = rad_hier_leaf_count(h);
-        double *B = malloc(3 * n * sizeof *B), *A = malloc(n * sizeof *A);
-        rad_hier_leaves(h, NULL, A, NULL, B);
-        double want = 2.385 / (1.0 - 0.375), sum = 0.0, asum = 0.0;
-        spread[k] = 0.0;
-        for (size_t j = 0; j < n; j++) {
-            spread[k] = fmax(spread[k], fabs(B[j] - want) / want);
-            sum += A[j] * B[j];
-            asum += A[j];
+    for (int o = 0; o < 2; o++) {
+        rad_hier_params p;
+        rad_hier_params_default(&p);
+        p.oracle = o ? RAD_HIER_ORACLE_ERROR : RAD_HIER_ORACLE_BF;
+        CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+        p.min_area = areas[0] / 64.0 * (1.0 - 1e-9);
+        p.tol = 1e-12;
+        const double eps[3] = {0.1, 0.03, 0.01};
+        double spread[3], mean_err[3];
+        for (int k = 0; k < 3; k++) {
+            p.eps = eps[k];
+            spread[k] = mean_err[k] = INFINITY;
+            rad_hier *h = run(&s, NULL, &p);
+            if (!h)
+                continue;
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            size_t n = rad_hier_leaf_count(h);
+            double *B = malloc(3 * n * sizeof *B), *A = malloc(n * sizeof *A);
+            rad_hier_leaves(h, NULL, A, NULL, B);
+            double want = 2.385 / (1.0 - 0.375), sum = 0.0, asum = 0.0;
+            spread[k] = 0.0;
+            for (size_t j = 0; j < n; j++) {
+                spread[k] = fmax(spread[k], fabs(B[j] - want) / want);
+                sum += A[j] * B[j];
+                asum += A[j];
+            }
+            mean_err[k] = fabs(sum / asum - want) / want;
+            printf("# hier furnace (exact, %s, eps %g, min_area A/64): %zu leaves, %zu links, "
+                   "area-mean rel error %.2e, max pointwise rel error %.2e\n",
+                   rad_hier_oracle_name(p.oracle), eps[k], st.elements, st.links, mean_err[k],
+                   spread[k]);
+            free(B);
+            free(A);
+            rad_hier_destroy(h);
+            CHECK_MSG(mean_err[k] < 1e-2, "eps %g: area-mean error %.3g", eps[k], mean_err[k]);
+            CHECK_MSG(spread[k] < 0.25, "eps %g: pointwise error %.3g", eps[k], spread[k]);
         }
-        mean_err[k] = fabs(sum / asum - want) / want;
-        printf("# hier furnace (exact, eps %g, min_area A/64): %zu leaves, %zu links, "
-               "area-mean rel error %.2e, max pointwise rel error %.2e\n", eps[k], st.elements,
-               st.links, mean_err[k], spread[k]);
-        free(B);
-        free(A);
-        rad_hier_destroy(h);
-        CHECK_MSG(mean_err[k] < 1e-2, "eps %g: area-mean error %.3g", eps[k], mean_err[k]);
-        CHECK_MSG(spread[k] < 0.25, "eps %g: pointwise error %.3g", eps[k], spread[k]);
+        /* BF's pointwise error falls with eps; the error oracle's does not here
+           (measured 0.14, 0.17, 0.14 at eps 0.1, 0.03, 0.01): with min_area
+           A/64 the links it would refine are already between leaves of the
+           smallest size, and the spread comes from leaves' rows mixing levels */
+        if (!o)
+            CHECK(spread[2] < spread[0]);
     }
-    CHECK(spread[2] < spread[0]);
     unload(&s);
 }
 
@@ -238,7 +248,8 @@ TEST(hier_furnace_cube_mixed_levels)
  * Hence 1e-9 relative (measured 1.4e-12).  At eps 1e-2 and 1e-3 links stay at
  * coarser levels and the difference is the hierarchy's own error, which the
  * BF oracle does not bound (see the mixed-level furnace test): measured
- * 2.1e-2 and 8.2e-3 of max B (about 2 eps and 8 eps); the check, 20 eps, is
+ * 4.1e-3 and 2.6e-3 of max B (eps now relative to the mean reflected
+ * radiosity; 2.1e-2 and 8.2e-3 when it was relative to E_max); the check, 20 eps, is
  * that with headroom and catches a broken hierarchy (lost links, wrong
  * push-pull give errors of order 1). */
 TEST(hier_agrees_with_dense_on_the_same_leaves)
@@ -326,43 +337,49 @@ TEST(hier_min_area_is_respected)
 }
 
 /* Links against leaves as eps shrinks (Cornell box, no occlusion so that the
- * test stays fast).  HSA 1991 argue O(n) links for a fixed geometry; with a
- * floor on the element area the exponent measured between the two smallest
- * eps is printed; the test asks links < elements^1.5 (the brief's bound; the
- * issue's target is about 1.1, measured in experiments). */
+ * test stays fast), for both oracles.  HSA 1991 argue O(n) links for a fixed
+ * geometry; the exponent of links against leaves between eps 0.3 and 0.03 is
+ * printed (measured: BF 1.37, error 1.2x); the test asks links <
+ * elements^1.5 at the smallest eps and an exponent below 1.5 (the issue's
+ * target, 1.1, is measured in experiments/hierarchical). */
 TEST(hier_links_grow_subquadratically)
 {
     scene_arrays s;
     if (!load("scenes/cornell/cornell.obj", &s))
         return;
     double A = total_area(&s, NULL);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.min_area = A / 20000.0;
-    p.tol = 1e-8;
-    const double eps[4] = {3e-2, 1e-2, 3e-3, 1e-3};
-    double lx[4] = {0}, ly[4] = {0};
-    for (int k = 0; k < 4; k++) {
-        p.eps = eps[k];
-        rad_hier *h = run(&s, NULL, &p);
-        if (!h)
-            break;
-        rad_hier_stats st;
-        rad_hier_get_stats(h, &st);
-        lx[k] = log((double)st.elements);
-        ly[k] = log((double)st.links);
-        printf("# hier Cornell eps %-6g leaves %6zu links %8zu steps %4lld rounds %d "
-               "links/leaf %.1f\n", eps[k], st.elements, st.links, st.iterations, st.rounds,
-               (double)st.links / (double)st.elements);
-        if (k == 3)
-            CHECK_MSG((double)st.links < pow((double)st.elements, 1.5),
-                      "links %zu >= leaves^1.5 = %.0f", st.links,
-                      pow((double)st.elements, 1.5));
-        rad_hier_destroy(h);
+    const double eps[4] = {1.0, 0.3, 0.1, 0.03};
+    for (int o = 0; o < 2; o++) {
+        rad_hier_params p;
+        rad_hier_params_default(&p);
+        p.oracle = o ? RAD_HIER_ORACLE_ERROR : RAD_HIER_ORACLE_BF;
+        p.min_area = A / 20000.0;
+        p.tol = 1e-8;
+        double lx[4] = {0}, ly[4] = {0};
+        for (int k = 0; k < 4; k++) {
+            p.eps = eps[k];
+            rad_hier *h = run(&s, NULL, &p);
+            if (!h)
+                break;
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            lx[k] = log((double)st.elements);
+            ly[k] = log((double)st.links);
+            printf("# hier Cornell %s eps %-6g leaves %6zu links %8zu steps %4lld rounds %d "
+                   "links/leaf %.1f\n", rad_hier_oracle_name(p.oracle), eps[k], st.elements,
+                   st.links, st.iterations, st.rounds, (double)st.links / (double)st.elements);
+            if (k == 3)
+                CHECK_MSG((double)st.links < pow((double)st.elements, 1.5),
+                          "links %zu >= leaves^1.5 = %.0f", st.links,
+                          pow((double)st.elements, 1.5));
+            rad_hier_destroy(h);
+        }
+        double slope = (ly[3] - ly[1]) / (lx[3] - lx[1]);
+        printf("# hier Cornell %s: links ~ leaves^%.2f (eps 0.3 -> 0.03)\n",
+               rad_hier_oracle_name(p.oracle), slope);
+        CHECK(lx[3] > lx[1]); /* smaller eps refined more */
+        CHECK_MSG(slope < 1.5, "%s: links ~ leaves^%.2f", rad_hier_oracle_name(p.oracle), slope);
     }
-    double slope = (ly[3] - ly[1]) / (lx[3] - lx[1]);
-    printf("# hier Cornell: links ~ leaves^%.2f (eps 1e-2 -> 1e-3)\n", slope);
-    CHECK(lx[3] > lx[1]); /* smaller eps refined more */
     unload(&s);
 }
 
@@ -475,6 +492,15 @@ TEST(hier_rejects_bad_parameters)
     rad_hier_params_default(&p);
     p.vis_points = 2;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    rad_hier_params_default(&p);
+    p.oracle = (rad_hier_oracle)7;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    CHECK(strstr(rad_error_message(), "oracle") != NULL);
+    rad_hier_oracle o = RAD_HIER_ORACLE_BF;
+    CHECK(rad_hier_oracle_parse("error", &o) == RAD_OK && o == RAD_HIER_ORACLE_ERROR);
+    CHECK(rad_hier_oracle_parse("bf", &o) == RAD_OK && o == RAD_HIER_ORACLE_BF);
+    CHECK(rad_hier_oracle_parse("BF ", &o) == RAD_EINVAL);
+    CHECK(rad_hier_oracle_parse(NULL, &o) == RAD_EINVAL);
     /* bad input */
     rad_hier_params_default(&p);
     double rho_bad[3] = {1.0, 0.5, 0.5};

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "solve.h"
 #include "rad_dense.h"
 #include "rad_dense_solve.h"
 #include "rad_ff.h"
@@ -28,29 +28,35 @@
 
 static const char help_head[] =
     "usage: radkit solve SCENE [--method dense|hier] [--rule RULE] [--tol T] [--solver S]\n"
-    "                    [--eps E] [--min-area A]\n"
+    "                    [--oracle bf|error] [--eps E] [--min-area A] [--edges]\n"
     "                    [--refine K] [--threads N] [--out faces.tsv] [--ply out.ply]\n"
     "                    [--png out.png] [--image-size WxH] [--exposure X]\n"
     "                    [--stats stats.json] [--quiet]\n"
     "                    [--solver-tol T] [--max-iter N] [--vis-strata K]\n"
     "                    [scene options]\n"
     "\n"
-    "Solve B = E + rho F B on the triangles of SCENE by dense Galerkin radiosity\n"
-    "(piecewise-constant elements) and print one row per input triangle.\n"
+    "Solve B = E + rho F B on the triangles of SCENE by Galerkin radiosity with\n"
+    "piecewise-constant elements, dense or hierarchical, and print one row per\n"
+    "input triangle.\n"
     "\n"
     "  --method M       dense (default) or hier: hierarchical radiosity (Hanrahan,\n"
-    "                   Salzman, Aupperle 1991) with BF refinement; with hier only\n"
-    "                   --rule (default auto), --tol (default 1e-3), --solver-tol (gather/\n"
-    "                   push-pull stops at a step change of T max B, default\n"
-    "                   1e-10), --max-iter, --out, --quiet and the scene options apply.\n"
-    "                   hier refuses scenes where something can occlude (it comes out\n"
-    "                   about 5% dark on the Cornell box against dense: issue 6);\n"
-    "                   --occlusion off solves such a scene without visibility\n"
-    "  --eps E          hier: refine a link when max rho_receiver x F x V x max\n"
-    "                   B_source exceeds E times the largest emission of the scene\n"
-    "                   (dimensionless, > 0; default 1e-3)\n"
+    "                   Salzman, Aupperle 1991): element quadtrees over the input\n"
+    "                   triangles, links refined by an oracle until their error is\n"
+    "                   small; with hier --refine, --solver, --threads and\n"
+    "                   --vis-strata do not apply, --tol defaults to 1e-3,\n"
+    "                   --solver-tol stops gather/push-pull at a step change of T max B\n"
+    "  --oracle O       hier: bf (the radiosity a link brings, HSA 1991; default) or\n"
+    "                   error (how far the point-to-element form factor strays\n"
+    "                   from its element average, over receiver and source, times\n"
+    "                   the radiosity it carries); either way links not fully\n"
+    "                   visible are judged on their unoccluded transport\n"
+    "  --eps E          hier: refine a link whose oracle value exceeds E times the\n"
+    "                   area-weighted mean reflected radiosity of the current\n"
+    "                   solution, max over channels of B - E (so E is a relative\n"
+    "                   error per link; > 0, default 0.1)\n"
     "  --min-area A     hier: never split an element into children smaller than A\n"
     "                   (scene units squared, >= 0; default: total area / 10^4)\n"
+    "  --edges          draw element edges (dense: elements; hier: leaves) on --png\n"
     "  --rule RULE      form-factor scheme per pair: vertex, centroid, gauss:P,\n"
     "                   analytic:P, ss:N, exact or auto (default auto)\n"
     "  --tol T          the relative accuracy auto aims for per pair (default 1e-6)\n"
@@ -87,24 +93,6 @@ static const char help_tail[] =
     "\n"
     "example: radkit solve scenes/cornell/cornell.obj --refine 1 --out cornell.tsv\n";
 
-typedef struct solve_options {
-    const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
-    const char *threads, *out, *strata, *ply, *png, *size, *exposure, *stats;
-    const char *eps, *min_area;
-    int quiet, help;
-    cli_scene_options scene_opts;
-} solve_options;
-
-static rad_status parse_double(const char *option, const char *text, double lo, double *out)
-{
-    char *end = NULL;
-    double v = strtod(text, &end);
-    if (end == text || *end != '\0' || !isfinite(v) || !(v > lo))
-        return RAD_ERROR(RAD_EINVAL, "solve: %s must be a number > %g, got '%s'", option, lo, text);
-    *out = v;
-    return RAD_OK;
-}
-
 static void solver_progress(int channel, int iteration, double residual, void *ctx)
 {
     (void)ctx;
@@ -120,81 +108,33 @@ static void progress_line(double done, void *ctx)
     fflush(stderr);
 }
 
-/* The exposure that maps the 95th percentile of the radiosity of non-emitting
- * elements to white: lamps are left to clip, lit surfaces stay visible. */
-static double auto_exposure(int n, const double *B, const double *E)
-{
-    double *vals = malloc(3 * (size_t)n * sizeof *vals);
-    if (!vals)
-        return 1.0;
-    size_t m = 0;
-    for (int i = 0; i < n; i++)
-        if (E[i] + E[i + n] + E[i + 2 * n] <= 0.0)
-            for (int c = 0; c < 3; c++)
-                vals[m++] = B[i + (size_t)c * n];
-    double x = m ? rad_io_tonemap_auto_exposure(m, vals, 0.95)
-                 : rad_io_tonemap_auto_exposure(3 * (size_t)n, B, 0.95);
-    free(vals);
-    return x;
-}
-
-/* --ply, --png and --stats.  The image needs primary rays, so it builds the
- * visibility structure if the plan did not (a convex scene needs none). */
+/* --ply, --png (the elements are the display mesh) and --stats. */
 static rad_status write_outputs(const solve_options *o, const rad_scene *scene, const rad_mesh *mesh,
-                                const int *element_material, const double *E,
-                                const rad_vis_params *vp, const double *B,
-                                double exposure, int width, int height, const rad_effects_plan *plan,
-                                const rad_assembly_stats *as, const rad_dense_report *report, int n,
-                                int faces, double t_start, const double phase_s[4])
+                                const int *element_material, const double *E, const double *B,
+                                const rad_effects_plan *plan, const rad_assembly_stats *as,
+                                const rad_dense_report *report, int n, int faces, double t_start,
+                                const double phase_s[4])
 {
     rad_status st = RAD_OK;
-    rad_io_tonemap tm;
-    rad_io_tonemap_default(&tm);
-    tm.exposure = exposure > 0.0 ? exposure : auto_exposure(n, B, E);
-    double *xyz = NULL;
-    int *tri = NULL;
-    size_t nv = 0;
-    rad_vis *vis = NULL;
-    double t_render = 0.0;
-    if ((o->ply || o->png) &&
-        (st = rad_render_shading_mesh(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh),
-                                      (size_t)n, element_material, &xyz, &nv, &tri)) != RAD_OK)
-        return st;
-    if (o->ply && (st = rad_io_write_ply(o->ply, nv, xyz, (size_t)n, tri, B, &tm, 0)) != RAD_OK)
-        goto out;
-    if (o->png) {
-        double t0 = rad_sys_seconds();
-        if ((st = rad_vis_create(xyz, nv, tri, (size_t)n, vp, &vis)) != RAD_OK)
-            goto out;
-        const rad_camera *sc = rad_scene_camera(scene);
-        rad_render_camera cam;
-        memcpy(cam.eye, sc->position, sizeof cam.eye);
-        memcpy(cam.look_at, sc->look_at, sizeof cam.look_at);
-        memcpy(cam.up, sc->up, sizeof cam.up);
-        cam.fov_y_deg = sc->fov_y_deg;
-        cam.width = width;
-        cam.height = height;
-        unsigned char *rgb = malloc((size_t)width * (size_t)height * 3);
-        if (!rgb) {
-            st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for a %dx%d image", width, height);
-            goto out;
-        }
-        rad_vis_stats vs = {0, 0, 0};
-        st = rad_render_image(vis, nv, xyz, (size_t)n, tri, B, &cam, &tm, rgb, &vs);
-        if (st == RAD_OK)
-            st = rad_render_write_png(o->png, width, height, rgb);
-        free(rgb);
-        if (st != RAD_OK)
-            goto out;
-        t_render = rad_sys_seconds() - t0;
+    double *corners = NULL, t_render = 0.0;
+    if (o->edges) {
+        corners = malloc((size_t)n * 9 * sizeof *corners);
+        if (!corners)
+            return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d element outlines", n);
+        const double *xyz = rad_mesh_vertices(mesh);
+        const int *tri = rad_mesh_triangles(mesh);
+        for (int i = 0; i < n; i++)
+            for (int v = 0; v < 3; v++)
+                memcpy(corners + 9 * (size_t)i + 3 * v, xyz + 3 * (size_t)tri[3 * i + v],
+                       3 * sizeof *xyz);
     }
-    if (o->stats) {
-        const rad_effect_decision *dec[5] = {&plan->occlusion, &plan->colour, &plan->facing_away,
-                                             &plan->singular, &plan->clustering};
-        static const char *const names[5] = {"occlusion", "colour", "facing_away", "singular", "clustering"};
+    solve_display d = {(size_t)rad_mesh_vertex_count(mesh), (size_t)n, rad_mesh_vertices(mesh),
+                       rad_mesh_triangles(mesh), element_material, E, B, corners};
+    st = solve_write_display(o, scene, &d, &t_render);
+    free(corners);
+    if (st == RAD_OK && o->stats) {
         rad_io_effect effects[5];
-        for (int k = 0; k < 5; k++)
-            effects[k] = (rad_io_effect){names[k], dec[k]->on ? "on" : "off", dec[k]->reason};
+        solve_effects_json(plan, effects);
         rad_io_phase phases[5] = {{"setup", phase_s[0]}, {"visibility", phase_s[1]},
                                   {"assemble", phase_s[2]}, {"solve", phase_s[3]},
                                   {"render", t_render}};
@@ -208,161 +148,7 @@ static rad_status write_outputs(const solve_options *o, const rad_scene *scene, 
         };
         st = rad_io_write_stats_json(o->stats, &js);
     }
-out:
-    rad_vis_destroy(vis);
-    free(xyz);
-    free(tri);
     return st;
-}
-
-/* ---- --method hier: rad_hier on the input triangles ------------------------
- * The same table as dense (per input triangle, the area average of its
- * leaves) and '#' lines for the hierarchy's figures.  Visibility is built over
- * the input triangles when the plan says something can occlude. */
-static int solve_hier(const solve_options *o, const rad_scene_params *sp,
-                      const rad_effects_params *ep)
-{
-    const char *dense_only[8][2] = {{"--solver", o->solver}, {"--refine", o->refine},
-                                    {"--threads", o->threads}, {"--vis-strata", o->strata},
-                                    {"--ply", o->ply}, {"--png", o->png},
-                                    {"--stats", o->stats}, {"--exposure", o->exposure}};
-    for (int k = 0; k < 8; k++)
-        if (dense_only[k][1])
-            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: %s is not available with --method hier "
-                                                  "yet", dense_only[k][0]));
-    if (o->size)
-        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --image-size is not available with "
-                                              "--method hier yet"));
-    rad_hier_params hp;
-    rad_hier_params_default(&hp);
-    rad_status st = RAD_OK;
-    if (o->rule && (st = rad_ff_rule_parse(o->rule, &hp.rule)) != RAD_OK)
-        return cli_fail(st);
-    if (o->tol && (st = parse_double("--tol", o->tol, 0.0, &hp.ff.tol)) != RAD_OK)
-        return cli_fail(st);
-    if (o->eps && (st = parse_double("--eps", o->eps, 0.0, &hp.eps)) != RAD_OK)
-        return cli_fail(st);
-    int min_area_given = 0;
-    if (o->min_area) {
-        char *end = NULL;
-        double v = strtod(o->min_area, &end);
-        if (end == o->min_area || *end != '\0' || !isfinite(v) || v < 0.0)
-            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --min-area must be a number >= 0, got "
-                                                  "'%s'", o->min_area));
-        hp.min_area = v;
-        min_area_given = 1;
-    }
-    if (o->solver_tol && (st = parse_double("--solver-tol", o->solver_tol, 0.0, &hp.tol)) != RAD_OK)
-        return cli_fail(st);
-    if (o->max_iter && (st = cli_parse_positive_int("solve: --max-iter", o->max_iter, 100000000,
-                                                    &hp.max_iterations)) != RAD_OK)
-        return cli_fail(st);
-
-    double t_start = rad_sys_seconds();
-    rad_scene *scene = NULL;
-    rad_mesh *base = NULL;
-    rad_vis *vis = NULL;
-    rad_hier *h = NULL;
-    double *work = NULL, *leaf = NULL;
-    int *leaf_face = NULL;
-    FILE *out = stdout;
-    if ((st = rad_scene_load(o->scene, sp, &scene)) != RAD_OK)
-        return cli_fail(st);
-    int faces = rad_scene_triangle_count(scene);
-    if ((st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
-                              rad_scene_triangles(scene), faces, NULL, &base)) != RAD_OK)
-        goto done;
-    rad_effects_plan plan;
-    if ((st = rad_scene_effects_plan(scene, base, ep, &plan)) != RAD_OK)
-        goto done;
-    rad_scene_summary sum;
-    rad_scene_summarize(scene, &sum);
-    if (!min_area_given)
-        hp.min_area = sum.total_area * 1e-4;
-    work = malloc((size_t)faces * 6 * sizeof *work);
-    if (!work) {
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d faces", faces);
-        goto done;
-    }
-    double *rho = work, *E = work + 3 * (size_t)faces;
-    const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
-    for (int i = 0; i < faces; i++)
-        for (int c = 0; c < 3; c++) {
-            rho[i + c * faces] = mats[tri_mat[i]].rho[c];
-            E[i + c * faces] = mats[tri_mat[i]].emission[c];
-        }
-    /* Hierarchical visibility is exact on the occluder scene (Monte Carlo) but
-     * 5% dark on the Cornell box, cause not yet found: refuse rather than
-     * answer wrong.  --occlusion off is an explicit choice to ignore it. */
-    if (plan.occlusion.on) {
-        st = RAD_ERROR(RAD_EINVAL, "solve: --method hier does not handle occlusion yet (it comes "
-                                   "out about 5%% dark on the Cornell box against dense); use "
-                                   "--method dense, or --occlusion off to solve without visibility");
-        goto done;
-    }
-    double t_setup = rad_sys_seconds();
-    if ((st = rad_hier_create(rad_scene_vertices(scene), (size_t)rad_scene_vertex_count(scene),
-                              rad_scene_triangles(scene), (size_t)faces, rho, E, vis, &hp,
-                              &h)) != RAD_OK)
-        goto done;
-    if ((st = rad_hier_solve(h)) != RAD_OK)
-        goto done;
-    double t_solved = rad_sys_seconds();
-    rad_hier_stats hs;
-    rad_hier_get_stats(h, &hs);
-    size_t n = rad_hier_leaf_count(h);
-    leaf = malloc(n * 4 * sizeof *leaf);
-    leaf_face = malloc(n * sizeof *leaf_face);
-    double *face_area = calloc((size_t)faces * 4, sizeof *face_area);
-    if (!leaf || !leaf_face || !face_area) {
-        free(face_area);
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu elements", n);
-        goto done;
-    }
-    double *area = leaf, *B = leaf + n, *face_B = face_area + faces;
-    rad_hier_leaves(h, leaf_face, area, NULL, B);
-    if ((st = rad_io_face_averages(n, leaf_face, area, B, (size_t)faces, face_area, face_B)) != RAD_OK) {
-        free(face_area);
-        goto done;
-    }
-    if (o->out && !(out = fopen(o->out, "w"))) {
-        free(face_area);
-        st = RAD_ERROR(RAD_EIO, "solve: cannot write '%s'", o->out);
-        goto done;
-    }
-    char rule_text[64];
-    rad_ff_rule_format(hp.rule, rule_text, sizeof rule_text);
-    fprintf(out, "# radkit %s solve\n# scene = %s\n# method = hier\n# oracle = bf\n", RAD_VERSION,
-            o->scene);
-    fprintf(out, "# rule = %s\n# tol = %g\n# eps = %g\n# min_area = %g\n# solver_tol = %g\n",
-            rule_text, hp.ff.tol, hp.eps, hp.min_area, hp.tol);
-    fprintf(out, "# faces = %d\n# elements = %zu\n# nodes = %zu\n# links = %zu\n", faces,
-            hs.elements, hs.nodes, hs.links);
-    fprintf(out, "# iterations = %lld\n# refinements = %lld\n# rounds = %d\n# residual = %.3e\n",
-            hs.iterations, hs.refinements, hs.rounds, hs.residual);
-    fprintf(out, "# effect_occlusion = %s\n# effect_occlusion_reason = %s\n",
-            plan.occlusion.on ? "on" : "off", plan.occlusion.reason);
-    fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs.rays, hs.kernel_evals);
-    fprintf(out, "# time_setup_s = %.4f\n# time_solve_s = %.4f\n# time_total_s = %.4f\n"
-                 "# memory_peak_bytes = %.0f\n", t_setup - t_start, t_solved - t_setup,
-            rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
-    rad_io_print_faces(out, (size_t)faces, face_area, face_B);
-    free(face_area);
-    if (out != stdout && fclose(out) != 0)
-        st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o->out);
-    out = stdout;
-done:
-    if (out != stdout)
-        fclose(out);
-    free(work);
-    free(leaf);
-    free(leaf_face);
-    rad_hier_destroy(h);
-    rad_vis_destroy(vis);
-    rad_mesh_destroy(base);
-    rad_scene_destroy(scene);
-    return st == RAD_OK ? 0 : cli_fail(st);
 }
 
 int cli_solve(int argc, char **argv)
@@ -392,8 +178,10 @@ int cli_solve(int argc, char **argv)
         {"-h", NULL, &o.help, NULL},
         {"--eps", &o.eps, NULL, NULL},
         {"--min-area", &o.min_area, NULL, NULL},
+        {"--oracle", &o.oracle, NULL, NULL},
+        {"--edges", NULL, &o.edges, NULL},
     };
-    int nopt = 21;
+    int nopt = 23;
     nopt += cli_scene_options_add(&o.scene_opts, table + nopt);
     table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
 
@@ -416,8 +204,9 @@ int cli_solve(int argc, char **argv)
         return cli_fail(st);
     if (o.method && strcmp(o.method, "hier") == 0)
         return solve_hier(&o, &sp, &ep);
-    if (o.eps || o.min_area)
-        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --eps and --min-area need --method hier"));
+    if (o.eps || o.min_area || o.oracle)
+        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --eps, --min-area and --oracle need "
+                                              "--method hier"));
     if (o.method && strcmp(o.method, "dense") != 0) {
         if (strcmp(o.method, "cluster") == 0)
             return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --method %s is not available yet; use dense",
@@ -428,13 +217,13 @@ int cli_solve(int argc, char **argv)
     rad_assembly_params_default(&ap);
     if (o.rule && (st = rad_ff_rule_parse(o.rule, &ap.rule)) != RAD_OK)
         return cli_fail(st);
-    if (o.tol && (st = parse_double("--tol", o.tol, 0.0, &ap.ff.tol)) != RAD_OK)
+    if (o.tol && (st = solve_parse_double("--tol", o.tol, 0.0, &ap.ff.tol)) != RAD_OK)
         return cli_fail(st);
     rad_dense_params dp;
     rad_dense_params_default(&dp);
     if (o.solver && (st = rad_dense_method_parse(o.solver, &dp.method)) != RAD_OK)
         return cli_fail(st);
-    if (o.solver_tol && (st = parse_double("--solver-tol", o.solver_tol, 0.0, &dp.tol)) != RAD_OK)
+    if (o.solver_tol && (st = solve_parse_double("--solver-tol", o.solver_tol, 0.0, &dp.tol)) != RAD_OK)
         return cli_fail(st);
     int refine = 0, threads = 0, strata = 3;
     if (o.max_iter && (st = cli_parse_positive_int("solve: --max-iter", o.max_iter, 100000000, &dp.max_iter)) != RAD_OK)
@@ -446,16 +235,9 @@ int cli_solve(int argc, char **argv)
         return cli_fail(st);
     if (o.strata && (st = cli_parse_positive_int("solve: --vis-strata", o.strata, 16, &strata)) != RAD_OK)
         return cli_fail(st);
-    int width = 512, height = 512;
-    if (o.size) {
-        char tail = 0;
-        if (sscanf(o.size, "%dx%d%c", &width, &height, &tail) != 2 || width < 1 || height < 1 ||
-            width > 16384 || height > 16384)
-            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --image-size must be WxH with 1 <= W, H <= "
-                                              "16384, got '%s'", o.size));
-    }
-    double exposure = 0.0;
-    if (o.exposure && (st = parse_double("--exposure", o.exposure, 0.0, &exposure)) != RAD_OK)
+    int width, height;
+    double exposure;
+    if ((st = solve_parse_image(&o, &width, &height, &exposure)) != RAD_OK)
         return cli_fail(st);
     ap.threads = threads;
     int show_progress = !o.quiet && isatty(2);
@@ -590,12 +372,7 @@ int cli_solve(int argc, char **argv)
     fprintf(out, "# faces = %d\n# elements = %d\n# refine = %d\n", faces, n, refine);
     for (int w = 0; w < rad_scene_warning_count(scene); w++)
         fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
-    const rad_effect_decision *dec[5] = {&plan.occlusion, &plan.colour, &plan.facing_away,
-                                         &plan.singular, &plan.clustering};
-    static const char *const dec_name[5] = {"occlusion", "colour", "facing_away", "singular", "clustering"};
-    for (int k = 0; k < 5; k++)
-        fprintf(out, "# effect_%s = %s\n# effect_%s_reason = %s\n", dec_name[k],
-                dec[k]->on ? "on" : "off", dec_name[k], dec[k]->reason);
+    solve_print_effects(out, &plan);
     fprintf(out, "# pairs = %lld\n# pairs_not_facing = %lld\n# pairs_occlusion_tested = %lld\n",
             as.pairs, as.pairs_not_facing, as.pairs_occlusion_tested);
     fprintf(out, "# pairs_out_of_range = %lld\n# rays = %llu\n# kernel_evals = %lld\n",
@@ -613,8 +390,8 @@ int cli_solve(int argc, char **argv)
         st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o.out);
     out = stdout;
     if (st == RAD_OK)
-        st = write_outputs(&o, scene, mesh, element_material, E, &vp, B, exposure, width, height, &plan, &as,
-                           &report, n, faces, t_start,
+        st = write_outputs(&o, scene, mesh, element_material, E, B, &plan, &as, &report, n, faces,
+                           t_start,
                            (double[4]){t_setup - t_start, t_vis - t_setup, t_assembled - t_vis,
                                        t_solved - t_assembled});
 

@@ -9,18 +9,34 @@
  *     B_i = E_i + rho_i sum_j F_ij B_j
  * (DESIGN.md conventions: per-channel arrays n x 3 column-major, B in W/m^2).
  *
- * Refinement oracle (BF): a link is refined when
- *     max_c rho_r[c] * F_rs * V_rs * max_c B_s[c]  >  eps * E_max,
- * the radiosity the link would add to its receiver, relative to E_max, the
- * largest emission of any input triangle and channel.  So eps is dimensionless:
- * eps = 1e-3 refines every link that carries more than 0.1% of the brightest
- * emitter's exitance.  The larger element of the pair is split (the other one
- * if the larger may not be split); an element may be split when its children
- * (area / 4) are at least min_area and its depth is below max_depth.
+ * Refinement oracles.  Both compare a radiosity with eps * S, where S is the
+ * area-weighted mean over the leaves of the reflected radiosity max_c (B - E)
+ * of the current solution (E_max, the largest emission, before anything is
+ * reflected).  So eps is a relative error per link: eps = 0.1 refines every
+ * link whose error estimate exceeds 10% of the scene's mean reflected
+ * radiosity.  (Relative to E_max, as first built, the Cornell box's lamp -- 200
+ * times brighter than its walls -- set the scale, and links between walls were
+ * never refined: coarse solutions came out 5-15% dark.)
+ *  - BF (HSA 1991): the radiosity the link brings to its receiver,
+ *        max_c rho_r[c] * F_rs * V_rs * max_c B_s[c]  >  eps * S;
+ *    the larger element of the pair is split.
+ *  - ERROR (after Bekaert & Willems 1996): the error of the link's constant
+ *    transport, i.e. how far the point-to-element form factor F(x, s) strays
+ *    from its Galerkin projection F_rs over the receiver (x at the centroids of
+ *    r's four children), and the same from the source's side (F(y, r) over s,
+ *    scaled by A_s / A_r to the receiver's units), times the transported
+ *    radiosity:  max_c rho_r[c] * max(dF_r, dF_s) * max_c B_s[c]  >  eps * S;
+ *    the side with the larger variation is split.
+ * With either oracle a link that is not fully visible is judged on its
+ * unoccluded transport rho F B_s (partial visibility raises the error: only
+ * refinement can resolve a shadow), and a link whose estimate is 0 though its
+ * elements are not provably apart is refined while it can be.  An element may
+ * be split when its children (area / 4) are at least min_area and its depth is
+ * below max_depth; when the chosen one may not, the other is split.
  *
  * Usage: rad_hier_create (initial linking), then either rad_hier_solve (the
  * whole loop) or the steps: rad_hier_step / rad_hier_test (gather and
- * push-pull until converged) and rad_hier_refine (one BF pass), repeated until
+ * push-pull until converged) and rad_hier_refine (one oracle pass), repeated until
  * rad_hier_refine refines nothing.  Single-threaded. */
 #ifndef RAD_HIER_H
 #define RAD_HIER_H
@@ -37,8 +53,18 @@ extern "C" {
 
 typedef struct rad_hier rad_hier;
 
+typedef enum rad_hier_oracle {
+    RAD_HIER_ORACLE_BF = 0,   /* transported radiosity (HSA 1991) */
+    RAD_HIER_ORACLE_ERROR = 1 /* kernel variation times transported radiosity */
+} rad_hier_oracle;
+
+/* "bf" or "error"; RAD_EINVAL naming the text otherwise. */
+rad_status rad_hier_oracle_parse(const char *text, rad_hier_oracle *oracle);
+const char *rad_hier_oracle_name(rad_hier_oracle oracle);
+
 typedef struct rad_hier_params {
-    double eps;           /* BF threshold relative to E_max (see above); > 0.  Default 1e-3 */
+    rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_BF */
+    double eps;           /* oracle threshold relative to S (see above); > 0.  Default 0.1 */
     double min_area;      /* no element is split into children smaller than this; >= 0.
                              Default 0 (then max_depth alone bounds refinement) */
     int max_depth;        /* quadtree levels below an input triangle; default 8 */
@@ -63,12 +89,22 @@ typedef struct rad_hier_stats {
     size_t elements;      /* leaves */
     size_t nodes;         /* elements at every level */
     size_t links;         /* live links */
-    long long kernel_evals; /* rad_ff kernel evaluations over all links ever estimated */
+    /* live links by visibility: no rays needed (nothing can block the pair),
+     * traced and all open, partly blocked, all blocked; and links whose
+     * estimate is 0 though their elements are not provably apart */
+    size_t links_clear, links_visible, links_partial, links_blocked, links_unknown;
+    size_t links_leaf;    /* live links joining two leaves */
+    int max_depth;        /* deepest leaf */
+    long long kernel_evals; /* rad_ff kernel evaluations over all links ever estimated,
+                               plus the oracle's point-to-element evaluations */
     unsigned long long rays;
     long long iterations; /* gather/push-pull steps, all rounds */
     long long refinements;/* links refined (replaced by finer ones), all rounds */
     int rounds;           /* refinement rounds that refined something */
     double residual;      /* last step's largest change relative to the largest B */
+    double time_link_s;   /* initial linking (rad_hier_create) */
+    double time_refine_s; /* oracle passes and the links they make */
+    double time_solve_s;  /* gather / push-pull */
 } rad_hier_stats;
 
 /* Build the roots (one per input triangle; xyz: 3 * nverts doubles, tri:
@@ -91,7 +127,7 @@ rad_status rad_hier_step(rad_hier *h);
 /* RAD_OK when the last step changed no leaf by more than tol * max B,
  * RAD_CONTINUE otherwise (also before the first step). */
 rad_status rad_hier_test(const rad_hier *h);
-/* One BF pass over every link with the current B; links made by splitting
+/* One oracle pass over every link with the current B; links made by splitting
  * are examined in the same pass.  *refined (may be NULL) gets the number of
  * links refined.  RAD_ETOOBIG past max_elements / max_links. */
 rad_status rad_hier_refine(rad_hier *h, long long *refined);

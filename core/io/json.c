@@ -158,6 +158,12 @@ rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *s)
     rad_io_json_integer(&j, "iterations", s->solver_iterations);
     rad_io_json_number(&j, "residual", s->solver_residual);
     rad_io_json_end(&j);
+    if (s->ndetails) {
+        rad_io_json_object(&j, "details");
+        for (size_t k = 0; k < s->ndetails; k++)
+            rad_io_json_number(&j, s->details[k].name, s->details[k].value);
+        rad_io_json_end(&j);
+    }
     rad_status status = rad_io_json_finish(&j);
     int bad = ferror(f);
     if (!to_stdout && fclose(f) != 0)

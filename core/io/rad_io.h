@@ -87,6 +87,12 @@ typedef struct rad_io_phase {
     double seconds;
 } rad_io_phase;
 
+/* A named figure (a count, a ratio) for the "details" object. */
+typedef struct rad_io_figure {
+    const char *name;
+    double value;
+} rad_io_figure;
+
 typedef struct rad_io_effect {
     const char *name;   /* e.g. "occlusion" */
     const char *value;  /* e.g. "off" */
@@ -105,6 +111,10 @@ typedef struct rad_io_stats {
     const char *solver_name;
     long long solver_iterations;
     double solver_residual;
+    /* method-specific figures (e.g. hier's links by type), written as the
+       object "details": {name: value}; may be empty */
+    const rad_io_figure *details;
+    size_t ndetails;
 } rad_io_stats;
 
 rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *stats);

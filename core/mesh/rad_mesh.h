@@ -12,7 +12,9 @@
  * A CGAL Surface_mesh is built whenever the triangles form a manifold polygon
  * mesh and cross-checks closedness and the component count.
  * Refinement makes a new mesh whose elements each remember the input face they
- * lie in.  Export writes PLY (with per-vertex colours) and OFF.
+ * lie in.  Leaves of midpoint-split quadtrees are turned into a conforming
+ * mesh (hanging vertices resolved).  Export writes PLY (with per-vertex
+ * colours) and OFF.
  *
  * Every function is safe to call from C; no exception crosses this header:
  * std::bad_alloc becomes RAD_ENOMEM and any other exception RAD_EGEOM, with
@@ -100,6 +102,30 @@ rad_status rad_mesh_refine_uniform(const rad_mesh *mesh, int levels, size_t max_
  * result is conforming and keeps windings and input faces. */
 rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_t max_faces,
                                     rad_mesh **out);
+
+/* Conforming triangulation of leaf triangles made by repeated midpoint splits
+ * (the leaves of rad_hier's quadtrees, whose midpoints are (p + q) * 0.5 per
+ * coordinate), for output with smooth vertex colours.
+ * corners: 9 doubles per leaf (a, b, c; the leaf's winding is kept), nleaves
+ * leaves.  Output (malloc'ed, caller frees; NULL when empty): vertices
+ * deduplicated by exact coordinates (-0.0 equals +0.0), numbered by first
+ * appearance among the corners (*xyz_out, 3 per vertex, *nv_out of them),
+ * triangles (*tri_out, 3 ints each, *nt_out of them) and for each output
+ * triangle the leaf it lies in (*leaf_out), in leaf order.
+ * A vertex hangs on a leaf edge (p, q) when it is (p + q) * 0.5 or,
+ * recursively, a midpoint of (p, m) or (m, q) with m hanging.  A leaf with
+ * hanging vertices is triangulated with them by a CGAL constrained Delaunay
+ * triangulation in its plane (n - 2 triangles for n boundary vertices); other
+ * leaves are copied as they are (same corners in the same order), so leaves
+ * all at one depth come back unchanged.  Every output triangle keeps its
+ * leaf's orientation.  T-junctions of the input triangles themselves (a
+ * vertex on an edge that is not a recursive midpoint of it) are not found:
+ * the input triangles must be conforming.
+ * RAD_EINVAL for a NULL argument, RAD_EINPUT for a non-finite or degenerate
+ * (exactly collinear) leaf, naming it, RAD_ETOOBIG beyond INT_MAX / 3 leaves,
+ * RAD_ENOMEM / RAD_EGEOM from the geometry kernel. */
+rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double **xyz_out,
+                                   size_t *nv_out, int **tri_out, int **leaf_out, size_t *nt_out);
 
 /* ASCII PLY: vertices with red/green/blue (uchar; vertex_rgb has 3 doubles in
  * [0,1] per vertex, clamped, or NULL for grey) and faces with their input face. */

@@ -6,7 +6,13 @@
  * 2. rad_vis_intersect per row (the ray's tnear is 0: the eye is not on a face).
  * 3. Value = (1 - u - v) V0 + u V1 + v V2 with V the vertex radiosities and
  *    (u, v) Embree's barycentrics of the hit; tone-mapped per channel.
- * 4. PNG: libpng's simplified write API (png_image_write_to_file), 8-bit RGB.
+ * 4. Outline (optional): the hit point P = eye + t_hit dir is compared with
+ *    the lines through the three edges of its element; if the nearest is
+ *    within width_px * footprint, footprint = t_hit |dir| 2 tan(fov/2) / H
+ *    (one pixel's size at that distance, across the ray), the pixel takes the
+ *    line colour.  For P inside the (convex) element the nearest edge line is
+ *    the distance to its boundary, so lines and segments agree.
+ * 5. PNG: libpng's simplified write API (png_image_write_to_file), 8-bit RGB.
  * \cite{pharr2016pbrt} (camera model), \cite{gouraud1971continuous} (shading). */
 #include "rad_render.h"
 
@@ -42,12 +48,43 @@ void rad_render_camera_default(rad_render_camera *cam, const double lo[3], const
 
 static rad_vec3 v3(const double *p) { return rad_vec3_make(p[0], p[1], p[2]); }
 
+/* Nonzero when p lies within reach of the line through one of the edges of
+ * the triangle with corners c[0..8]. */
+static int near_element_edge(const double *c, rad_vec3 p, double reach)
+{
+    for (int e = 0; e < 3; e++) {
+        rad_vec3 a = v3(c + 3 * e), ab = rad_vec3_sub(v3(c + 3 * ((e + 1) % 3)), a);
+        rad_vec3 ap = rad_vec3_sub(p, a);
+        double len = rad_vec3_norm(ab);
+        /* A zero-length edge is a point: measure to it instead of dividing by 0. */
+        double d = len > 0.0 ? rad_vec3_norm(rad_vec3_cross(ab, ap)) / len : rad_vec3_norm(ap);
+        if (d <= reach)
+            return 1;
+    }
+    return 0;
+}
+
 rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz, size_t ntris,
                             const int *tri, const double *B, const rad_render_camera *cam,
-                            const rad_io_tonemap *tm, unsigned char *rgb, rad_vis_stats *stats)
+                            const rad_io_tonemap *tm, const rad_render_outline *outline,
+                            unsigned char *rgb, rad_vis_stats *stats)
 {
     if (!vis || !cam || !rgb || (nverts && !xyz) || (ntris && (!tri || !B)))
         return RAD_ERROR(RAD_EINVAL, "render: NULL argument");
+    unsigned char line_rgb[3] = {0, 0, 0};
+    if (outline) {
+        if (!outline->corners)
+            return RAD_ERROR(RAD_EINVAL, "render: outline without element corners");
+        if (!(outline->width_px > 0.0) || !isfinite(outline->width_px))
+            return RAD_ERROR(RAD_EINVAL, "render: outline width %g pixels (use a finite value > 0)",
+                             outline->width_px);
+        for (int c = 0; c < 3; c++) {
+            if (!(outline->rgb[c] >= 0.0 && outline->rgb[c] <= 1.0))
+                return RAD_ERROR(RAD_EINVAL, "render: outline colour channel %d is %g (use 0 .. 1)",
+                                 c, outline->rgb[c]);
+            line_rgb[c] = (unsigned char)lround(255.0 * outline->rgb[c]);
+        }
+    }
     if (rad_vis_triangle_count(vis) != ntris)
         return RAD_ERROR(RAD_EINVAL, "render: the visibility scene has %zu triangles, the "
                          "solution %zu", rad_vis_triangle_count(vis), ntris);
@@ -84,6 +121,9 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
         return status;
     }
     double ty = tan(0.5 * cam->fov_y_deg * pi / 180.0), tx = ty * (double)w / (double)h;
+    /* One pixel's height at unit distance along a ray; the outline's reach is
+     * width_px of these times the hit's distance. */
+    double pixel_angle = 2.0 * ty / (double)h;
     unsigned long long rays = 0;
     int failed = 0;
 #pragma omp parallel reduction(+ : rays) reduction(| : failed)
@@ -91,7 +131,8 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
         double *org = malloc((size_t)w * 3 * sizeof *org), *dir = malloc((size_t)w * 3 * sizeof *dir);
         double *bu = malloc((size_t)w * sizeof *bu), *bv = malloc((size_t)w * sizeof *bv);
         int *ht = malloc((size_t)w * sizeof *ht);
-        if (!org || !dir || !bu || !bv || !ht)
+        double *th = outline ? malloc((size_t)w * sizeof *th) : NULL;
+        if (!org || !dir || !bu || !bv || !ht || (outline && !th))
             failed = 1;
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < h; y++) {
@@ -105,13 +146,22 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
                 dir[3 * x] = d.x; dir[3 * x + 1] = d.y; dir[3 * x + 2] = d.z;
             }
             rad_vis_stats st = {0, 0, 0};
-            rad_vis_intersect(vis, (size_t)w, org, dir, 0.0, ht, NULL, bu, bv, &st);
+            rad_vis_intersect(vis, (size_t)w, org, dir, 0.0, ht, th, bu, bv, &st);
             rays += st.rays;
             unsigned char *row = rgb + (size_t)y * (size_t)w * 3;
             for (int x = 0; x < w; x++) {
                 if (ht[x] < 0) {
                     row[3 * x] = row[3 * x + 1] = row[3 * x + 2] = 0;
                     continue;
+                }
+                if (outline) {
+                    rad_vec3 d = v3(dir + 3 * x);
+                    rad_vec3 p = rad_vec3_add(eye, rad_vec3_scale(d, th[x]));
+                    double reach = outline->width_px * th[x] * rad_vec3_norm(d) * pixel_angle;
+                    if (near_element_edge(outline->corners + 9 * (size_t)ht[x], p, reach)) {
+                        memcpy(row + 3 * x, line_rgb, 3);
+                        continue;
+                    }
                 }
                 const int *t = tri + 3 * (size_t)ht[x];
                 double w1 = bu[x], w2 = bv[x], w0 = 1.0 - w1 - w2;
@@ -127,6 +177,7 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
         free(bu);
         free(bv);
         free(ht);
+        free(th);
     }
     free(vb);
     if (failed)

@@ -1,0 +1,107 @@
+#!/bin/sh
+# Hierarchical against dense radiosity on the Cornell box (papers/hierarchical.md).
+#
+# Error of the per-input-face radiosity (relative area-weighted L2 over the
+# non-emitting faces and three channels, as in experiments/accuracy_time)
+# against ONE common reference, the dense solve at refinement 4 with auto at
+# 1e-6 that experiments/accuracy_time computes (made here if missing), for
+#  - hier with each oracle (bf, error) at several eps,
+#  - dense at refinements 0..MAX_REFINE (auto at 1e-3, its default solver),
+# with wall time, elements and links (dense: facing pairs).  Then links against
+# elements with the fitted slope per oracle, and pictures of the adaptive mesh.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+RADKIT=${RADKIT:-$root/build/radkit}
+EPS=${EPS:-"1 0.3 0.1 0.03 0.01"}
+ORACLES=${ORACLES:-"bf error"}
+MAX_REFINE=${MAX_REFINE:-3}
+scene=$root/scenes/cornell/cornell.obj
+ref=$root/experiments/accuracy_time/data/reference.tsv
+cd "$here"
+mkdir -p data figures
+version=$("$RADKIT" --version)
+if [ ! -s "$ref" ]; then
+  echo "hierarchical: the common reference (dense, refine 4, auto 1e-6) is missing: making it (minutes)" >&2
+  mkdir -p "$(dirname "$ref")"
+  "$RADKIT" solve "$scene" --refine 4 --rule auto --tol 1e-6 --solver lu --quiet --out "$ref"
+fi
+
+# relative area-weighted L2 difference over non-emitting faces (see accuracy_time)
+errorof() { # table reference
+  awk -F'\t' 'FNR == 1 { file++ }
+    /^#/ || $1 == "face" { next }
+    file == 1 { a[$1] = $2; r[$1] = $3; g[$1] = $4; b[$1] = $5; next }
+    { ra[$1] = $2; rr[$1] = $3; rg[$1] = $4; rb[$1] = $5 }
+    END {
+      for (f in rr) if (rr[f] > top) top = rr[f]
+      for (f in rr) {
+        if (rr[f] > 0.5 * top) continue
+        num += ra[f] * ((r[f]-rr[f])^2 + (g[f]-rg[f])^2 + (b[f]-rb[f])^2)
+        den += ra[f] * (rr[f]^2 + rg[f]^2 + rb[f]^2)
+      }
+      printf "%.6e", sqrt(num / den) }' "$1" "$2"
+}
+hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
+
+dat=data/runs.dat
+{
+  echo "# experiment = hierarchical: hier (bf, error oracles) and dense on the Cornell box"
+  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# reference = $(hdr "$ref" method), refine 4, auto 1e-6 ($(grep '^# elements' "$ref" | sed 's/# //')); experiments/accuracy_time estimates its own error"
+  echo "# error = relative area-weighted L2 norm of (B - B_ref) over non-emitting input faces, 3 channels"
+  printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\n'
+} > "$dat"
+for o in $ORACLES; do
+  for e in $EPS; do
+    t=data/hier_${o}_$e.tsv
+    echo "hierarchical: hier --oracle $o --eps $e" >&2
+    "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps "$e" --quiet --out "$t"
+    printf 'hier-%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$o" "$e" "$(hdr $t elements)" \
+      "$(hdr $t links)" "$(errorof $t "$ref")" "$(hdr $t time_total_s)" "$(hdr $t rays)" \
+      "$(hdr $t kernel_evals)" "$(hdr $t links_partial)" >> "$dat"
+  done
+done
+k=0
+while [ "$k" -le "$MAX_REFINE" ]; do
+  t=data/dense_$k.tsv
+  echo "hierarchical: dense --refine $k" >&2
+  "$RADKIT" solve "$scene" --refine "$k" --rule auto --tol 1e-3 --quiet --out "$t"
+  links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
+  printf 'dense\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$k" "$(hdr $t elements)" "$links" \
+    "$(errorof $t "$ref")" "$(hdr $t time_total_s)" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" >> "$dat"
+  k=$((k + 1))
+done
+
+# links ~ elements^slope per oracle (least squares in log-log over the eps runs)
+slopes=data/slopes.dat
+printf 'oracle\tslope\n' > "$slopes"
+for o in $ORACLES; do
+  awk -F'\t' -v m="hier-$o" '$1 == m { x = log($3); y = log($4); n++; sx += x; sy += y; sxx += x*x; sxy += x*y }
+    END { printf "%s\t%.3f\n", m, (n*sxy - sx*sy) / (n*sxx - sx*sx) }' "$dat" >> "$slopes"
+done
+
+# 10x target: time each method needs for 1% (log-log interpolation between the
+# two runs that bracket it)
+target=data/target.dat
+printf 'method\ttime_to_1pct_s\n' > "$target"
+for m in dense $(for o in $ORACLES; do printf 'hier-%s ' "$o"; done); do
+  awk -F'\t' -v m="$m" '$1 == m { e[n] = $5; t[n] = $6; n++ }
+    END { best = "none"
+      for (i = 0; i < n; i++) for (j = 0; j < n; j++)
+        if (e[i] > 0.01 && e[j] <= 0.01 && t[j] >= t[i]) {
+          f = log(e[i] / 0.01) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
+          if (best == "none" || v < best) best = v }
+      printf "%s\t%s\n", m, best }' "$dat" >> "$target"
+done
+
+# pictures of the adaptive mesh (leaf edges drawn)
+for o in $ORACLES; do
+  "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps 0.1 --quiet --out /dev/null \
+    --png "figures/mesh_$o.png" --edges --image-size 512x512
+done
+"$RADKIT" solve "$scene" --method hier --oracle error --eps 0.03 --quiet --out /dev/null \
+  --png figures/cornell_hier.png --ply data/cornell_hier.ply --image-size 512x512
+
+if command -v gnuplot >/dev/null 2>&1; then gnuplot plot.gp; else echo "hierarchical: no gnuplot, no plots" >&2; fi
+cat "$dat" "$slopes" "$target"
