@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <omp.h>
 #include <unistd.h>
 
 #include "rad_ff.h"
@@ -22,9 +23,9 @@
 /* The options of the dense path that mean nothing here. */
 static rad_status refuse_dense_options(const solve_options *o)
 {
-    const char *dense_only[4][2] = {{"--solver", o->solver}, {"--refine", o->refine},
-                                    {"--threads", o->threads}, {"--vis-strata", o->strata}};
-    for (int k = 0; k < 4; k++)
+    const char *dense_only[3][2] = {{"--solver", o->solver}, {"--refine", o->refine},
+                                    {"--vis-strata", o->strata}};
+    for (int k = 0; k < 3; k++)
         if (dense_only[k][1])
             return RAD_ERROR(RAD_EINVAL, "solve: %s applies to --method dense only",
                              dense_only[k][0]);
@@ -59,6 +60,13 @@ static rad_status parse_hier_params(const solve_options *o, rad_hier_params *hp,
     if (o->max_iter && (st = cli_parse_positive_int("solve: --max-iter", o->max_iter, 100000000,
                                                     &hp->max_iterations)) != RAD_OK)
         return st;
+    int threads = 0;
+    if (o->threads &&
+        (st = cli_parse_positive_int("solve: --threads", o->threads, 1024, &threads)) != RAD_OK)
+        return st;
+    /* rad_hier estimates new links on OpenMP's threads; results do not depend on their number */
+    if (threads > 0)
+        omp_set_num_threads(threads);
     return RAD_OK;
 }
 

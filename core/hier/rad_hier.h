@@ -37,7 +37,8 @@
  * Usage: rad_hier_create (initial linking), then either rad_hier_solve (the
  * whole loop) or the steps: rad_hier_step / rad_hier_test (gather and
  * push-pull until converged) and rad_hier_refine (one oracle pass), repeated until
- * rad_hier_refine refines nothing.  Single-threaded. */
+ * rad_hier_refine refines nothing.  New links are estimated in parallel
+ * (OpenMP, each into its own slot): results do not depend on the thread count. */
 #ifndef RAD_HIER_H
 #define RAD_HIER_H
 
@@ -63,13 +64,14 @@ rad_status rad_hier_oracle_parse(const char *text, rad_hier_oracle *oracle);
 const char *rad_hier_oracle_name(rad_hier_oracle oracle);
 
 typedef struct rad_hier_params {
-    rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_BF */
+    rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_ERROR (fewer links for the same
+                               error than BF on the Cornell box) */
     double eps;           /* oracle threshold relative to S (see above); > 0.  Default 0.1 */
     double min_area;      /* no element is split into children smaller than this; >= 0.
                              Default 0 (then max_depth alone bounds refinement) */
     int max_depth;        /* quadtree levels below an input triangle; default 8 */
-    rad_ff_rule rule;     /* form-factor estimate per link; default auto */
-    /* ff.tol (auto's tolerance) defaults to 1e-3 here */
+    rad_ff_rule rule;     /* form-factor estimate per link; default analytic:6 */
+    /* ff.tol (auto's tolerance, when rule is auto) defaults to 1e-3 here */
     rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
     int vis_points;       /* visibility samples per element, 1 (centroid) or 4 (the
                              centroids of its four children): vis_points^2 rays per

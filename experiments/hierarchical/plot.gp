@@ -13,19 +13,20 @@ do for [fmt in "png pdf"] {
   set ylabel "relative L2 error of face radiosity"
   set xlabel "wall time (s), 2 cores"
   set format x "10^{%L}"
-  plot sel("dense") using 6:5 with linespoints pt 7 title "dense (refine 0..3)", \
+  plot sel("dense-auto") using 6:5 with linespoints pt 7 title "dense, auto (refine 0..3)", \
+       sel("dense-gauss2") using 6:5 with linespoints pt 6 title "dense, gauss:2 (refine 0..3)", \
        sel("hier-bf") using 6:5 with linespoints pt 5 title "hier, BF oracle", \
        sel("hier-error") using 6:5 with linespoints pt 9 title "hier, error oracle", \
        0.01 with lines dashtype 2 lc "black" title "1%"
   set xlabel "links (dense: facing ordered pairs)"
-  plot sel("dense") using 4:5 with linespoints pt 7 title "dense", \
+  plot sel("dense-auto") using 4:5 with linespoints pt 7 title "dense", \
        sel("hier-bf") using 4:5 with linespoints pt 5 title "hier, BF", \
        sel("hier-error") using 4:5 with linespoints pt 9 title "hier, error"
   set xlabel "elements (leaves)"
   set ylabel "links"
   set format y "10^{%L}"
   set key top left
-  plot sel("dense") using 3:4 with linespoints pt 7 title "dense: n^2", \
+  plot sel("dense-auto") using 3:4 with linespoints pt 7 title "dense: n^2", \
        sel("hier-bf") using 3:4 with linespoints pt 5 title "hier, BF", \
        sel("hier-error") using 3:4 with linespoints pt 9 title "hier, error"
   unset multiplot

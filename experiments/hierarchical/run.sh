@@ -6,14 +6,15 @@
 # against ONE common reference, the dense solve at refinement 4 with auto at
 # 1e-6 that experiments/accuracy_time computes (made here if missing), for
 #  - hier with each oracle (bf, error) at several eps,
-#  - dense at refinements 0..MAX_REFINE (auto at 1e-3, its default solver),
+#  - dense at refinements 0..MAX_REFINE with auto at 1e-3 and with gauss:2 (the
+#    fastest rule of experiments/accuracy_time), its default solver,
 # with wall time, elements and links (dense: facing pairs).  Then links against
 # elements with the fitted slope per oracle, and pictures of the adaptive mesh.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
-EPS=${EPS:-"1 0.3 0.1 0.03 0.01"}
+EPS=${EPS:-"1 0.3 0.1 0.03 0.01 0.003 0.001"}
 ORACLES=${ORACLES:-"bf error"}
 MAX_REFINE=${MAX_REFINE:-3}
 scene=$root/scenes/cornell/cornell.obj
@@ -62,15 +63,18 @@ for o in $ORACLES; do
       "$(hdr $t kernel_evals)" "$(hdr $t links_partial)" >> "$dat"
   done
 done
-k=0
-while [ "$k" -le "$MAX_REFINE" ]; do
-  t=data/dense_$k.tsv
-  echo "hierarchical: dense --refine $k" >&2
-  "$RADKIT" solve "$scene" --refine "$k" --rule auto --tol 1e-3 --quiet --out "$t"
-  links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
-  printf 'dense\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$k" "$(hdr $t elements)" "$links" \
-    "$(errorof $t "$ref")" "$(hdr $t time_total_s)" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" >> "$dat"
-  k=$((k + 1))
+for rule in auto gauss:2; do
+  k=0
+  name=dense-$(echo "$rule" | tr -d ':')
+  while [ "$k" -le "$MAX_REFINE" ]; do
+    t=data/${name}_$k.tsv
+    echo "hierarchical: dense --refine $k --rule $rule" >&2
+    "$RADKIT" solve "$scene" --refine "$k" --rule "$rule" --tol 1e-3 --quiet --out "$t"
+    links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$k" "$(hdr $t elements)" "$links" \
+      "$(errorof $t "$ref")" "$(hdr $t time_total_s)" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" >> "$dat"
+    k=$((k + 1))
+  done
 done
 
 # links ~ elements^slope per oracle (least squares in log-log over the eps runs)
@@ -85,7 +89,7 @@ done
 # two runs that bracket it)
 target=data/target.dat
 printf 'method\ttime_to_1pct_s\n' > "$target"
-for m in dense $(for o in $ORACLES; do printf 'hier-%s ' "$o"; done); do
+for m in dense-auto dense-gauss2 $(for o in $ORACLES; do printf 'hier-%s ' "$o"; done); do
   awk -F'\t' -v m="$m" '$1 == m { e[n] = $5; t[n] = $6; n++ }
     END { best = "none"
       for (i = 0; i < n; i++) for (j = 0; j < n; j++)
@@ -100,7 +104,7 @@ for o in $ORACLES; do
   "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps 0.1 --quiet --out /dev/null \
     --png "figures/mesh_$o.png" --edges --image-size 512x512
 done
-"$RADKIT" solve "$scene" --method hier --oracle error --eps 0.03 --quiet --out /dev/null \
+"$RADKIT" solve "$scene" --method hier --oracle error --eps 0.003 --quiet --out /dev/null \
   --png figures/cornell_hier.png --ply data/cornell_hier.ply --image-size 512x512
 
 if command -v gnuplot >/dev/null 2>&1; then gnuplot plot.gp; else echo "hierarchical: no gnuplot, no plots" >&2; fi
