@@ -353,8 +353,9 @@ TEST(io_stats_json_has_the_design_keys_and_parses)
     rad_io_phase phases[2] = {{"assembly", 1.25}, {"solve", 0.0625}};
     rad_io_effect effects[2] = {{"occlusion", "off", "convex \"closed\" enclosure\n\tno blockers"},
                                 {"colour", "grey", "all reflectances grey \x01"}};
+    rad_io_figure details[2] = {{"links_partial", 17}, {"max_depth", 4}};
     rad_io_stats st = {"dense", 12, 48, 1128, 123456789012LL, 99, phases, 2, 1.3125,
-                       1.5e8, effects, 2, "lu", 0, 3.5e-16};
+                       1.5e8, effects, 2, "lu", 0, 3.5e-16, details, 2};
     const char *path = tmp_path("stats.json");
     CHECK(rad_io_write_stats_json(path, &st) == RAD_OK);
     char *s = slurp(path, NULL);
@@ -372,7 +373,7 @@ TEST(io_stats_json_has_the_design_keys_and_parses)
                           "time_s.assembly", "time_s.solve", "time_s.total", "memory_peak_bytes",
                           "effects.occlusion.value", "effects.occlusion.reason",
                           "effects.colour.value", "solver.name", "solver.iterations",
-                          "solver.residual"};
+                          "solver.residual", "details.links_partial", "details.max_depth"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
         CHECK_MSG(jfind(&j, keys[k]) != NULL, "key %s missing", keys[k]);
     const jitem *it;
