@@ -1,7 +1,8 @@
 #!/bin/sh
-# make demo: the Cornell box solved by dense Galerkin radiosity (an image, the
-# figures of the run), then the 1D model problem of the notes at a few n (a
-# table of its errors and a convergence plot).
+# make demo: the Cornell box solved by dense and by hierarchical Galerkin
+# radiosity (images, the figures of the runs, the adaptive mesh), then the 1D
+# model problem of the notes at a few n (a table of its errors and a
+# convergence plot).
 set -eu
 RADKIT=${1:-build/radkit}
 out=build/demo
@@ -15,6 +16,15 @@ awk -F' = ' '/^# (faces|elements|rule|solver|pairs|pairs_not_facing|pairs_occlus
   printf "  %-24s %s\n", substr($1, 3), $2 }' "$out/cornell.tsv" | grep -v '_reason'
 echo "  image: $out/cornell.png   mesh: $out/cornell.ply   stats: $out/cornell.json"
 echo "  per-face radiosity: $out/cornell.tsv"
+echo
+echo "radkit demo 1b: the same box by hierarchical radiosity (--method hier --eps 0.003)"
+"$RADKIT" solve scenes/cornell/cornell.obj --method hier --eps 0.003 --png "$out/cornell_hier.png" \
+    --ply "$out/cornell_hier.ply" --stats "$out/cornell_hier.json" --out "$out/cornell_hier.tsv"
+"$RADKIT" solve scenes/cornell/cornell.obj --method hier --eps 0.1 --png "$out/cornell_hier_mesh.png" \
+    --edges --quiet --out /dev/null
+awk -F' = ' '/^# (oracle|eps|elements|links|links_partial|links_blocked|rounds|iterations|rays|kernel_evals|time_[a-z]+_s) = /{
+  printf "  %-24s %s\n", substr($1, 3), $2 }' "$out/cornell_hier.tsv"
+echo "  image: $out/cornell_hier.png   adaptive mesh (eps 0.1): $out/cornell_hier_mesh.png"
 echo
 echo "radkit demo 2: the 1D model problem y = f + K y (papers/galerkin-1d.md)"
 echo "exact Galerkin solutions (closed-form assembly) against the exact solution;"

@@ -247,9 +247,9 @@ TEST(hier_furnace_cube_mixed_levels)
  * (rcond-limited, ~1e-15); gauss:4 is symmetric in the pair up to rounding.
  * Hence 1e-9 relative (measured 1.4e-12).  At eps 1e-2 and 1e-3 links stay at
  * coarser levels and the difference is the hierarchy's own error, which the
- * BF oracle does not bound (see the mixed-level furnace test): measured
- * 4.1e-3 and 2.6e-3 of max B (eps now relative to the mean reflected
- * radiosity; 2.1e-2 and 8.2e-3 when it was relative to E_max); the check, 20 eps, is
+ * oracles do not bound pointwise (see the mixed-level furnace test): measured
+ * 4.8e-3 and 1.2e-3 of max B (error oracle, gauss:4; eps
+ * relative to the mean reflected radiosity); the check, 20 eps, is
  * that with headroom and catches a broken hierarchy (lost links, wrong
  * push-pull give errors of order 1). */
 TEST(hier_agrees_with_dense_on_the_same_leaves)

@@ -157,7 +157,9 @@ int cli_solve(int argc, char **argv)
     solve_options o;
     memset(&o, 0, sizeof o);
     cli_scene_options_init(&o.scene_opts);
-    cli_option table[32] = {
+    /* the command's own options, the shared scene options and the terminator */
+    enum { SOLVE_OWN_OPTIONS = 23 };
+    cli_option table[SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1] = {
         {"", &o.scene, NULL, "scene"},
         {"--method", &o.method, NULL, NULL},
         {"--rule", &o.rule, NULL, NULL},
@@ -182,7 +184,7 @@ int cli_solve(int argc, char **argv)
         {"--oracle", &o.oracle, NULL, NULL},
         {"--edges", NULL, &o.edges, NULL},
     };
-    int nopt = 23;
+    int nopt = SOLVE_OWN_OPTIONS;
     nopt += cli_scene_options_add(&o.scene_opts, table + nopt);
     table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
 
