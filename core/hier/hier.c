@@ -260,6 +260,8 @@ static int pair_can_block(const rad_hier *h, int r, int s)
     return rad_vis_pair_can_block(h->vis, (size_t)r, (size_t)s);
 }
 
+static int can_split(const rad_hier *h, int e);
+
 /* Work counters of estimates made on one thread. */
 typedef struct work_count {
     long long evals;
@@ -300,7 +302,8 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
     out->unknown = !(res.F12 > 0.0);
     if (out->unknown)
         return RAD_OK;
-    if (h->p.oracle == RAD_HIER_ORACLE_ERROR) {
+    /* the oracle's variation matters only for a link that may still be refined */
+    if (h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s))) {
         out->dFr = kernel_variation(er, es, res.F12, &wc->evals);
         /* F(y, r) over s deviates from F_sr = F21; A_s / A_r puts it in the
            receiver's units (A_r F_rs = A_s F_sr) */
