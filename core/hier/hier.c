@@ -121,6 +121,14 @@ void rad_hier_params_default(rad_hier_params *params)
     params->rule.order = 6;
     params->ff = rad_ff_defaults();
     params->ff.tol = 1e-3;
+    /* Far pairs (centroids more than 2 longest edges apart): gauss:2, whose
+     * error there is about 0.1% (parallel and perpendicular unit triangles at
+     * 1.6-2.3 edges: 0.13%, 0.12%), for 9 kernel evaluations instead of 12
+     * closed forms; measured 15-20% faster on the Cornell box at the same
+     * error (experiments/hierarchical). */
+    params->far_ratio = 2.0;
+    params->far_rule.scheme = RAD_FF_GAUSS;
+    params->far_rule.order = 2;
     params->vis_points = 4;
     params->tol = 1e-10;
     params->max_iterations = 10000;
@@ -142,6 +150,9 @@ static rad_status check_params(const rad_hier_params *p)
         return RAD_ERROR(RAD_EINVAL, "hier: max_depth must lie in 0..30 (got %d)", p->max_depth);
     if (p->vis_points != 1 && p->vis_points != 4)
         return RAD_ERROR(RAD_EINVAL, "hier: vis_points must be 1 or 4 (got %d)", p->vis_points);
+    if (!(p->far_ratio >= 0.0) || !isfinite(p->far_ratio))
+        return RAD_ERROR(RAD_EINVAL, "hier: far_ratio must be a finite number >= 0 (got %g)",
+                         p->far_ratio);
     if (!(p->tol > 0.0) || !isfinite(p->tol))
         return RAD_ERROR(RAD_EINVAL, "hier: tol must be a finite number > 0 (got %g)", p->tol);
     if (p->max_iterations < 1 || p->max_rounds < 0)
@@ -268,6 +279,34 @@ typedef struct work_count {
     unsigned long long rays;
 } work_count;
 
+/* kernel_variation for a far pair: F(x, t) from the kernel at the three
+ * points of the degree-2 rule on t (the kernel is smooth there), no closed form. */
+static double kernel_variation_far(const hier_elem *e, const hier_elem *t, double Fbar,
+                                   long long *evals)
+{
+    rad_vec3 ne = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
+    rad_vec3 nt = rad_geom_triangle_normal(t->p[0], t->p[1], t->p[2]);
+    static const double w[4][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
+                                   {1.0 / 6, 1.0 / 6, 4.0 / 6}, {1.0 / 3, 1.0 / 3, 1.0 / 3}};
+    rad_vec3 y[3];
+    for (int j = 0; j < 3; j++)
+        y[j] = rad_vec3_add(rad_vec3_add(rad_vec3_scale(t->p[0], w[j][0]),
+                                         rad_vec3_scale(t->p[1], w[j][1])),
+                            rad_vec3_scale(t->p[2], w[j][2]));
+    double dev = 0.0;
+    for (int k = 0; k < 4; k++) {
+        rad_vec3 x = rad_vec3_add(rad_vec3_add(rad_vec3_scale(e->p[0], w[k][0]),
+                                               rad_vec3_scale(e->p[1], w[k][1])),
+                                  rad_vec3_scale(e->p[2], w[k][2]));
+        double f = 0.0;
+        for (int j = 0; j < 3; j++)
+            f += rad_ff_kernel(x, ne, y[j], nt, NULL);
+        dev = fmax(dev, fabs(t->area * f / 3.0 - Fbar));
+    }
+    *evals += 12;
+    return dev;
+}
+
 /* Estimate the link r <- s; *facing = 0 when there is nothing to link.
  * Reads h only (re-entrant: called from several threads at once); its work
  * goes to *wc. */
@@ -276,7 +315,24 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
 {
     const hier_elem *er = &h->el[r], *es = &h->el[s];
     rad_ff_result res;
-    rad_status st = rad_ff_compute(er->p, es->p, h->p.rule, &h->p.ff, &res);
+    /* a far pair (centroids more than far_ratio longest edges apart) takes
+       far_rule and the oracle's kernel-sampled variation */
+    rad_ff_rule rule = h->p.rule;
+    int far = 0;
+    if (h->p.far_ratio > 0.0) {
+        rad_vec3 cr = rad_geom_triangle_centroid(er->p[0], er->p[1], er->p[2]);
+        rad_vec3 cs = rad_geom_triangle_centroid(es->p[0], es->p[1], es->p[2]);
+        double d = rad_vec3_norm(rad_vec3_sub(cr, cs)), size = 0.0;
+        for (int k = 0; k < 3; k++) {
+            size = fmax(size, rad_vec3_norm(rad_vec3_sub(er->p[k], er->p[(k + 1) % 3])));
+            size = fmax(size, rad_vec3_norm(rad_vec3_sub(es->p[k], es->p[(k + 1) % 3])));
+        }
+        if (d > h->p.far_ratio * size) {
+            far = 1;
+            rule = h->p.far_rule;
+        }
+    }
+    rad_status st = rad_ff_compute(er->p, es->p, rule, &h->p.ff, &res);
     if (st != RAD_OK)
         return st;
     wc->evals += res.evals;
@@ -304,11 +360,13 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
         return RAD_OK;
     /* the oracle's variation matters only for a link that may still be refined */
     if (h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s))) {
-        out->dFr = kernel_variation(er, es, res.F12, &wc->evals);
+        out->dFr = far ? kernel_variation_far(er, es, res.F12, &wc->evals)
+                       : kernel_variation(er, es, res.F12, &wc->evals);
         /* F(y, r) over s deviates from F_sr = F21; A_s / A_r puts it in the
            receiver's units (A_r F_rs = A_s F_sr) */
         double scale = er->area > 0.0 ? es->area / er->area : 0.0;
-        out->dFs = kernel_variation(es, er, res.F21, &wc->evals) * scale;
+        out->dFs = (far ? kernel_variation_far(es, er, res.F21, &wc->evals)
+                        : kernel_variation(es, er, res.F21, &wc->evals)) * scale;
     }
     if (h->use_vis && pair_can_block(h, er->face, es->face)) {
         int m = h->p.vis_points, n = m * m;

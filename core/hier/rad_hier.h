@@ -72,6 +72,12 @@ typedef struct rad_hier_params {
     int max_depth;        /* quadtree levels below an input triangle; default 8 */
     rad_ff_rule rule;     /* form-factor estimate per link; default analytic:6 */
     /* ff.tol (auto's tolerance, when rule is auto) defaults to 1e-3 here */
+    double far_ratio;     /* pairs whose centroids lie more than far_ratio times the
+                             longest edge of either element apart use far_rule, and
+                             the ERROR oracle samples the kernel at 3 points of the
+                             other element instead of the closed form; 0: every pair
+                             uses rule.  Default 2 */
+    rad_ff_rule far_rule; /* default gauss:2 (about 0.1% at far_ratio 2) */
     rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
     int vis_points;       /* visibility samples per element, 1 (centroid) or 4 (the
                              centroids of its four children): vis_points^2 rays per
