@@ -1,0 +1,2 @@
+// The end of a cgal_warnings_off.hpp block.  No include guard.
+#pragma GCC diagnostic pop
