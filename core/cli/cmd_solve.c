@@ -242,6 +242,7 @@ int cli_solve(int argc, char **argv)
         return cli_fail(st);
     int width, height;
     double exposure;
+    /* checked now, before the heavy work; solve_write_display reads them again */
     if ((st = solve_parse_image(&o, &width, &height, &exposure)) != RAD_OK)
         return cli_fail(st);
     ap.threads = threads;

@@ -105,14 +105,15 @@ static rad_status solve_with_progress(rad_hier *h, const rad_hier_params *hp, in
     return RAD_OK;
 }
 
-/* The leaves' conforming mesh as a display (solve.h); arrays in *keep. */
+/* The leaves' conforming mesh as a display (solve.h); the arrays belong to *a
+ * (hier_display_free). */
 typedef struct hier_display_arrays {
     double *corners, *xyz, *E, *B;
     int *tri, *leaf, *material;
 } hier_display_arrays;
 
 static rad_status hier_display(const rad_hier *h, const rad_scene *scene, size_t n,
-                               const int *leaf_face, const double *leaf_B, int faces,
+                               const int *leaf_face, const double *leaf_B,
                                hier_display_arrays *a, solve_display *d)
 {
     memset(a, 0, sizeof *a);
@@ -137,7 +138,6 @@ static rad_status hier_display(const rad_hier *h, const rad_scene *scene, size_t
     for (size_t t = 0; t < nt; t++) {
         size_t l = (size_t)a->leaf[t];
         int f = leaf_face[l];
-        (void)faces;
         a->material[t] = tri_mat[f];
         memcpy(outline + 9 * t, a->corners + 9 * l, 9 * sizeof *outline);
         for (int c = 0; c < 3; c++) {
@@ -284,7 +284,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     double t_render = 0.0;
     if (o->ply || o->png) {
         solve_display d;
-        if ((st = hier_display(h, scene, n, leaf_face, B, faces, &disp_arrays, &d)) != RAD_OK ||
+        if ((st = hier_display(h, scene, n, leaf_face, B, &disp_arrays, &d)) != RAD_OK ||
             (st = solve_write_display(o, scene, &d, &t_render)) != RAD_OK)
             goto done;
     }
