@@ -586,9 +586,17 @@ TEST(hier_rejects_bad_parameters)
     p.max_links = 5;
     scene_arrays s;
     if (load("scenes/furnace_cube/cube.obj", &s)) {
+        /* 12 triangles: 132 ordered pairs > 2 x 5, refused before any estimate */
         CHECK(rad_hier_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
                               rad_scene_triangles(s.scene), (size_t)s.n, s.rho, s.E, NULL, &p,
                               &h) == RAD_ETOOBIG);
+        CHECK(strstr(rad_error_message(), "ordered pairs") != NULL);
+        /* 132 <= 2 x 100, but the 120 facing pairs exceed 100 links */
+        p.max_links = 100;
+        CHECK(rad_hier_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                              rad_scene_triangles(s.scene), (size_t)s.n, s.rho, s.E, NULL, &p,
+                              &h) == RAD_ETOOBIG);
+        CHECK(strstr(rad_error_message(), "max_links") != NULL);
         unload(&s);
     }
     rad_hier_destroy(NULL);

@@ -544,6 +544,15 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         }
     }
     h->nel = ntris;
+    /* Every ordered pair of input triangles is estimated: refuse before the
+       work when even half of them could not be held as links (clustering,
+       which would link groups of triangles, is not implemented). */
+    if ((double)ntris * (double)(ntris - 1) > 2.0 * (double)p.max_links) {
+        st = RAD_ERROR(RAD_ETOOBIG, "hier: %zu input triangles make %.3g ordered pairs to link, "
+                                    "beyond twice max_links (%zu); use fewer triangles",
+                       ntris, (double)ntris * (double)(ntris - 1), p.max_links);
+        goto fail;
+    }
     double t0 = rad_sys_seconds();
     if (h->use_vis && ntris <= HIER_BLOCK_TABLE_MAX) {
         h->can_block = malloc(ntris * ntris);
