@@ -33,22 +33,8 @@ if [ ! -s "$ref" ] || [ "${REDO_REFERENCE:-0}" = 1 ]; then
   run auto:1e-6 "$REF_REFINE" "$ref"
 fi
 
-# Relative area-weighted L2 difference of two per-face tables, emitters excluded
-# (their radiosity is their emission): the faces whose reference B_r exceeds
-# half the largest (in the Cornell box, the two triangles of the lamp).
-errorof() { # table reference
-  awk -F'\t' 'FNR == 1 { file++ }
-    /^#/ || $1 == "face" { next }
-    file == 1 { a[$1] = $2; r[$1] = $3; g[$1] = $4; b[$1] = $5; next }
-    { ra[$1] = $2; rr[$1] = $3; rg[$1] = $4; rb[$1] = $5; n++ }
-    END {
-      for (f in rr) if (rr[f] > top) top = rr[f]
-      for (f in rr) {
-        if (rr[f] > 0.5 * top) continue
-        num += ra[f] * ((r[f]-rr[f])^2 + (g[f]-rg[f])^2 + (b[f]-rb[f])^2)
-        den += ra[f] * (rr[f]^2 + rg[f]^2 + rb[f]^2)
-      }
-      printf "%.6e", sqrt(num / den) }' "$1" "$2"
+errorof() { # table reference (experiments/face_error.awk)
+  awk -F'\t' -f "$root/experiments/face_error.awk" "$1" "$2"
 }
 
 dat=data/errors.dat
