@@ -72,37 +72,12 @@ static rad_status parse_hier_params(const solve_options *o, rad_hier_params *hp,
     return RAD_OK;
 }
 
-/* Progress on a terminal: one line per refinement round. */
-static rad_status solve_with_progress(rad_hier *h, const rad_hier_params *hp, int show)
+/* Progress on a terminal: one line per refinement round (rad_hier_params). */
+static void hier_progress(int round, size_t leaves, size_t links, void *ctx)
 {
-    if (!show)
-        return rad_hier_solve(h);
-    /* the steps of rad_hier_solve, with a line after each round */
-    rad_status st;
-    for (int round = 0;; round++) {
-        int it = 0;
-        do {
-            if ((st = rad_hier_step(h)) != RAD_OK)
-                return st;
-        } while (rad_hier_test(h) != RAD_OK && ++it < hp->max_iterations);
-        if (rad_hier_test(h) != RAD_OK)
-            return RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps",
-                             hp->max_iterations);
-        rad_hier_stats s;
-        rad_hier_get_stats(h, &s);
-        fprintf(stderr, "\rradkit: hier round %d: %zu elements, %zu links   ", round, s.elements,
-                s.links);
-        fflush(stderr);
-        if (round >= hp->max_rounds)
-            break;
-        long long n = 0;
-        if ((st = rad_hier_refine(h, &n)) != RAD_OK)
-            return st;
-        if (n == 0)
-            break;
-    }
-    fputc('\n', stderr);
-    return RAD_OK;
+    (void)ctx;
+    fprintf(stderr, "\rradkit: hier round %d: %zu leaves, %zu links   ", round, leaves, links);
+    fflush(stderr);
 }
 
 /* The leaves' conforming mesh as a display (solve.h); the arrays belong to *a
@@ -226,11 +201,16 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             goto done;
     }
     double t_vis = rad_sys_seconds();
-    if ((st = rad_hier_create(rad_scene_vertices(scene), (size_t)rad_scene_vertex_count(scene),
-                              rad_scene_triangles(scene), (size_t)faces, rho, E, vis, &hp,
-                              &h)) != RAD_OK)
-        goto done;
-    if ((st = solve_with_progress(h, &hp, !o->quiet && isatty(2))) != RAD_OK)
+    int show_progress = !o->quiet && isatty(2);
+    if (show_progress)
+        hp.progress = hier_progress;
+    st = rad_hier_create(rad_scene_vertices(scene), (size_t)rad_scene_vertex_count(scene),
+                         rad_scene_triangles(scene), (size_t)faces, rho, E, vis, &hp, &h);
+    if (st == RAD_OK)
+        st = rad_hier_solve(h);
+    if (show_progress)
+        fputc('\n', stderr);
+    if (st != RAD_OK)
         goto done;
     rad_hier_stats hs;
     rad_hier_get_stats(h, &hs);

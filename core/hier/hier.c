@@ -74,6 +74,7 @@ struct rad_hier {
      * computed once: every link between their elements asks it again.  NULL
      * for scenes beyond HIER_BLOCK_TABLE_MAX triangles (then asked each time). */
     unsigned char *can_block;
+    rad_vec3 *normal; /* unit normal per input triangle: every element of it shares it */
     size_t nroots;
     double *rho, *E;  /* per input triangle, ntris x 3 */
     double E_max;
@@ -245,9 +246,10 @@ static void sample_points(const hier_elem *e, int idx, int n, double *pts)
  * centroids are where a split of e would put its new receivers, so this is the
  * change a split can make (Bekaert & Willems 1996 compare the point values
  * with the Galerkin projection the same way). */
-static double kernel_variation(const hier_elem *e, const hier_elem *t, double Fbar, long long *evals)
+static double kernel_variation(const rad_hier *h, const hier_elem *e, const hier_elem *t,
+                               double Fbar, long long *evals)
 {
-    rad_vec3 n = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
+    rad_vec3 n = h->normal[e->face];
     rad_vec3 a = e->p[0], b = e->p[1], c = e->p[2];
     /* child centroids in barycentric form: corners (4,1,1)/6 ..., middle (1,1,1)/3 */
     static const double w[4][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
@@ -281,11 +283,10 @@ typedef struct work_count {
 
 /* kernel_variation for a far pair: F(x, t) from the kernel at the three
  * points of the degree-2 rule on t (the kernel is smooth there), no closed form. */
-static double kernel_variation_far(const hier_elem *e, const hier_elem *t, double Fbar,
-                                   long long *evals)
+static double kernel_variation_far(const rad_hier *h, const hier_elem *e, const hier_elem *t,
+                                   double Fbar, long long *evals)
 {
-    rad_vec3 ne = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
-    rad_vec3 nt = rad_geom_triangle_normal(t->p[0], t->p[1], t->p[2]);
+    rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
     static const double w[4][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
                                    {1.0 / 6, 1.0 / 6, 4.0 / 6}, {1.0 / 3, 1.0 / 3, 1.0 / 3}};
     rad_vec3 y[3];
@@ -360,13 +361,13 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
         return RAD_OK;
     /* the oracle's variation matters only for a link that may still be refined */
     if (h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s))) {
-        out->dFr = far ? kernel_variation_far(er, es, res.F12, &wc->evals)
-                       : kernel_variation(er, es, res.F12, &wc->evals);
+        out->dFr = far ? kernel_variation_far(h, er, es, res.F12, &wc->evals)
+                       : kernel_variation(h, er, es, res.F12, &wc->evals);
         /* F(y, r) over s deviates from F_sr = F21; A_s / A_r puts it in the
            receiver's units (A_r F_rs = A_s F_sr) */
         double scale = er->area > 0.0 ? es->area / er->area : 0.0;
-        out->dFs = (far ? kernel_variation_far(es, er, res.F21, &wc->evals)
-                        : kernel_variation(es, er, res.F21, &wc->evals)) * scale;
+        out->dFs = (far ? kernel_variation_far(h, es, er, res.F21, &wc->evals)
+                        : kernel_variation(h, es, er, res.F21, &wc->evals)) * scale;
     }
     if (h->use_vis && pair_can_block(h, er->face, es->face)) {
         int m = h->p.vis_points, n = m * m;
@@ -397,8 +398,7 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
          * blocked, and pairs where K = 0 (a point behind the other element's
          * plane) may be blocked without mattering; on the Cornell box the
          * plain share left coarse solutions 13% dark. */
-        rad_vec3 nr = rad_geom_triangle_normal(er->p[0], er->p[1], er->p[2]);
-        rad_vec3 ns = rad_geom_triangle_normal(es->p[0], es->p[1], es->p[2]);
+        rad_vec3 nr = h->normal[er->face], ns = h->normal[es->face];
         double wsum = 0.0, wopen = 0.0;
         int open = 0;
         for (int k = 0; k < n; k++) {
@@ -500,7 +500,8 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
     h->nroots = ntris;
     h->rho = malloc(3 * ntris * sizeof *h->rho);
     h->E = malloc(3 * ntris * sizeof *h->E);
-    if (!h->rho || !h->E) {
+    h->normal = malloc(ntris * sizeof *h->normal);
+    if (!h->rho || !h->E || !h->normal) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
         goto fail;
     }
@@ -530,6 +531,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
             goto fail;
         }
         e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
+        h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
         e->parent = e->first_child = -1;
         e->face = (int)t;
         for (int c = 0; c < 3; c++) {
@@ -601,6 +603,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->rho);
     free(h->E);
     free(h->can_block);
+    free(h->normal);
     free(h->el);
     free(h->ln);
     free(h);
@@ -867,7 +870,11 @@ rad_status rad_hier_solve(rad_hier *h)
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_status st = solve_links(h);
-    for (int round = 0; st == RAD_OK && round < h->p.max_rounds; round++) {
+    for (int round = 0; st == RAD_OK; round++) {
+        if (h->p.progress)
+            h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
+        if (round >= h->p.max_rounds)
+            break;
         long long n = 0;
         st = rad_hier_refine(h, &n);
         if (st != RAD_OK || n == 0)

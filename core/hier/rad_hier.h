@@ -89,6 +89,10 @@ typedef struct rad_hier_params {
     int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
     size_t max_elements;  /* RAD_ETOOBIG beyond this many elements (all levels); 4e6 */
     size_t max_links;     /* RAD_ETOOBIG beyond this many links; 5e7 */
+    /* Called by rad_hier_solve after each solve (round 0: the initial links),
+     * with the leaves and links at that point; may be NULL (default). */
+    void (*progress)(int round, size_t leaves, size_t links, void *ctx);
+    void *progress_ctx;
 } rad_hier_params;
 
 void rad_hier_params_default(rad_hier_params *params);
