@@ -539,6 +539,46 @@ TEST(hier_far_pairs_shortcut_stays_close)
     unload(&s);
 }
 
+/* rad_hier_solve reports each round through the progress callback: rounds
+ * 0, 1, 2, ... in order, and the last report is the final hierarchy. */
+typedef struct progress_log {
+    int calls, last_round, in_order;
+    size_t last_leaves, last_links;
+} progress_log;
+
+static void log_progress(int round, size_t leaves, size_t links, void *ctx)
+{
+    progress_log *l = ctx;
+    l->in_order &= round == l->calls;
+    l->calls++;
+    l->last_round = round;
+    l->last_leaves = leaves;
+    l->last_links = links;
+}
+
+TEST(hier_solve_reports_progress_per_round)
+{
+    scene_arrays s;
+    if (!load("scenes/furnace_cube/cube.obj", &s))
+        return;
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.eps = 0.03;
+    progress_log log = {0, -1, 1, 0, 0};
+    p.progress = log_progress;
+    p.progress_ctx = &log;
+    rad_hier *h = run(&s, NULL, &p);
+    if (h) {
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        CHECK(log.in_order && log.calls >= 2); /* the initial links and at least one refinement */
+        CHECK(log.calls == st.rounds + 1);
+        CHECK(log.last_leaves == st.elements && log.last_links == st.links);
+    }
+    rad_hier_destroy(h);
+    unload(&s);
+}
+
 TEST(hier_rejects_bad_parameters)
 {
     double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, rho[3] = {0.5, 0.5, 0.5}, E[3] = {1, 1, 1};
