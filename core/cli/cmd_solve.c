@@ -205,6 +205,7 @@ int cli_solve(int argc, char **argv)
     rad_effects_params ep;
     rad_scene_params_default(&sp);
     rad_scene_effects_params_default(&ep);
+    sp.no_cross_check = 1; /* 'radkit info' cross-checks a file with Assimp; solve spares the 50 ms */
     if ((st = cli_scene_options_apply("solve", &o.scene_opts, &sp, &ep)) != RAD_OK)
         return cli_fail(st);
     if (o.method && strcmp(o.method, "hier") == 0)

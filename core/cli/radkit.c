@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "rad_dense.h"
 #include "rad_version.h"
 
 static const char usage[] =
@@ -25,6 +26,7 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
+    rad_dense_blas_idle(); /* OpenBLAS's workers would spin beside our OpenMP threads */
     if (argc < 2) {
         fputs(usage, stderr);
         return 2;

@@ -63,5 +63,6 @@ rad_status rad_dense_lu_solve(int n, double *A, int nrhs, double *B, double *rco
     }
 done:
     free(ipiv);
+    rad_dense_blas_idle();
     return status;
 }

@@ -23,6 +23,12 @@ rad_status rad_dense_check_size(size_t n, int count, const char *what);
 /* Bytes that `count` dense n x n double matrices take. */
 double rad_dense_bytes(size_t n, int count);
 
+/* Stop the BLAS library's idle worker threads, which otherwise spin for a
+ * while after loading and after each threaded call, taking cores from
+ * OpenMP; the library restarts them when it next needs them (blas_threads.c).
+ * Called at program start and after each LAPACK solve. */
+void rad_dense_blas_idle(void);
+
 /* Solve A X = B by LU with partial pivoting (LAPACKE dgesv).  A (n x n) is
  * overwritten by its LU factors and B (n x nrhs) by X.  If rcond is not NULL it
  * receives LAPACK's estimate (dgecon) of 1 / cond_1(A).

@@ -208,6 +208,7 @@ static rad_status solve_cholesky(int n, const double *G, const double *area, con
 done:
     free(act);
     free(rhs);
+    rad_dense_blas_idle();
     return status;
 }
 

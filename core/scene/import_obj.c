@@ -342,6 +342,8 @@ rad_status scene_import_obj(rad_scene *s, const char *path, const rad_scene_para
     if (s->nt == 0)
         return RAD_ERROR(RAD_EINPUT, "%s: no faces (empty scene)", path);
     /* The cross-check with Assimp. */
+    if (p->no_cross_check)
+        return RAD_OK;
     long assimp_tris = 0, assimp_mats = 0;
     if (scene_assimp_count(path, &assimp_tris, &assimp_mats) != RAD_OK)
         return scene_warn(s, "Assimp could not read this file (%s); radkit's reader did",

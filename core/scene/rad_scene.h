@@ -66,6 +66,10 @@ typedef struct rad_scene_params {
     double emission[3];
     double default_rho[3];     /* reflectance of faces that have no material (PLY, OFF, STL) */
     size_t max_triangles;      /* refuse bigger scenes with RAD_ETOOBIG */
+    int no_cross_check;        /* 1: do not re-read an OBJ with Assimp to cross-check
+                                  radkit's reader (Debian's Assimp 5.2 OBJ importer
+                                  spends ~50 ms clearing a buffer on every file, a
+                                  fifth of a hierarchical solve of the Cornell box) */
 } rad_scene_params;
 
 /* scale 1, fail on degenerate faces, tolerance 1e-12, no overrides,
