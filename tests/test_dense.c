@@ -1,4 +1,5 @@
 /* LU solve with condition estimate, and the memory check. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "harness.h"
@@ -20,6 +21,35 @@ TEST(dense_lu_solves_and_estimates_condition)
      * dgecon's estimate is a lower bound on ||A^-1||_1, exact on this matrix. */
     CHECK_NEAR(rcond, 50.0 / (7.0 * 23.0), 1e-12, 0.0);
     CHECK(rcond > 0.0 && rcond <= 1.0);
+}
+
+/* After rad_dense_blas_idle has stopped OpenBLAS's worker threads, LAPACK
+ * still solves (OpenBLAS starts them again), also a system big enough for
+ * threaded dgesv, and idling twice is harmless.  A = n I + (i + 2j) mod 7 - 3
+ * (diagonally dominant), x_i = sin(i). */
+TEST(dense_lu_after_blas_idle)
+{
+    int n = 400;
+    double *A = malloc((size_t)n * n * sizeof *A), *b = malloc((size_t)n * sizeof *b);
+    for (int round = 0; round < 2; round++) {
+        rad_dense_blas_idle();
+        rad_dense_blas_idle();
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++)
+                A[i + (size_t)j * n] = (i == j ? n : 0) + (double)((i + 2 * j) % 7) - 3.0;
+        for (int i = 0; i < n; i++) {
+            b[i] = 0.0;
+            for (int j = 0; j < n; j++)
+                b[i] += A[i + (size_t)j * n] * sin((double)j);
+        }
+        CHECK(rad_dense_lu_solve(n, A, 1, b, NULL) == RAD_OK);
+        double worst = 0.0;
+        for (int i = 0; i < n; i++)
+            worst = fmax(worst, fabs(b[i] - sin((double)i)));
+        CHECK_MSG(worst < 1e-12, "round %d: largest error %.3g", round, worst);
+    }
+    free(A);
+    free(b);
 }
 
 TEST(dense_lu_rejects_singular_and_nan)

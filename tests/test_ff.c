@@ -439,6 +439,44 @@ TEST(ff_facing_away_and_coplanar_are_exactly_zero)
         }
 }
 
+/* rad_ff_facing is rad_ff_compute's facing test: 0 on the four cases above,
+ * and equal to the absence of RAD_FF_FLAG_NOT_FACING on random pairs, many of
+ * which face away (hier skips the integration of a pair with it). */
+TEST(ff_facing_predicate_matches_compute)
+{
+    rad_vec3 a[3] = {V(0, 0, 0), V(1.2, 0.1, 0), V(0.3, 0.9, 0)};
+    rad_vec3 above_up[3] = {V(0, 0, 1), V(1, 0, 1), V(0, 1, 1)};
+    rad_vec3 below[3] = {V(0, 0, -1), V(0, 1, -1), V(1, 0, -1)};
+    rad_vec3 coplanar[3] = {V(2, 0, 0), V(3, 0.2, 0), V(2.5, 1, 0)};
+    rad_vec3 coplanar_adj[3] = {V(0, 0, 0), V(0.3, 0.9, 0), V(-1, 0.5, 0)};
+    rad_vec3 *others[] = {above_up, below, coplanar, coplanar_adj};
+    for (int k = 0; k < 4; k++)
+        CHECK(rad_ff_facing(a, others[k], NULL) == 0);
+    rad_ff_params p = rad_ff_defaults();
+    unsigned seed = 12345u;
+    int facing = 0, away = 0;
+    for (int trial = 0; trial < 400; trial++) {
+        rad_vec3 t[2][3];
+        for (int k = 0; k < 2; k++)
+            for (int v = 0; v < 3; v++) {
+                double c[3];
+                for (int j = 0; j < 3; j++) {
+                    seed = seed * 1103515245u + 12345u;
+                    c[j] = (double)(seed >> 8) / (double)(1u << 24) * 2.0 - 1.0;
+                }
+                t[k][v] = V(c[0], c[1], c[2]);
+            }
+        rad_ff_result o;
+        if (rad_ff_compute(t[0], t[1], (rad_ff_rule){RAD_FF_CENTROID, 0}, &p, &o) != RAD_OK)
+            continue; /* degenerate draw */
+        int f = rad_ff_facing(t[0], t[1], &p);
+        CHECK(f == !(o.flags & RAD_FF_FLAG_NOT_FACING));
+        facing += f;
+        away += !f;
+    }
+    CHECK(facing > 50 && away > 50); /* both branches were exercised */
+}
+
 TEST(ff_vertex_rule_is_the_notes_formula)
 {
     /* The notes: int int H ~ (A_i A_j / 9) sum_k sum_l H(F_ik, F_jl), with

@@ -191,6 +191,30 @@ TEST(scene_scale_changes_units)
     CHECK(load_with("scenes/cornell/cornell.obj", &p, &s) == RAD_EINVAL);
 }
 
+/* no_cross_check (what solve uses) skips only the Assimp re-read: the scene is
+ * the same to the last bit, materials included. */
+TEST(scene_no_cross_check_loads_the_same_scene)
+{
+    rad_scene *a = load("scenes/cornell/cornell.obj"), *b = NULL;
+    rad_scene_params p;
+    rad_scene_params_default(&p);
+    p.no_cross_check = 1;
+    CHECK(load_with("scenes/cornell/cornell.obj", &p, &b) == RAD_OK);
+    if (a && b) {
+        int nv = rad_scene_vertex_count(a), nt = rad_scene_triangle_count(a);
+        CHECK(nv == rad_scene_vertex_count(b) && nt == rad_scene_triangle_count(b));
+        if (nv == rad_scene_vertex_count(b) && nt == rad_scene_triangle_count(b)) {
+            CHECK(memcmp(rad_scene_vertices(a), rad_scene_vertices(b), 3 * (size_t)nv * sizeof(double)) == 0);
+            CHECK(memcmp(rad_scene_triangles(a), rad_scene_triangles(b), 3 * (size_t)nt * sizeof(int)) == 0);
+            CHECK(memcmp(rad_scene_triangle_materials(a), rad_scene_triangle_materials(b),
+                         (size_t)nt * sizeof(int)) == 0);
+            CHECK(rad_scene_warning_count(a) == rad_scene_warning_count(b));
+        }
+    }
+    rad_scene_destroy(a);
+    rad_scene_destroy(b);
+}
+
 /* A hand-written ASCII PLY (a quad and a triangle, polygon list, an extra
  * vertex property): geometry only, reflectance and emission from the flags. */
 TEST(scene_ply_from_another_tool)

@@ -38,8 +38,10 @@ static rad_status parse_hier_params(const solve_options *o, rad_hier_params *hp,
     rad_hier_params_default(hp);
     if (o->rule && (st = rad_ff_rule_parse(o->rule, &hp->rule)) != RAD_OK)
         return st;
-    if (o->rule) /* an explicit rule applies to every pair */
+    if (o->rule) { /* an explicit rule applies to every pair */
         hp->far_ratio = 0.0;
+        hp->oracle_F = 0;
+    }
     if (o->tol && (st = solve_parse_double("--tol", o->tol, 0.0, &hp->ff.tol)) != RAD_OK)
         return st;
     if (o->eps && (st = solve_parse_double("--eps", o->eps, 0.0, &hp->eps)) != RAD_OK)

@@ -123,6 +123,37 @@ rad_status rad_ff_rule_parse(const char *text, rad_ff_rule *rule)
                      text);
 }
 
+/* Step 2: the pair translated by -ti[0] and divided by the longest edge L
+ * (returned), with unit normals and areas. */
+static double normalise_pair(const rad_vec3 ti[3], const rad_vec3 tj[3], ff_pair *pr)
+{
+    const rad_vec3 *t[2] = {ti, tj};
+    double L = fmax(longest_edge(ti), longest_edge(tj));
+    rad_vec3 o = ti[0];
+    for (int k = 0; k < 2; k++) {
+        for (int v = 0; v < 3; v++)
+            pr->p[k][v] = rad_vec3_scale(rad_vec3_sub(t[k][v], o), 1.0 / L);
+        pr->n[k] = rad_geom_triangle_normal(pr->p[k][0], pr->p[k][1], pr->p[k][2]);
+        pr->A[k] = rad_geom_triangle_area(pr->p[k][0], pr->p[k][1], pr->p[k][2]);
+    }
+    return L;
+}
+
+/* Step 3: 0 when every vertex of one triangle lies behind or on the other's
+ * plane (within tol of the normalised pair). */
+static int pair_faces(const ff_pair *pr, double tol)
+{
+    return !(max_front(pr->p[1], pr->n[0], pr->p[0][0]) <= tol ||
+             max_front(pr->p[0], pr->n[1], pr->p[1][0]) <= tol);
+}
+
+int rad_ff_facing(const rad_vec3 ti[3], const rad_vec3 tj[3], const rad_ff_params *params)
+{
+    ff_pair pr;
+    normalise_pair(ti, tj, &pr);
+    return pair_faces(&pr, params ? params->plane_rel_tol : rad_ff_defaults().plane_rel_tol);
+}
+
 rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
                           const rad_ff_params *params, rad_ff_result *out)
 {
@@ -151,22 +182,14 @@ rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rul
         return RAD_ERROR(RAD_EINVAL, "auto: tolerance must lie in (0, 1), got %g", p.tol);
 
     ff_pair pr;
-    double L = fmax(longest_edge(ti), longest_edge(tj));
-    rad_vec3 o = ti[0];
-    for (int k = 0; k < 2; k++) {
-        for (int v = 0; v < 3; v++)
-            pr.p[k][v] = rad_vec3_scale(rad_vec3_sub(t[k][v], o), 1.0 / L);
-        pr.n[k] = rad_geom_triangle_normal(pr.p[k][0], pr.p[k][1], pr.p[k][2]);
-        pr.A[k] = rad_geom_triangle_area(pr.p[k][0], pr.p[k][1], pr.p[k][2]);
-    }
+    double L = normalise_pair(ti, tj, &pr);
     out->A1 = rad_geom_triangle_area(ti[0], ti[1], ti[2]);
     out->A2 = rad_geom_triangle_area(tj[0], tj[1], tj[2]);
     pr.adj = rad_ff_adjacency_detect(ti, tj, p.adjacency_rel_tol, pr.map);
     out->adjacency = pr.adj;
 
     /* Facing test (step 3). */
-    if (max_front(pr.p[1], pr.n[0], pr.p[0][0]) <= p.plane_rel_tol ||
-        max_front(pr.p[0], pr.n[1], pr.p[1][0]) <= p.plane_rel_tol) {
+    if (!pair_faces(&pr, p.plane_rel_tol)) {
         out->flags |= RAD_FF_FLAG_NOT_FACING;
         out->rel_error = 0.0;
         return RAD_OK;

@@ -133,6 +133,11 @@ typedef struct rad_ff_result {
 rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
                           const rad_ff_params *params, rad_ff_result *out);
 
+/* 1 when the pair can exchange light: rad_ff_compute's facing test, without
+ * the validation or any integration; 0 when it would set
+ * RAD_FF_FLAG_NOT_FACING (faces away or coplanar).  For valid triangles only. */
+int rad_ff_facing(const rad_vec3 ti[3], const rad_vec3 tj[3], const rad_ff_params *params);
+
 /* The kernel k(x, y) above: x with unit normal nx, y with unit normal ny.
  * Returns 0 (and increments *guarded when not NULL) when x == y. */
 double rad_ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny, long *guarded);

@@ -130,6 +130,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->far_ratio = 2.0;
     params->far_rule.scheme = RAD_FF_GAUSS;
     params->far_rule.order = 2;
+    params->oracle_F = 1;
     params->vis_points = 4;
     params->tol = 1e-10;
     params->max_iterations = 10000;
@@ -240,27 +241,34 @@ static void sample_points(const hier_elem *e, int idx, int n, double *pts)
     }
 }
 
-/* The ERROR oracle's kernel variation: the largest deviation of the point-to-
- * element form factor F(x, t) (closed form, cosines clamped) at the centroids x
- * of e's four midpoint children from the element average Fbar.  The children's
- * centroids are where a split of e would put its new receivers, so this is the
- * change a split can make (Bekaert & Willems 1996 compare the point values
- * with the Galerkin projection the same way). */
-static double kernel_variation(const rad_hier *h, const hier_elem *e, const hier_elem *t,
-                               double Fbar, long long *evals)
+/* The ERROR oracle's point values: the point-to-element form factor F(x, t)
+ * (closed form, cosines clamped) at the centroids x of e's four midpoint
+ * children, the points where a split of e would put its new receivers.  Their
+ * largest deviation from the element average is the change a split can make
+ * (Bekaert & Willems 1996 compare the point values with the Galerkin
+ * projection the same way). */
+static void point_values(const rad_hier *h, const hier_elem *e, const hier_elem *t, double Fx[4],
+                         long long *evals)
 {
     rad_vec3 n = h->normal[e->face];
     rad_vec3 a = e->p[0], b = e->p[1], c = e->p[2];
     /* child centroids in barycentric form: corners (4,1,1)/6 ..., middle (1,1,1)/3 */
     static const double w[4][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
                                    {1.0 / 6, 1.0 / 6, 4.0 / 6}, {1.0 / 3, 1.0 / 3, 1.0 / 3}};
-    double dev = 0.0;
     for (int k = 0; k < 4; k++) {
         rad_vec3 x = rad_vec3_add(rad_vec3_add(rad_vec3_scale(a, w[k][0]), rad_vec3_scale(b, w[k][1])),
                                   rad_vec3_scale(c, w[k][2]));
-        dev = fmax(dev, fabs(rad_ff_point_polygon(x, n, t->p, 3) - Fbar));
+        Fx[k] = rad_ff_point_polygon(x, n, t->p, 3);
     }
     *evals += 4;
+}
+
+/* The largest deviation of the four point values from the average Fbar. */
+static double deviation(const double Fx[4], double Fbar)
+{
+    double dev = 0.0;
+    for (int k = 0; k < 4; k++)
+        dev = fmax(dev, fabs(Fx[k] - Fbar));
     return dev;
 }
 
@@ -281,10 +289,10 @@ typedef struct work_count {
     unsigned long long rays;
 } work_count;
 
-/* kernel_variation for a far pair: F(x, t) from the kernel at the three
- * points of the degree-2 rule on t (the kernel is smooth there), no closed form. */
-static double kernel_variation_far(const rad_hier *h, const hier_elem *e, const hier_elem *t,
-                                   double Fbar, long long *evals)
+/* point_values for a far pair: F(x, t) from the kernel at the three points of
+ * the degree-2 rule on t (the kernel is smooth there), no closed form. */
+static void point_values_far(const rad_hier *h, const hier_elem *e, const hier_elem *t,
+                             double Fx[4], long long *evals)
 {
     rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
     static const double w[4][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
@@ -294,7 +302,6 @@ static double kernel_variation_far(const rad_hier *h, const hier_elem *e, const 
         y[j] = rad_vec3_add(rad_vec3_add(rad_vec3_scale(t->p[0], w[j][0]),
                                          rad_vec3_scale(t->p[1], w[j][1])),
                             rad_vec3_scale(t->p[2], w[j][2]));
-    double dev = 0.0;
     for (int k = 0; k < 4; k++) {
         rad_vec3 x = rad_vec3_add(rad_vec3_add(rad_vec3_scale(e->p[0], w[k][0]),
                                                rad_vec3_scale(e->p[1], w[k][1])),
@@ -302,10 +309,9 @@ static double kernel_variation_far(const rad_hier *h, const hier_elem *e, const 
         double f = 0.0;
         for (int j = 0; j < 3; j++)
             f += rad_ff_kernel(x, ne, y[j], nt, NULL);
-        dev = fmax(dev, fabs(t->area * f / 3.0 - Fbar));
+        Fx[k] = t->area * f / 3.0;
     }
     *evals += 12;
-    return dev;
 }
 
 /* Estimate the link r <- s; *facing = 0 when there is nothing to link.
@@ -315,7 +321,6 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
                            work_count *wc)
 {
     const hier_elem *er = &h->el[r], *es = &h->el[s];
-    rad_ff_result res;
     /* a far pair (centroids more than far_ratio longest edges apart) takes
        far_rule and the oracle's kernel-sampled variation */
     rad_ff_rule rule = h->p.rule;
@@ -333,21 +338,63 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
             rule = h->p.far_rule;
         }
     }
-    rad_status st = rad_ff_compute(er->p, es->p, rule, &h->p.ff, &res);
-    if (st != RAD_OK)
-        return st;
-    wc->evals += res.evals;
-    if (res.flags & RAD_FF_FLAG_NOT_FACING) {
-        *facing = 0;
-        return RAD_OK;
+    /* The ERROR oracle needs the point values of a link that may still be
+     * split; with oracle_F they also give its F (below), without the rule. */
+    int varied = h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s));
+    double Fr[4], Fs[4], scale = er->area > 0.0 ? es->area / er->area : 0.0;
+    double F12, F21;
+    rad_status st;
+    if (varied && h->p.oracle_F) {
+        if (!rad_ff_facing(er->p, es->p, &h->p.ff)) {
+            *facing = 0;
+            return RAD_OK;
+        }
+        if (far) {
+            point_values_far(h, er, es, Fr, &wc->evals);
+            point_values_far(h, es, er, Fs, &wc->evals);
+        } else {
+            point_values(h, er, es, Fr, &wc->evals);
+            point_values(h, es, er, Fs, &wc->evals);
+        }
+        /* Each side's four values average to a one-sided estimate (the
+         * centroid rule of its four children, exact for a kernel linear over
+         * them); A_r F_rs = A_s F_sr puts the source's in the receiver's
+         * units, and their mean is F_rs.  A link keeps this F only while the
+         * oracle finds the values within eps of it, i.e. where the rule's error
+         * is below what the oracle accepts anyway; a link between elements
+         * that may no longer be split takes the rule. */
+        F12 = 0.5 * ((Fr[0] + Fr[1] + Fr[2] + Fr[3]) * 0.25 +
+                     scale * (Fs[0] + Fs[1] + Fs[2] + Fs[3]) * 0.25);
+        F21 = scale > 0.0 ? F12 / scale : 0.0;
+    } else {
+        rad_ff_result res;
+        st = rad_ff_compute(er->p, es->p, rule, &h->p.ff, &res);
+        if (st != RAD_OK)
+            return st;
+        wc->evals += res.evals;
+        if (res.flags & RAD_FF_FLAG_NOT_FACING) {
+            *facing = 0;
+            return RAD_OK;
+        }
+        F12 = res.F12;
+        F21 = res.F21;
+        if (varied) {
+            if (far) {
+                point_values_far(h, er, es, Fr, &wc->evals);
+                point_values_far(h, es, er, Fs, &wc->evals);
+            } else {
+                point_values(h, er, es, Fr, &wc->evals);
+                point_values(h, es, er, Fs, &wc->evals);
+            }
+        }
     }
-    if (!isfinite(res.F12) || !(res.F12 >= 0.0))
+    if (!isfinite(F12) || !(F12 >= 0.0))
         return RAD_ERROR(RAD_ENUMERIC, "hier: form factor of elements %d <- %d is not finite", r,
                          s);
     *facing = 1;
     out->r = r;
     out->s = s;
-    out->F = res.F12;
+    out->F = F12;
     out->V = 1.0;
     out->dFr = out->dFs = 0.0;
     out->traced = 0;
@@ -356,18 +403,15 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
        of one element faces the other.  Its BF is unknown, so it is refined
        while it can be (found on the Cornell box: without this, 12 facing leaf
        pairs were lost under parents estimated at 0). */
-    out->unknown = !(res.F12 > 0.0);
+    out->unknown = !(F12 > 0.0);
     if (out->unknown)
         return RAD_OK;
-    /* the oracle's variation matters only for a link that may still be refined */
-    if (h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s))) {
-        out->dFr = far ? kernel_variation_far(h, er, es, res.F12, &wc->evals)
-                       : kernel_variation(h, er, es, res.F12, &wc->evals);
-        /* F(y, r) over s deviates from F_sr = F21; A_s / A_r puts it in the
-           receiver's units (A_r F_rs = A_s F_sr) */
-        double scale = er->area > 0.0 ? es->area / er->area : 0.0;
-        out->dFs = (far ? kernel_variation_far(h, es, er, res.F21, &wc->evals)
-                        : kernel_variation(h, es, er, res.F21, &wc->evals)) * scale;
+    /* the oracle's variation matters only for a link that may still be refined;
+       F(y, r) over s deviates from F_sr = F21, and A_s / A_r puts that in the
+       receiver's units */
+    if (varied) {
+        out->dFr = deviation(Fr, F12);
+        out->dFs = deviation(Fs, F21) * scale;
     }
     if (h->use_vis && pair_can_block(h, er->face, es->face)) {
         int m = h->p.vis_points, n = m * m;

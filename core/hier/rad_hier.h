@@ -79,6 +79,11 @@ typedef struct rad_hier_params {
                              uses rule.  Default 2 */
     rad_ff_rule far_rule; /* default gauss:2 (about 0.1% at far_ratio 2) */
     rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
+    int oracle_F;         /* 1: with the ERROR oracle, a link whose elements may
+                             still be split takes F from the oracle's 8 point
+                             values (4 per side) instead of rule or far_rule; only
+                             links that stay unsplit take the rule.  0: every link
+                             takes rule / far_rule.  Default 1 */
     int vis_points;       /* visibility samples per element, 1 (centroid) or 4 (the
                              centroids of its four children): vis_points^2 rays per
                              link that something may block.  Default 4 */
