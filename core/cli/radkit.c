@@ -1,5 +1,7 @@
 /* radkit: the command-line program.  Dispatches to one subcommand. */
+#include <malloc.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -27,6 +29,12 @@ static const char usage[] =
 int main(int argc, char **argv)
 {
     rad_dense_blas_idle(); /* OpenBLAS's workers would spin beside our OpenMP threads */
+    /* Keep freed memory for reuse instead of handing it back to the kernel:
+     * hier allocates and frees a batch of link estimates per refinement
+     * generation, and each fresh mapping costs a page fault per 4 KiB (6% of
+     * a hierarchical solve's samples under perf; 2-9% less CPU time with this). */
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
     if (argc < 2) {
         fputs(usage, stderr);
         return 2;
