@@ -55,6 +55,7 @@ typedef struct hier_elem {
     int face;                /* input triangle */
     int depth;
     double B[3], Bg[3];
+    double vis[12]; /* its visibility sample points (sample_points), made once */
 } hier_elem;
 
 typedef struct hier_link {
@@ -415,10 +416,9 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
     }
     if (h->use_vis && pair_can_block(h, er->face, es->face)) {
         int m = h->p.vis_points, n = m * m;
-        double a[12], b[12], from[48], to[48];
+        const double *a = er->vis, *b = es->vis;
+        double from[48], to[48];
         unsigned char blocked[16];
-        sample_points(er, r, m, a);
-        sample_points(es, s, m, b);
         for (int i = 0; i < m; i++)
             for (int j = 0; j < m; j++)
                 for (int c = 0; c < 3; c++) {
@@ -578,6 +578,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
         e->parent = e->first_child = -1;
         e->face = (int)t;
+        sample_points(e, (int)t, p.vis_points, e->vis);
         for (int c = 0; c < 3; c++) {
             double r = rho[t + c * ntris], em = E[t + c * ntris];
             if (!(r >= 0.0 && r < 1.0) || !(em >= 0.0) || !isfinite(em)) {
@@ -758,6 +759,7 @@ static rad_status split(rad_hier *h, int e)
         x->first_child = -1;
         x->depth = par.depth + 1;
         x->Bg[0] = x->Bg[1] = x->Bg[2] = 0.0;
+        sample_points(x, first + k, h->p.vis_points, x->vis);
     }
     h->el[e].first_child = first;
     h->nel += 4;
