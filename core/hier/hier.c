@@ -8,9 +8,10 @@
  *    the middle m_ab m_bc m_ca, all with the parent's orientation), and
  *    inherit the parent's face, rho, E and B.
  * 2. Initial linking: for every ordered pair (r, s) of input triangles, one
- *    rad_ff estimate; NOT_FACING (facing away, coplanar) makes no link,
- *    otherwise the link r <- s carries F_rs = G / A_r and a visible fraction
- *    V_rs (step 5).
+ *    estimate (estimate(): F_rs from the ERROR oracle's point values while
+ *    either element may be split and oracle_F is on, else from rad_ff by rule
+ *    or far_rule); a pair facing away or coplanar makes no link, otherwise
+ *    the link r <- s carries F_rs and a visible fraction V_rs (step 5).
  * 3. Step (Jacobi): gather Bg_r = sum over links at r of F_rs V_rs B_s (all
  *    levels, old B); push-pull from each root: a leaf takes
  *    B = E + rho (Bg + sum of its ancestors' Bg), an inner element the area-
@@ -343,30 +344,14 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
      * split; with oracle_F they also give its F (below), without the rule. */
     int varied = h->p.oracle == RAD_HIER_ORACLE_ERROR && (can_split(h, r) || can_split(h, s));
     double Fr[4], Fs[4], scale = er->area > 0.0 ? es->area / er->area : 0.0;
-    double F12, F21;
+    int from_points = varied && h->p.oracle_F;
+    double F12 = 0.0, F21 = 0.0;
     rad_status st;
-    if (varied && h->p.oracle_F) {
+    if (from_points) {
         if (!rad_ff_facing(er->p, es->p, &h->p.ff)) {
             *facing = 0;
             return RAD_OK;
         }
-        if (far) {
-            point_values_far(h, er, es, Fr, &wc->evals);
-            point_values_far(h, es, er, Fs, &wc->evals);
-        } else {
-            point_values(h, er, es, Fr, &wc->evals);
-            point_values(h, es, er, Fs, &wc->evals);
-        }
-        /* Each side's four values average to a one-sided estimate (the
-         * centroid rule of its four children, exact for a kernel linear over
-         * them); A_r F_rs = A_s F_sr puts the source's in the receiver's
-         * units, and their mean is F_rs.  A link keeps this F only while the
-         * oracle finds the values within eps of it, i.e. where the rule's error
-         * is below what the oracle accepts anyway; a link between elements
-         * that may no longer be split takes the rule. */
-        F12 = 0.5 * ((Fr[0] + Fr[1] + Fr[2] + Fr[3]) * 0.25 +
-                     scale * (Fs[0] + Fs[1] + Fs[2] + Fs[3]) * 0.25);
-        F21 = scale > 0.0 ? F12 / scale : 0.0;
     } else {
         rad_ff_result res;
         st = rad_ff_compute(er->p, es->p, rule, &h->p.ff, &res);
@@ -379,15 +364,27 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
         }
         F12 = res.F12;
         F21 = res.F21;
-        if (varied) {
-            if (far) {
-                point_values_far(h, er, es, Fr, &wc->evals);
-                point_values_far(h, es, er, Fs, &wc->evals);
-            } else {
-                point_values(h, er, es, Fr, &wc->evals);
-                point_values(h, es, er, Fs, &wc->evals);
-            }
+    }
+    if (varied) {
+        if (far) {
+            point_values_far(h, er, es, Fr, &wc->evals);
+            point_values_far(h, es, er, Fs, &wc->evals);
+        } else {
+            point_values(h, er, es, Fr, &wc->evals);
+            point_values(h, es, er, Fs, &wc->evals);
         }
+    }
+    if (from_points) {
+        /* Each side's four values average to a one-sided estimate (the
+         * centroid rule of its four children, exact for a kernel linear over
+         * them); A_r F_rs = A_s F_sr puts the source's in the receiver's
+         * units, and their mean is F_rs.  A link keeps this F only while the
+         * oracle finds the values within eps of it, i.e. where the rule's error
+         * is below what the oracle accepts anyway; a link between elements
+         * that may no longer be split takes the rule. */
+        F12 = 0.5 * ((Fr[0] + Fr[1] + Fr[2] + Fr[3]) * 0.25 +
+                     scale * (Fs[0] + Fs[1] + Fs[2] + Fs[3]) * 0.25);
+        F21 = scale > 0.0 ? F12 / scale : 0.0;
     }
     if (!isfinite(F12) || !(F12 >= 0.0))
         return RAD_ERROR(RAD_ENUMERIC, "hier: form factor of elements %d <- %d is not finite", r,
@@ -768,7 +765,7 @@ static rad_status split(rad_hier *h, int e)
 
 
 /* The oracle's estimate of the radiosity error a link leaves at its receiver
- * (compared with eps * E_max; see rad_hier.h). */
+ * (compared with eps * reflected_scale; see rad_hier.h). */
 static double link_error(const rad_hier *h, const hier_link *l)
 {
     const hier_elem *r = &h->el[l->r], *s = &h->el[l->s];
