@@ -41,14 +41,14 @@ static double longest_edge(const rad_vec3 t[3])
 {
     double m = 0.0;
     for (int k = 0; k < 3; k++)
-        m = fmax(m, rad_vec3_norm(rad_vec3_sub(t[(k + 1) % 3], t[k])));
+        m = rad_dmax(m, rad_vec3_norm(rad_vec3_sub(t[(k + 1) % 3], t[k])));
     return m;
 }
 
 rad_ff_adjacency rad_ff_adjacency_detect(const rad_vec3 ti[3], const rad_vec3 tj[3],
                                          double rel_tol, int map_i[3])
 {
-    double tol = rel_tol * fmin(longest_edge(ti), longest_edge(tj));
+    double tol = rel_tol * rad_dmin(longest_edge(ti), longest_edge(tj));
     int shared = 0;
     for (int a = 0; a < 3; a++) {
         map_i[a] = -1;
@@ -73,7 +73,7 @@ static double max_front(const rad_vec3 t[3], rad_vec3 n, rad_vec3 o)
 {
     double m = -INFINITY;
     for (int k = 0; k < 3; k++)
-        m = fmax(m, rad_vec3_dot(n, rad_vec3_sub(t[k], o)));
+        m = rad_dmax(m, rad_vec3_dot(n, rad_vec3_sub(t[k], o)));
     return m;
 }
 
@@ -128,7 +128,7 @@ rad_status rad_ff_rule_parse(const char *text, rad_ff_rule *rule)
 static double normalise_pair(const rad_vec3 ti[3], const rad_vec3 tj[3], ff_pair *pr)
 {
     const rad_vec3 *t[2] = {ti, tj};
-    double L = fmax(longest_edge(ti), longest_edge(tj));
+    double L = rad_dmax(longest_edge(ti), longest_edge(tj));
     rad_vec3 o = ti[0];
     for (int k = 0; k < 2; k++) {
         for (int v = 0; v < 3; v++)

@@ -20,6 +20,7 @@
  *          adjacent ones, where F(dA -> T_j) has a log-type singularity at the
  *          shared edge or vertex. */
 #include <math.h>
+#include <string.h>
 
 #include "ff_internal.h"
 #include "rad_quad.h"
@@ -86,10 +87,27 @@ rad_status ff_gauss(const ff_pair *pr, int degree, ff_value *v)
 
 int ff_clip(const rad_vec3 *in, int n, rad_vec3 nrm, rad_vec3 o, rad_vec3 *out)
 {
+    /* The common case first: every vertex in front, nothing to cut (the
+     * point-to-element closed forms of hier meet it on most calls).  A
+     * polygon with repeated vertices keeps them here; its zero-length edges
+     * add nothing to the contour integral. */
+    double side[8];
+    int front = 0;
+    if (n <= 8) {
+        for (int k = 0; k < n; k++) {
+            side[k] = rad_vec3_dot(nrm, rad_vec3_sub(in[k], o));
+            front += side[k] > 0.0;
+        }
+        if (front == n) {
+            memcpy(out, in, (size_t)n * sizeof *out);
+            return n >= 3 ? n : 0;
+        }
+    }
     int m = 0;
     for (int k = 0; k < n; k++) {
         rad_vec3 a = in[k], b = in[(k + 1) % n];
-        double da = rad_vec3_dot(nrm, rad_vec3_sub(a, o)), db = rad_vec3_dot(nrm, rad_vec3_sub(b, o));
+        double da = n <= 8 ? side[k] : rad_vec3_dot(nrm, rad_vec3_sub(a, o));
+        double db = n <= 8 ? side[(k + 1) % n] : rad_vec3_dot(nrm, rad_vec3_sub(b, o));
         if (da > 0.0)
             out[m++] = a;
         /* An edge that crosses the plane contributes its crossing point; an

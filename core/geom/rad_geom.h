@@ -15,6 +15,12 @@ typedef struct rad_vec3 {
     double x, y, z;
 } rad_vec3;
 
+/* fmin/fmax are calls into libm unless -ffinite-math-only; these inline to one
+ * instruction.  For finite inputs only: with a NaN they return b, where fmax
+ * would return the other argument. */
+static inline double rad_dmin(double a, double b) { return a < b ? a : b; }
+static inline double rad_dmax(double a, double b) { return a > b ? a : b; }
+
 static inline rad_vec3 rad_vec3_make(double x, double y, double z) { rad_vec3 v = {x, y, z}; return v; }
 static inline rad_vec3 rad_vec3_add(rad_vec3 a, rad_vec3 b) { return rad_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
 static inline rad_vec3 rad_vec3_sub(rad_vec3 a, rad_vec3 b) { return rad_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z); }

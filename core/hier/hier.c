@@ -52,6 +52,7 @@
 typedef struct hier_elem {
     rad_vec3 p[3];
     double area;
+    double size; /* longest edge */
     int parent, first_child; /* -1 for none */
     int face;                /* input triangle */
     int depth;
@@ -84,6 +85,12 @@ struct rad_hier {
     size_t nel, capel;
     hier_link *ln;
     size_t nln, capln;
+    /* The links grouped by receiver for the gather (a counting sort that keeps
+     * link order within each receiver, so sums are the same as in link order):
+     * links by_recv[recv_start[e] .. recv_start[e + 1]) have receiver e.
+     * Rebuilt by rad_hier_step when recv_stale (links or elements changed). */
+    size_t *by_recv, *recv_start;
+    int recv_stale;
     rad_hier_stats st;
     int stepped;
     double last_change; /* relative */
@@ -124,12 +131,15 @@ void rad_hier_params_default(rad_hier_params *params)
     params->rule.order = 6;
     params->ff = rad_ff_defaults();
     params->ff.tol = 1e-3;
-    /* Far pairs (centroids more than 2 longest edges apart): gauss:2, whose
-     * error there is about 0.1% (parallel and perpendicular unit triangles at
-     * 1.6-2.3 edges: 0.13%, 0.12%), for 9 kernel evaluations instead of 12
-     * closed forms; measured 15-20% faster on the Cornell box at the same
-     * error (experiments/hierarchical). */
-    params->far_ratio = 2.0;
+    /* Far pairs (centroids more than 1.5 longest edges apart): gauss:2 and
+     * the kernel-sampled point values, 9 and 24 kernel evaluations instead of
+     * 12 and 8 closed forms.  Against exact on random pairs that face each
+     * other whole, gauss:2 is off by 0.15% on average (95% of pairs within
+     * 0.44%) at 1.5-2 edges, 0.06% at 2-3 (test ff_gauss2_far_pairs); the
+     * straddling pairs where it fails are refined as `unknown` links.  On
+     * the Cornell box, 1.5 instead of 2 edges reaches the same error 5-9%
+     * sooner, and 2 instead of 0 was 15-20% faster (experiments/hierarchical). */
+    params->far_ratio = 1.5;
     params->far_rule.scheme = RAD_FF_GAUSS;
     params->far_rule.order = 2;
     params->oracle_F = 1;
@@ -184,21 +194,35 @@ static rad_status grow_elems(rad_hier *h, size_t extra)
     return RAD_OK;
 }
 
-static rad_status push_link(rad_hier *h, hier_link l)
+/* Room for `extra` more links (capacity doubles, so appends cost O(1) on
+ * average; huge pages: see rad_sys_alloc_huge). */
+static rad_status reserve_links(rad_hier *h, size_t extra)
 {
-    if (h->nln + 1 > h->p.max_links)
+    if (h->nln + extra > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
-    if (h->nln == h->capln) {
-        size_t cap = h->capln ? 2 * h->capln : 256;
-        hier_link *n = realloc(h->ln, cap * sizeof *n);
-        if (!n)
-            return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", cap);
-        h->ln = n;
-        h->capln = cap;
-    }
-    h->ln[h->nln++] = l;
+    if (h->nln + extra <= h->capln)
+        return RAD_OK;
+    size_t cap = h->capln ? h->capln : 256;
+    while (cap < h->nln + extra)
+        cap *= 2;
+    hier_link *n = rad_sys_alloc_huge(cap * sizeof *n);
+    if (!n)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", cap);
+    if (h->nln > 0)
+        memcpy(n, h->ln, h->nln * sizeof *n);
+    free(h->ln);
+    h->ln = n;
+    h->capln = cap;
     return RAD_OK;
+}
+
+static double longest_edge(const rad_vec3 p[3])
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; k++)
+        m = rad_dmax(m, rad_vec3_norm(rad_vec3_sub(p[k], p[(k + 1) % 3])));
+    return m;
 }
 
 /* A uniform number in [0,1) from (element, sample, stream): splitmix64, so the
@@ -270,7 +294,7 @@ static double deviation(const double Fx[4], double Fbar)
 {
     double dev = 0.0;
     for (int k = 0; k < 4; k++)
-        dev = fmax(dev, fabs(Fx[k] - Fbar));
+        dev = rad_dmax(dev, fabs(Fx[k] - Fbar));
     return dev;
 }
 
@@ -330,12 +354,8 @@ static rad_status estimate(const rad_hier *h, int r, int s, int *facing, hier_li
     if (h->p.far_ratio > 0.0) {
         rad_vec3 cr = rad_geom_triangle_centroid(er->p[0], er->p[1], er->p[2]);
         rad_vec3 cs = rad_geom_triangle_centroid(es->p[0], es->p[1], es->p[2]);
-        double d = rad_vec3_norm(rad_vec3_sub(cr, cs)), size = 0.0;
-        for (int k = 0; k < 3; k++) {
-            size = fmax(size, rad_vec3_norm(rad_vec3_sub(er->p[k], er->p[(k + 1) % 3])));
-            size = fmax(size, rad_vec3_norm(rad_vec3_sub(es->p[k], es->p[(k + 1) % 3])));
-        }
-        if (d > h->p.far_ratio * size) {
+        double d = rad_vec3_norm(rad_vec3_sub(cr, cs));
+        if (d > h->p.far_ratio * rad_dmax(er->size, es->size)) {
             far = 1;
             rule = h->p.far_rule;
         }
@@ -464,43 +484,46 @@ typedef struct link_job {
 
 /* Estimate jobs[0..n) in parallel (OpenMP; each job writes its own slot, so
  * the result does not depend on the thread count) and append the facing
- * ones to the links in job order.  On failure the first failing job is
- * estimated again on this thread, so that its message (thread-local) is the
- * one the caller sees. */
+ * ones to the links in job order.  The estimates go straight into the link
+ * array's free tail, which is then closed up: a copy through a separate
+ * buffer, and the page faults of growing the array one link at a time, cost
+ * a fifth of the refinement's wall time on two threads.  On failure the first
+ * failing job is estimated again on this thread, so that its message
+ * (thread-local) is the one the caller sees. */
 static rad_status estimate_batch(rad_hier *h, const link_job *jobs, size_t n)
 {
     if (n == 0)
         return RAD_OK;
-    hier_link *out = malloc(n * sizeof *out);
-    unsigned char *ok = malloc(n);
-    if (!out || !ok) {
-        free(out);
-        free(ok);
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link estimates", n);
-    }
+    rad_status st = reserve_links(h, n);
+    unsigned char *ok = st == RAD_OK ? malloc(n) : NULL;
+    if (!ok)
+        return st != RAD_OK ? st
+                            : RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link estimates", n);
     long long evals = 0, failed = -1;
     unsigned long long rays = 0;
     const rad_hier *hc = h;
+    hier_link *out = h->ln + h->nln;
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : evals, rays) if (n > 64)
     for (long long k = 0; k < (long long)n; k++) {
         work_count wc = {0, 0};
         int facing = 0;
-        rad_status st = estimate(hc, jobs[k].r, jobs[k].s, &facing, &out[k], &wc);
+        rad_status est = estimate(hc, jobs[k].r, jobs[k].s, &facing, &out[k], &wc);
         evals += wc.evals;
         rays += wc.rays;
-        ok[k] = st == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
+        ok[k] = est == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
     }
     h->st.kernel_evals += evals;
     h->st.rays += rays;
-    rad_status st = RAD_OK;
-    for (size_t k = 0; k < n && st == RAD_OK; k++) {
+    size_t w = h->nln;
+    for (size_t k = 0; k < n; k++) {
         if (ok[k] == 2) {
             failed = (long long)k;
             break;
         }
         if (ok[k] == 1)
-            st = push_link(h, out[k]);
+            h->ln[w++] = out[k]; /* w <= nln + k: never overwrites an unread slot */
     }
+    free(ok);
     if (failed >= 0) {
         work_count wc = {0, 0};
         int facing = 0;
@@ -509,10 +532,10 @@ static rad_status estimate_batch(rad_hier *h, const link_job *jobs, size_t n)
         if (st == RAD_OK) /* cannot happen: estimate is deterministic */
             st = RAD_ERROR(RAD_ENUMERIC, "hier: link %d <- %d failed on a worker thread",
                            jobs[failed].r, jobs[failed].s);
+        return st;
     }
-    free(out);
-    free(ok);
-    return st;
+    h->nln = w;
+    return RAD_OK;
 }
 
 rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
@@ -572,6 +595,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
             goto fail;
         }
         e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
+        e->size = longest_edge(e->p);
         h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
         e->parent = e->first_child = -1;
         e->face = (int)t;
@@ -648,6 +672,8 @@ void rad_hier_destroy(rad_hier *h)
     free(h->normal);
     free(h->el);
     free(h->ln);
+    free(h->by_recv);
+    free(h->recv_start);
     free(h);
 }
 
@@ -664,8 +690,9 @@ static void push_pull(rad_hier *h, int e, const double down[3], double *change, 
         size_t n = h->nroots, f = (size_t)x->face;
         for (int c = 0; c < 3; c++) {
             double b = E[f + c * n] + rho[f + c * n] * tot[c];
-            *change = fmax(*change, fabs(b - x->B[c]));
-            *bmax = fmax(*bmax, fabs(b));
+            /* a non-finite b makes the change infinite, which the caller reports */
+            *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
+            *bmax = rad_dmax(*bmax, fabs(b));
             x->B[c] = b;
         }
         return;
@@ -684,25 +711,70 @@ static void push_pull(rad_hier *h, int e, const double down[3], double *change, 
         x->B[c] = area > 0.0 ? sum[c] / area : 0.0;
 }
 
+/* Group the links by receiver (see recv_start in struct rad_hier). */
+static rad_status group_by_receiver(rad_hier *h)
+{
+    size_t *start = realloc(h->recv_start, (h->nel + 1) * sizeof *start);
+    if (start)
+        h->recv_start = start;
+    size_t *by = realloc(h->by_recv, (h->nln ? h->nln : 1) * sizeof *by);
+    if (by)
+        h->by_recv = by;
+    if (!start || !by)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather order of %zu links",
+                         h->nln);
+    memset(start, 0, (h->nel + 1) * sizeof *start);
+    for (size_t k = 0; k < h->nln; k++)
+        if (h->ln[k].r >= 0)
+            start[h->ln[k].r + 1]++;
+    for (size_t e = 0; e < h->nel; e++)
+        start[e + 1] += start[e];
+    for (size_t k = 0; k < h->nln; k++)
+        if (h->ln[k].r >= 0)
+            by[start[h->ln[k].r]++] = k;
+    /* the fill advanced each start to the next one's: shift back */
+    for (size_t e = h->nel; e > 0; e--)
+        start[e] = start[e - 1];
+    start[0] = 0;
+    h->recv_stale = 0;
+    return RAD_OK;
+}
+
 rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    for (size_t e = 0; e < h->nel; e++)
-        h->el[e].Bg[0] = h->el[e].Bg[1] = h->el[e].Bg[2] = 0.0;
-    for (size_t k = 0; k < h->nln; k++) {
-        const hier_link *l = &h->ln[k];
-        if (l->r < 0)
-            continue;
-        double fv = l->F * l->V;
-        hier_elem *r = &h->el[l->r];
-        const hier_elem *s = &h->el[l->s];
-        for (int c = 0; c < 3; c++)
-            r->Bg[c] += fv * s->B[c];
+    if (h->recv_stale || !h->recv_start) {
+        rad_status st = group_by_receiver(h);
+        if (st != RAD_OK)
+            return st;
     }
-    double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
-    for (size_t t = 0; t < h->nroots; t++)
+    /* Gather and push-pull on the threads: each receiver sums its own links,
+     * each input triangle's tree is pushed and pulled on its own. */
+    hier_elem *el = h->el;
+    const hier_link *ln = h->ln;
+    const size_t *by = h->by_recv, *start = h->recv_start;
+    long long nel = (long long)h->nel;
+#pragma omp parallel for schedule(static) if (nel > 1024)
+    for (long long e = 0; e < nel; e++) {
+        double g[3] = {0, 0, 0};
+        for (size_t j = start[e]; j < start[e + 1]; j++) {
+            const hier_link *l = &ln[by[j]];
+            double fv = l->F * l->V;
+            const double *Bs = el[l->s].B;
+            for (int c = 0; c < 3; c++)
+                g[c] += fv * Bs[c];
+        }
+        for (int c = 0; c < 3; c++)
+            el[e].Bg[c] = g[c];
+    }
+    double change = 0.0, bmax = 0.0;
+    long long nroots = (long long)h->nroots;
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : change, bmax) if (nel > 1024)
+    for (long long t = 0; t < nroots; t++) {
+        const double zero[3] = {0, 0, 0};
         push_pull(h, (int)t, zero, &change, &bmax);
+    }
     if (!isfinite(change) || !isfinite(bmax))
         return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
                          h->st.iterations + 1);
@@ -722,7 +794,7 @@ rad_status rad_hier_test(const rad_hier *h)
 
 static double maxc(const double *v, size_t stride)
 {
-    return fmax(v[0], fmax(v[stride], v[2 * stride]));
+    return rad_dmax(v[0], rad_dmax(v[stride], v[2 * stride]));
 }
 
 static int can_split(const rad_hier *h, int e)
@@ -752,6 +824,7 @@ static rad_status split(rad_hier *h, int e)
         *x = par;
         memcpy(x->p, corners[k], sizeof x->p);
         x->area = rad_geom_triangle_area(x->p[0], x->p[1], x->p[2]);
+        x->size = longest_edge(x->p);
         x->parent = e;
         x->first_child = -1;
         x->depth = par.depth + 1;
@@ -778,7 +851,7 @@ static double link_error(const rad_hier *h, const hier_link *l)
     if (l->V < 1.0)
         return rho_bs * l->F;
     if (h->p.oracle == RAD_HIER_ORACLE_ERROR)
-        return rho_bs * fmax(l->dFr, l->dFs);
+        return rho_bs * rad_dmax(l->dFr, l->dFs);
     return rho_bs * l->F;
 }
 
@@ -884,8 +957,10 @@ done:
     h->st.time_refine_s += rad_sys_seconds() - t0;
     if (count > 0)
         h->st.rounds++;
-    if (count > 0)
+    if (count > 0) {
         h->stepped = 0; /* the system changed: the last test no longer holds */
+        h->recv_stale = 1;
+    }
     if (refined)
         *refined = count;
     return st;

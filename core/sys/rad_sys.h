@@ -21,6 +21,16 @@ double rad_sys_memory_bytes(void);
 /* Peak resident set size of this process in bytes (0 if unknown). */
 double rad_sys_peak_rss_bytes(void);
 
+/* Memory for one large array (free it with free()): from RAD_SYS_HUGE_PAGE
+ * bytes up it is aligned to RAD_SYS_HUGE_PAGE and the kernel is asked to back
+ * it with transparent huge pages (Linux madvise; elsewhere, or when the kernel
+ * declines, ordinary pages).  The first touch of each 4 KB page costs a fault,
+ * several microseconds on a virtual machine: hier's link array, grown by
+ * doubling, spent a tenth of a Cornell-box solve in them.  NULL when out of
+ * memory or bytes is 0. */
+#define RAD_SYS_HUGE_PAGE ((size_t)2 << 20)
+void *rad_sys_alloc_huge(size_t bytes);
+
 #ifdef __cplusplus
 }
 #endif

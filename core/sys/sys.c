@@ -1,6 +1,9 @@
+#define _DEFAULT_SOURCE /* madvise's MADV_HUGEPAGE */
 #include "rad_sys.h"
 
+#include <stdint.h>
 #include <stdlib.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
@@ -33,4 +36,23 @@ double rad_sys_peak_rss_bytes(void)
     if (getrusage(RUSAGE_SELF, &ru) != 0)
         return 0.0;
     return 1024.0 * (double)ru.ru_maxrss; /* Linux reports kilobytes */
+}
+
+void *rad_sys_alloc_huge(size_t bytes)
+{
+    if (bytes == 0)
+        return NULL;
+    if (bytes < RAD_SYS_HUGE_PAGE)
+        return malloc(bytes);
+    if (bytes > SIZE_MAX - RAD_SYS_HUGE_PAGE)
+        return NULL;
+    /* whole huge pages, so the last one lies inside the block too */
+    size_t size = (bytes + RAD_SYS_HUGE_PAGE - 1) / RAD_SYS_HUGE_PAGE * RAD_SYS_HUGE_PAGE;
+    void *p = NULL;
+    if (posix_memalign(&p, RAD_SYS_HUGE_PAGE, size) != 0)
+        return NULL;
+#ifdef MADV_HUGEPAGE
+    (void)madvise(p, size, MADV_HUGEPAGE); /* advice: failure only costs speed */
+#endif
+    return p;
 }

@@ -44,10 +44,7 @@
 
 enum { LEAF_SIZE = 4 };
 
-/* fmin/fmax are library calls without -ffinite-math-only; these inline, and
- * the inputs here are finite (checked in rad_vis_create). */
-static inline double dmin(double a, double b) { return a < b ? a : b; }
-static inline double dmax(double a, double b) { return a > b ? a : b; }
+/* rad_dmin/rad_dmax: the inputs here are finite (checked in rad_vis_create). */
 
 /* ---- bounding-volume hierarchy over triangle boxes -------------------------- */
 
@@ -66,8 +63,8 @@ static void tri_box(const rad_vis *vis, int t, double lo[3], double hi[3])
     for (int v = 0; v < 3; v++) {
         const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * (size_t)t + v];
         for (int c = 0; c < 3; c++) {
-            lo[c] = dmin(lo[c], p[c]);
-            hi[c] = dmax(hi[c], p[c]);
+            lo[c] = rad_dmin(lo[c], p[c]);
+            hi[c] = rad_dmax(hi[c], p[c]);
         }
     }
 }
@@ -116,10 +113,10 @@ static int build_node(build_ctx *bc, int first, int count)
         double lo[3], hi[3];
         tri_box(vis, vis->order[k], lo, hi);
         for (int c = 0; c < 3; c++) {
-            node->lo[c] = dmin(node->lo[c], lo[c]);
-            node->hi[c] = dmax(node->hi[c], hi[c]);
-            clo[c] = dmin(clo[c], bc->cen[3 * vis->order[k] + c]);
-            chi[c] = dmax(chi[c], bc->cen[3 * vis->order[k] + c]);
+            node->lo[c] = rad_dmin(node->lo[c], lo[c]);
+            node->hi[c] = rad_dmax(node->hi[c], hi[c]);
+            clo[c] = rad_dmin(clo[c], bc->cen[3 * vis->order[k] + c]);
+            chi[c] = rad_dmax(chi[c], bc->cen[3 * vis->order[k] + c]);
         }
     }
     node->first = first;
@@ -201,8 +198,8 @@ static int classify_planes(rad_vis *vis, unsigned char *never_blocks)
         for (size_t v = 0; v < vis->nverts; v++) {
             const double *x = vis->xyz + 3 * v;
             double s = nn.x * x[0] + nn.y * x[1] + nn.z * x[2] - d;
-            lo = dmin(lo, s);
-            hi = dmax(hi, s);
+            lo = rad_dmin(lo, s);
+            hi = rad_dmax(hi, s);
         }
         if (lo < -slack)
             vis->unoccluded = 0;
@@ -273,8 +270,8 @@ static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6],
     double d = rad_vec3_dot(n, a), smin = INFINITY, smax = -INFINITY;
     for (int k = 0; k < 6; k++) {
         double s = rad_vec3_dot(n, pts[k]) - d;
-        smin = dmin(smin, s);
-        smax = dmax(smax, s);
+        smin = rad_dmin(smin, s);
+        smax = rad_dmax(smax, s);
     }
     if (smax <= tol && smin >= -tol)
         return; /* all six in the plane: the hull is flat, this plane bounds nothing */
@@ -342,10 +339,10 @@ static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int c
                             const double lo[3], const double hi[3])
 {
     rad_vec3 v[3] = {vis_vertex(vis, k, 0), vis_vertex(vis, k, 1), vis_vertex(vis, k, 2)};
-    double tlo[3] = {dmin(v[0].x, dmin(v[1].x, v[2].x)), dmin(v[0].y, dmin(v[1].y, v[2].y)),
-                     dmin(v[0].z, dmin(v[1].z, v[2].z))};
-    double thi[3] = {dmax(v[0].x, dmax(v[1].x, v[2].x)), dmax(v[0].y, dmax(v[1].y, v[2].y)),
-                     dmax(v[0].z, dmax(v[1].z, v[2].z))};
+    double tlo[3] = {rad_dmin(v[0].x, rad_dmin(v[1].x, v[2].x)), rad_dmin(v[0].y, rad_dmin(v[1].y, v[2].y)),
+                     rad_dmin(v[0].z, rad_dmin(v[1].z, v[2].z))};
+    double thi[3] = {rad_dmax(v[0].x, rad_dmax(v[1].x, v[2].x)), rad_dmax(v[0].y, rad_dmax(v[1].y, v[2].y)),
+                     rad_dmax(v[0].z, rad_dmax(v[1].z, v[2].z))};
     if (boxes_apart(tlo, thi, lo, hi, vis->tol))
         return 1;
     for (int p = 0; p < count; p++) {
@@ -375,8 +372,8 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
         const double *a = vis->xyz + 3 * (size_t)vis->tri[3 * i + (size_t)v];
         const double *b = vis->xyz + 3 * (size_t)vis->tri[3 * j + (size_t)v];
         for (int c = 0; c < 3; c++) {
-            lo[c] = dmin(lo[c], dmin(a[c], b[c]));
-            hi[c] = dmax(hi[c], dmax(a[c], b[c]));
+            lo[c] = rad_dmin(lo[c], rad_dmin(a[c], b[c]));
+            hi[c] = rad_dmax(hi[c], rad_dmax(a[c], b[c]));
         }
     }
     if (boxes_apart(vis->nodes[0].lo, vis->nodes[0].hi, lo, hi, vis->tol))
