@@ -23,6 +23,10 @@ else
 endif
 
 OPT      := $(if $(filter 1,$(DEBUG)),-O0 -g3,-O2 -g)
+# Link-time optimisation of the C code (not the CGAL shim, whose templates
+# would make every link slow): the small geometry functions of rad_geom and
+# rad_ff inline into hier's and the assembly's loops (5% on a hier solve).
+LTO      := $(if $(filter 1,$(DEBUG)),,-flto=auto)
 SANITIZE := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 SANFLAGS := $(if $(filter 1,$(SAN)),$(SANITIZE))
 WERRFLAG := $(if $(filter 1,$(WERROR)),-Werror)
@@ -42,9 +46,9 @@ LDLIBS      := -lm
 -include $(wildcard core/*/module.mk)
 
 CPPFLAGS += $(addprefix -I,$(MODULE_DIRS)) -D_POSIX_C_SOURCE=200809L -MMD -MP
-CFLAGS   += -std=c11 $(OPT) $(WARN_COMMON) $(WARN_C) $(WERRFLAG) $(SANFLAGS)
+CFLAGS   += -std=c11 $(OPT) $(LTO) $(WARN_COMMON) $(WARN_C) $(WERRFLAG) $(SANFLAGS)
 CXXFLAGS += -std=c++17 $(OPT) $(WARN_COMMON) $(WARN_CXX) $(WERRFLAG) $(SANFLAGS)
-LDFLAGS  += $(SANFLAGS)
+LDFLAGS  += $(SANFLAGS) $(OPT) $(LTO)
 
 LIB_C   := $(filter-out core/cli/%,$(wildcard core/*/*.c))
 LIB_CXX := $(wildcard core/*/*.cpp)
@@ -78,7 +82,7 @@ $(BUILD)/obj/%.o: %.cpp | deps
 
 $(LIB): $(LIB_OBJ)
 	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
+	rm -f $@ && gcc-ar rcs $@ $^
 
 $(RADKIT): $(CLI_OBJ) $(LIB)
 	$(LINK) $(LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)

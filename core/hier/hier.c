@@ -85,12 +85,6 @@ struct rad_hier {
     size_t nel, capel;
     hier_link *ln;
     size_t nln, capln;
-    /* The links grouped by receiver for the gather (a counting sort that keeps
-     * link order within each receiver, so sums are the same as in link order):
-     * links by_recv[recv_start[e] .. recv_start[e + 1]) have receiver e.
-     * Rebuilt by rad_hier_step when recv_stale (links or elements changed). */
-    size_t *by_recv, *recv_start;
-    int recv_stale;
     rad_hier_stats st;
     int stepped;
     double last_change; /* relative */
@@ -672,8 +666,6 @@ void rad_hier_destroy(rad_hier *h)
     free(h->normal);
     free(h->el);
     free(h->ln);
-    free(h->by_recv);
-    free(h->recv_start);
     free(h);
 }
 
@@ -711,70 +703,25 @@ static void push_pull(rad_hier *h, int e, const double down[3], double *change, 
         x->B[c] = area > 0.0 ? sum[c] / area : 0.0;
 }
 
-/* Group the links by receiver (see recv_start in struct rad_hier). */
-static rad_status group_by_receiver(rad_hier *h)
-{
-    size_t *start = realloc(h->recv_start, (h->nel + 1) * sizeof *start);
-    if (start)
-        h->recv_start = start;
-    size_t *by = realloc(h->by_recv, (h->nln ? h->nln : 1) * sizeof *by);
-    if (by)
-        h->by_recv = by;
-    if (!start || !by)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather order of %zu links",
-                         h->nln);
-    memset(start, 0, (h->nel + 1) * sizeof *start);
-    for (size_t k = 0; k < h->nln; k++)
-        if (h->ln[k].r >= 0)
-            start[h->ln[k].r + 1]++;
-    for (size_t e = 0; e < h->nel; e++)
-        start[e + 1] += start[e];
-    for (size_t k = 0; k < h->nln; k++)
-        if (h->ln[k].r >= 0)
-            by[start[h->ln[k].r]++] = k;
-    /* the fill advanced each start to the next one's: shift back */
-    for (size_t e = h->nel; e > 0; e--)
-        start[e] = start[e - 1];
-    start[0] = 0;
-    h->recv_stale = 0;
-    return RAD_OK;
-}
-
 rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    if (h->recv_stale || !h->recv_start) {
-        rad_status st = group_by_receiver(h);
-        if (st != RAD_OK)
-            return st;
-    }
-    /* Gather and push-pull on the threads: each receiver sums its own links,
-     * each input triangle's tree is pushed and pulled on its own. */
-    hier_elem *el = h->el;
-    const hier_link *ln = h->ln;
-    const size_t *by = h->by_recv, *start = h->recv_start;
-    long long nel = (long long)h->nel;
-#pragma omp parallel for schedule(static) if (nel > 1024)
-    for (long long e = 0; e < nel; e++) {
-        double g[3] = {0, 0, 0};
-        for (size_t j = start[e]; j < start[e + 1]; j++) {
-            const hier_link *l = &ln[by[j]];
-            double fv = l->F * l->V;
-            const double *Bs = el[l->s].B;
-            for (int c = 0; c < 3; c++)
-                g[c] += fv * Bs[c];
-        }
+    for (size_t e = 0; e < h->nel; e++)
+        h->el[e].Bg[0] = h->el[e].Bg[1] = h->el[e].Bg[2] = 0.0;
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->r < 0)
+            continue;
+        double fv = l->F * l->V;
+        hier_elem *r = &h->el[l->r];
+        const hier_elem *s = &h->el[l->s];
         for (int c = 0; c < 3; c++)
-            el[e].Bg[c] = g[c];
+            r->Bg[c] += fv * s->B[c];
     }
-    double change = 0.0, bmax = 0.0;
-    long long nroots = (long long)h->nroots;
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : change, bmax) if (nel > 1024)
-    for (long long t = 0; t < nroots; t++) {
-        const double zero[3] = {0, 0, 0};
+    double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
+    for (size_t t = 0; t < h->nroots; t++)
         push_pull(h, (int)t, zero, &change, &bmax);
-    }
     if (!isfinite(change) || !isfinite(bmax))
         return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
                          h->st.iterations + 1);
@@ -957,10 +904,8 @@ done:
     h->st.time_refine_s += rad_sys_seconds() - t0;
     if (count > 0)
         h->st.rounds++;
-    if (count > 0) {
+    if (count > 0)
         h->stepped = 0; /* the system changed: the last test no longer holds */
-        h->recv_stale = 1;
-    }
     if (refined)
         *refined = count;
     return st;
