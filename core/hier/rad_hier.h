@@ -76,8 +76,9 @@ typedef struct rad_hier_params {
                              longest edge of either element apart use far_rule, and
                              the ERROR oracle samples the kernel at 3 points of the
                              other element instead of the closed form; 0: every pair
-                             uses rule.  Default 2 */
-    rad_ff_rule far_rule; /* default gauss:2 (about 0.1% at far_ratio 2) */
+                             uses rule.  Default 1.5 */
+    rad_ff_rule far_rule; /* default gauss:2 (0.15% off on average at 1.5-2 edges,
+                             0.06% at 2-3: test ff_gauss2_far_pairs) */
     rad_ff_params ff;     /* its parameters (rad_ff_defaults) */
     int oracle_F;         /* 1: with the ERROR oracle, a link whose elements may
                              still be split takes F from the oracle's 8 point
