@@ -170,6 +170,17 @@ static rad_status check_params(const rad_hier_params *p)
     return RAD_OK;
 }
 
+/* The capacity for at least `need` items: cap (first if 0) doubled until it
+ * holds them, so appends cost O(1) on average. */
+static size_t grown_capacity(size_t cap, size_t need, size_t first)
+{
+    if (cap == 0)
+        cap = first;
+    while (cap < need)
+        cap *= 2;
+    return cap;
+}
+
 static rad_status grow_elems(rad_hier *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
@@ -177,9 +188,7 @@ static rad_status grow_elems(rad_hier *h, size_t extra)
                                       "min_area)", h->p.max_elements);
     if (h->nel + extra <= h->capel)
         return RAD_OK;
-    size_t cap = h->capel ? h->capel : 64;
-    while (cap < h->nel + extra)
-        cap *= 2;
+    size_t cap = grown_capacity(h->capel, h->nel + extra, 64);
     hier_elem *e = realloc(h->el, cap * sizeof *e);
     if (!e)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", cap);
@@ -188,8 +197,7 @@ static rad_status grow_elems(rad_hier *h, size_t extra)
     return RAD_OK;
 }
 
-/* Room for `extra` more links (capacity doubles, so appends cost O(1) on
- * average; huge pages: see rad_sys_alloc_huge). */
+/* Room for `extra` more links, on huge pages (see rad_sys_alloc_huge). */
 static rad_status reserve_links(rad_hier *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
@@ -197,9 +205,7 @@ static rad_status reserve_links(rad_hier *h, size_t extra)
                                       "min_area)", h->p.max_links);
     if (h->nln + extra <= h->capln)
         return RAD_OK;
-    size_t cap = h->capln ? h->capln : 256;
-    while (cap < h->nln + extra)
-        cap *= 2;
+    size_t cap = grown_capacity(h->capln, h->nln + extra, 256);
     hier_link *n = rad_sys_alloc_huge(cap * sizeof *n);
     if (!n)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", cap);
