@@ -87,16 +87,6 @@ static int ladder(const ff_pair *pr, const rad_ff_params *params, double longest
     return 0;
 }
 
-static double longest_edge(const rad_vec3 t[3])
-{
-    double l = 0.0;
-    for (int k = 0; k < 3; k++) {
-        rad_vec3 d = rad_vec3_sub(t[(k + 1) % 3], t[k]);
-        l = fmax(l, rad_vec3_dot(d, d));
-    }
-    return sqrt(l);
-}
-
 /* Step 5: clip, split into pieces, run the ladder on every pair of pieces. */
 static int clipped_ladder(const ff_pair *pr, const rad_ff_params *params, ff_value *v,
                           rad_ff_rule *used, long *spent, rad_status *st)
@@ -132,7 +122,7 @@ static int clipped_ladder(const ff_pair *pr, const rad_ff_params *params, ff_val
             /* A sliver cut off at a vertex carries no measurable coupling. */
             if (!(sub.A[0] > 1e-14) || !(sub.A[1] > 1e-14))
                 continue;
-            double longest = fmax(longest_edge(sub.p[0]), longest_edge(sub.p[1]));
+            double longest = fmax(rad_geom_triangle_longest_edge(sub.p[0]), rad_geom_triangle_longest_edge(sub.p[1]));
             ff_value piece;
             rad_ff_rule r;
             if (!ladder(&sub, params, longest, params->auto_near_ratio, &piece, &r, spent, st))

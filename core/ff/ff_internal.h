@@ -39,8 +39,10 @@ static inline double ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny,
     return (ci / r2) * (cj / r2) * (1.0 / FF_PI);
 }
 
-/* Clip polygon in[0..n) to the open half-space {y : nrm . (y - o) > 0};
- * out needs n + 1 entries.  Returns the new vertex count (0 if empty). */
+/* Clip polygon in[0..n) (n <= FF_CLIP_MAX) to the open half-space
+ * {y : nrm . (y - o) > 0}; out needs n + 1 entries.  Returns the new vertex
+ * count (0 if empty, or n out of range). */
+#define FF_CLIP_MAX 8
 int ff_clip(const rad_vec3 *in, int n, rad_vec3 nrm, rad_vec3 o, rad_vec3 *out);
 
 ff_value ff_vertex(const ff_pair *pr);

@@ -37,18 +37,10 @@ double rad_ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny, long *gua
     return ff_kernel(x, nx, y, ny, guarded);
 }
 
-static double longest_edge(const rad_vec3 t[3])
-{
-    double m = 0.0;
-    for (int k = 0; k < 3; k++)
-        m = rad_dmax(m, rad_vec3_norm(rad_vec3_sub(t[(k + 1) % 3], t[k])));
-    return m;
-}
-
 rad_ff_adjacency rad_ff_adjacency_detect(const rad_vec3 ti[3], const rad_vec3 tj[3],
                                          double rel_tol, int map_i[3])
 {
-    double tol = rel_tol * rad_dmin(longest_edge(ti), longest_edge(tj));
+    double tol = rel_tol * rad_dmin(rad_geom_triangle_longest_edge(ti), rad_geom_triangle_longest_edge(tj));
     int shared = 0;
     for (int a = 0; a < 3; a++) {
         map_i[a] = -1;
@@ -128,7 +120,7 @@ rad_status rad_ff_rule_parse(const char *text, rad_ff_rule *rule)
 static double normalise_pair(const rad_vec3 ti[3], const rad_vec3 tj[3], ff_pair *pr)
 {
     const rad_vec3 *t[2] = {ti, tj};
-    double L = rad_dmax(longest_edge(ti), longest_edge(tj));
+    double L = rad_dmax(rad_geom_triangle_longest_edge(ti), rad_geom_triangle_longest_edge(tj));
     rad_vec3 o = ti[0];
     for (int k = 0; k < 2; k++) {
         for (int v = 0; v < 3; v++)

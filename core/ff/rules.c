@@ -87,27 +87,26 @@ rad_status ff_gauss(const ff_pair *pr, int degree, ff_value *v)
 
 int ff_clip(const rad_vec3 *in, int n, rad_vec3 nrm, rad_vec3 o, rad_vec3 *out)
 {
-    /* The common case first: every vertex in front, nothing to cut (the
-     * point-to-element closed forms of hier meet it on most calls).  A
-     * polygon with repeated vertices keeps them here; its zero-length edges
-     * add nothing to the contour integral. */
-    double side[8];
+    if (n < 1 || n > FF_CLIP_MAX)
+        return 0;
+    double side[FF_CLIP_MAX];
     int front = 0;
-    if (n <= 8) {
-        for (int k = 0; k < n; k++) {
-            side[k] = rad_vec3_dot(nrm, rad_vec3_sub(in[k], o));
-            front += side[k] > 0.0;
-        }
-        if (front == n) {
-            memcpy(out, in, (size_t)n * sizeof *out);
-            return n >= 3 ? n : 0;
-        }
+    for (int k = 0; k < n; k++) {
+        side[k] = rad_vec3_dot(nrm, rad_vec3_sub(in[k], o));
+        front += side[k] > 0.0;
+    }
+    /* The common case: every vertex in front, nothing to cut (hier's
+     * point-to-element closed forms meet it on most calls).  A polygon with
+     * repeated vertices keeps them here; its zero-length edges add nothing
+     * to the contour integral. */
+    if (front == n) {
+        memcpy(out, in, (size_t)n * sizeof *out);
+        return n >= 3 ? n : 0;
     }
     int m = 0;
     for (int k = 0; k < n; k++) {
         rad_vec3 a = in[k], b = in[(k + 1) % n];
-        double da = n <= 8 ? side[k] : rad_vec3_dot(nrm, rad_vec3_sub(a, o));
-        double db = n <= 8 ? side[(k + 1) % n] : rad_vec3_dot(nrm, rad_vec3_sub(b, o));
+        double da = side[k], db = side[(k + 1) % n];
         if (da > 0.0)
             out[m++] = a;
         /* An edge that crosses the plane contributes its crossing point; an
@@ -152,7 +151,7 @@ static double contour_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly
 
 double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly, int nv)
 {
-    if (nv < 3 || nv > 8)
+    if (nv < 3 || nv > FF_CLIP_MAX)
         return 0.0;
     /* The polygon's own normal by Newell's method (any planar polygon). */
     rad_vec3 np = {0, 0, 0};

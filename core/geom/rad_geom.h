@@ -48,6 +48,8 @@ double rad_geom_triangle_area(rad_vec3 a, rad_vec3 b, rad_vec3 c);
 /* Unit normal of the counter-clockwise winding; (0,0,0) for a degenerate triangle. */
 rad_vec3 rad_geom_triangle_normal(rad_vec3 a, rad_vec3 b, rad_vec3 c);
 rad_vec3 rad_geom_triangle_centroid(rad_vec3 a, rad_vec3 b, rad_vec3 c);
+/* Length of the longest edge of t[0..2]. */
+double rad_geom_triangle_longest_edge(const rad_vec3 t[3]);
 /* Point of the triangle at barycentric-like coordinates: a + s (b - a) + t (c - a). */
 rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, double t);
 /* A triangle is degenerate when its area is below rel_tol times the square of

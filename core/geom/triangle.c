@@ -34,6 +34,16 @@ rad_vec3 rad_geom_triangle_centroid(rad_vec3 a, rad_vec3 b, rad_vec3 c)
     return rad_vec3_scale(rad_vec3_add(rad_vec3_add(a, b), c), 1.0 / 3.0);
 }
 
+double rad_geom_triangle_longest_edge(const rad_vec3 t[3])
+{
+    double l = 0.0;
+    for (int k = 0; k < 3; k++) {
+        rad_vec3 d = rad_vec3_sub(t[(k + 1) % 3], t[k]);
+        l = rad_dmax(l, rad_vec3_dot(d, d));
+    }
+    return sqrt(l); /* sqrt is monotone and correctly rounded: the longest length exactly */
+}
+
 rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, double t)
 {
     return rad_vec3_add(a, rad_vec3_add(rad_vec3_scale(rad_vec3_sub(b, a), s),

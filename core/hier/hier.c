@@ -43,6 +43,7 @@
 #include "rad_hier.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -170,15 +171,29 @@ static rad_status check_params(const rad_hier_params *p)
     return RAD_OK;
 }
 
-/* The capacity for at least `need` items: cap (first if 0) doubled until it
- * holds them, so appends cost O(1) on average. */
-static size_t grown_capacity(size_t cap, size_t need, size_t first)
+/* Make *arr (used items of `item` bytes, capacity *cap) hold at least `need`
+ * items: the capacity doubles (from `first`), so appends cost O(1) on
+ * average, and the array moves to memory from rad_sys_alloc_huge (huge pages
+ * spare hier most of its page faults).  0 when out of memory. */
+static int grow_array(void **arr, size_t *cap, size_t used, size_t need, size_t item,
+                      size_t first)
 {
-    if (cap == 0)
-        cap = first;
-    while (cap < need)
-        cap *= 2;
-    return cap;
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : first;
+    while (c < need)
+        c *= 2;
+    if (c > SIZE_MAX / item)
+        return 0;
+    void *n = rad_sys_alloc_huge(c * item);
+    if (!n)
+        return 0;
+    if (used > 0)
+        memcpy(n, *arr, used * item);
+    free(*arr);
+    *arr = n;
+    *cap = c;
+    return 1;
 }
 
 static rad_status grow_elems(rad_hier *h, size_t extra)
@@ -186,43 +201,20 @@ static rad_status grow_elems(rad_hier *h, size_t extra)
     if (h->nel + extra > h->p.max_elements)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
                                       "min_area)", h->p.max_elements);
-    if (h->nel + extra <= h->capel)
-        return RAD_OK;
-    size_t cap = grown_capacity(h->capel, h->nel + extra, 64);
-    hier_elem *e = realloc(h->el, cap * sizeof *e);
-    if (!e)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", cap);
-    h->el = e;
-    h->capel = cap;
+    if (!grow_array((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
 }
 
-/* Room for `extra` more links, on huge pages (see rad_sys_alloc_huge). */
+/* Room for `extra` more links. */
 static rad_status reserve_links(rad_hier *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
-    if (h->nln + extra <= h->capln)
-        return RAD_OK;
-    size_t cap = grown_capacity(h->capln, h->nln + extra, 256);
-    hier_link *n = rad_sys_alloc_huge(cap * sizeof *n);
-    if (!n)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", cap);
-    if (h->nln > 0)
-        memcpy(n, h->ln, h->nln * sizeof *n);
-    free(h->ln);
-    h->ln = n;
-    h->capln = cap;
+    if (!grow_array((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     return RAD_OK;
-}
-
-static double longest_edge(const rad_vec3 p[3])
-{
-    double m = 0.0;
-    for (int k = 0; k < 3; k++)
-        m = rad_dmax(m, rad_vec3_norm(rad_vec3_sub(p[k], p[(k + 1) % 3])));
-    return m;
 }
 
 /* A uniform number in [0,1) from (element, sample, stream): splitmix64, so the
@@ -595,7 +587,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
             goto fail;
         }
         e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
-        e->size = longest_edge(e->p);
+        e->size = rad_geom_triangle_longest_edge(e->p);
         h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
         e->parent = e->first_child = -1;
         e->face = (int)t;
@@ -777,7 +769,7 @@ static rad_status split(rad_hier *h, int e)
         *x = par;
         memcpy(x->p, corners[k], sizeof x->p);
         x->area = rad_geom_triangle_area(x->p[0], x->p[1], x->p[2]);
-        x->size = longest_edge(x->p);
+        x->size = rad_geom_triangle_longest_edge(x->p);
         x->parent = e;
         x->first_child = -1;
         x->depth = par.depth + 1;
