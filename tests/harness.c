@@ -181,22 +181,35 @@ double harness_occluder_form_factor_mc(long samples)
     return sum / samples;
 }
 
-/* Rows of the table: face, area, B_r, B_g, B_b.  Returns the row count. */
-int harness_face_table(const char *out, double *B, int max)
+/* Rows of the table: face, area, B_r, B_g, B_b (and se_r, se_g, se_b when
+ * se is not NULL).  Returns the row count. */
+int harness_face_table_se(const char *out, double *B, double *se, int max)
 {
-    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b\n");
+    const char *p = strstr(out, "\nface\tarea\tB_r\tB_g\tB_b");
     if (!p)
         return -1;
-    p = strchr(p + 1, '\n') + 1;
+    const char *header_end = strchr(p + 1, '\n');
+    if (!header_end)
+        return -1;
+    static const char se_header[] = "face\tarea\tB_r\tB_g\tB_b\tse_r\tse_g\tse_b\n";
+    int has_se = strncmp(p + 1, se_header, sizeof se_header - 1) == 0;
+    if (se && !has_se)
+        return -1;
+    p = header_end + 1;
     int rows = 0;
     while (*p && rows < max) {
-        int f;
-        double a, r, g, b;
-        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf", &f, &a, &r, &g, &b) != 5 || f != rows)
+        int f, used = 0;
+        double a, v[6];
+        if (sscanf(p, "%d\t%lf\t%lf\t%lf\t%lf%n", &f, &a, &v[0], &v[1], &v[2], &used) != 5 ||
+            f != rows)
             return -1;
-        B[3 * rows] = r;
-        B[3 * rows + 1] = g;
-        B[3 * rows + 2] = b;
+        if (has_se && sscanf(p + used, "\t%lf\t%lf\t%lf", &v[3], &v[4], &v[5]) != 3)
+            return -1;
+        for (int c = 0; c < 3; c++) {
+            B[3 * rows + c] = v[c];
+            if (se)
+                se[3 * rows + c] = v[3 + c];
+        }
         rows++;
         p = strchr(p, '\n');
         if (!p)
@@ -204,6 +217,30 @@ int harness_face_table(const char *out, double *B, int max)
         p++;
     }
     return rows;
+}
+
+int harness_face_table(const char *out, double *B, int max)
+{
+    return harness_face_table_se(out, B, NULL, max);
+}
+
+double harness_howell_c11(double a, double b, double c)
+{
+    const double pi = 3.14159265358979323846;
+    double X = a / c, Y = b / c, sx = sqrt(1 + X * X), sy = sqrt(1 + Y * Y);
+    return 2.0 / (pi * X * Y) *
+           (log(sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y))) + X * sy * atan(X / sy) +
+            Y * sx * atan(Y / sx) - X * atan(X) - Y * atan(Y));
+}
+
+double harness_howell_c14(double l, double w, double h)
+{
+    const double pi = 3.14159265358979323846;
+    double H = h / l, W = w / l, H2 = H * H, W2 = W * W, S = sqrt(H2 + W2);
+    double lg = log((1 + W2) * (1 + H2) / (1 + W2 + H2)) +
+                W2 * log(W2 * (1 + W2 + H2) / ((1 + W2) * (W2 + H2))) +
+                H2 * log(H2 * (1 + H2 + W2) / ((1 + H2) * (H2 + W2)));
+    return (W * atan(1 / W) + H * atan(1 / H) - S * atan(1 / S) + 0.25 * lg) / (pi * W);
 }
 
 int main(int argc, char **argv)

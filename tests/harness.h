@@ -75,6 +75,15 @@ void harness_expect_usage_error_at(const char *file, int line, const char *comma
  * 3 values a row; returns the row count, or -1 if the table is missing or
  * malformed. */
 int harness_face_table(const char *out, double *B, int max);
+/* The same for tables with standard errors (radkit solve --method mc): se
+ * receives 3 values a row; -1 if the table has no se columns. */
+int harness_face_table_se(const char *out, double *B, double *se, int max);
+
+/* Howell's closed forms \cite{howell2010}: C-11, parallel directly opposed
+ * rectangles a x b at distance c; C-14, perpendicular rectangles with a
+ * common edge of length l, the emitter of width w, the receiver of height h. */
+double harness_howell_c11(double a, double b, double c);
+double harness_howell_c14(double l, double w, double h);
 
 /* The independent reference for scenes/occluder: Monte Carlo estimate of the
  * blocked form factor between the unit plates (fixed seed; see harness.c). */

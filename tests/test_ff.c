@@ -28,26 +28,6 @@ static rad_ff_result ff(const rad_vec3 *a, const rad_vec3 *b, const char *rule)
     return o;
 }
 
-/* Howell C-11: parallel, directly opposed rectangles a x b at distance c. */
-static double howell_c11(double a, double b, double c)
-{
-    double X = a / c, Y = b / c, sx = sqrt(1 + X * X), sy = sqrt(1 + Y * Y);
-    return 2.0 / (PI * X * Y) *
-           (log(sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y))) + X * sy * atan(X / sy) +
-            Y * sx * atan(Y / sx) - X * atan(X) - Y * atan(Y));
-}
-
-/* Howell C-14: perpendicular rectangles with a common edge of length l; the
- * emitter has width w, the receiver height h. */
-static double howell_c14(double l, double w, double h)
-{
-    double H = h / l, W = w / l, H2 = H * H, W2 = W * W, S = sqrt(H2 + W2);
-    double lg = log((1 + W2) * (1 + H2) / (1 + W2 + H2)) +
-                W2 * log(W2 * (1 + W2 + H2) / ((1 + W2) * (W2 + H2))) +
-                H2 * log(H2 * (1 + H2 + W2) / ((1 + H2) * (H2 + W2)));
-    return (W * atan(1 / W) + H * atan(1 / H) - S * atan(1 / S) + 0.25 * lg) / (PI * W);
-}
-
 /* Sum of G over the 2 x 2 triangle pairs of two rectangles. */
 static double rect_G(rad_vec3 r1[2][3], rad_vec3 r2[2][3], const char *rule, double *worst_err)
 {
@@ -201,7 +181,7 @@ TEST(ff_exact_matches_howell_c11)
     for (int k = 0; k < 3; k++) {
         rad_vec3 r1[2][3], r2[2][3];
         c11_rects(g[k][0], g[k][1], g[k][2], r1, r2);
-        double want = howell_c11(g[k][0], g[k][1], g[k][2]);
+        double want = harness_howell_c11(g[k][0], g[k][1], g[k][2]);
         CHECK_NEAR(rect_G(r1, r2, "exact", NULL) / (g[k][0] * g[k][1]), want, 1e-12, 0.0);
     }
 }
@@ -212,7 +192,7 @@ TEST(ff_exact_matches_howell_c14)
     for (int k = 0; k < 3; k++) {
         rad_vec3 r1[2][3], r2[2][3];
         c14_rects(g[k][0], g[k][1], g[k][2], r1, r2);
-        double want = howell_c14(g[k][0], g[k][1], g[k][2]);
+        double want = harness_howell_c14(g[k][0], g[k][1], g[k][2]);
         CHECK_NEAR(rect_G(r1, r2, "exact", NULL) / (g[k][0] * g[k][1]), want, 1e-12, 0.0);
         double err = 0.0;
         CHECK_NEAR(rect_G(r1, r2, "auto", &err) / (g[k][0] * g[k][1]), want, 1e-6, 0.0);

@@ -1,5 +1,5 @@
-/* Internal to `radkit solve`: what its two methods (cmd_solve.c: dense,
- * solve_hier.c: hierarchical) share — the parsed options and the outputs made
+/* Internal to `radkit solve`: what its methods (cmd_solve.c: dense,
+ * solve_hier.c: hierarchical, solve_mc.c: Monte Carlo) share — the parsed options and the outputs made
  * from a solution on a display mesh (PLY, PNG) and the table's effect lines. */
 #ifndef RAD_CLI_SOLVE_H
 #define RAD_CLI_SOLVE_H
@@ -14,7 +14,7 @@
 typedef struct solve_options {
     const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
     const char *threads, *out, *strata, *ply, *png, *size, *exposure, *stats;
-    const char *eps, *min_area, *oracle;
+    const char *eps, *min_area, *oracle, *samples, *seed;
     int quiet, help, edges;
     cli_scene_options scene_opts;
 } solve_options;
@@ -49,5 +49,6 @@ void solve_print_effects(FILE *out, const rad_effects_plan *plan);
 void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[5]);
 
 int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);
+int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);
 
 #endif

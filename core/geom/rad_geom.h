@@ -52,6 +52,13 @@ rad_vec3 rad_geom_triangle_centroid(rad_vec3 a, rad_vec3 b, rad_vec3 c);
 double rad_geom_triangle_longest_edge(const rad_vec3 t[3]);
 /* Point of the triangle at barycentric-like coordinates: a + s (b - a) + t (c - a). */
 rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, double t);
+/* Stratified sampling of a triangle: the lattice a + (p/k)(b - a) + (q/k)(c - a),
+ * p + q <= k, cuts it into k^2 congruent cells of area A/k^2, numbered row by
+ * row (row p holds 2(k - p) - 1 cells, alternately "up" and "down").  Cell
+ * `cell` (0 <= cell < k^2) and (w1, w2) uniform on the unit square give
+ * (s, t) for rad_geom_triangle_point, uniform on that cell.  Hashing w1, w2
+ * per cell gives jittered stratified samples. */
+void rad_geom_triangle_stratum(int k, long long cell, double w1, double w2, double *s, double *t);
 /* A triangle is degenerate when its area is below rel_tol times the square of
  * its longest edge (zero-area, collinear or sliver beyond use), or it has a
  * non-finite coordinate.  rel_tol = 1e-12 is the library's default. */

@@ -50,6 +50,36 @@ rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, d
                                         rad_vec3_scale(rad_vec3_sub(c, a), t)));
 }
 
+void rad_geom_triangle_stratum(int k, long long cell, double w1, double w2, double *s, double *t)
+{
+    /* Row p starts at cell p (2k - p): p = floor(k - sqrt(k^2 - cell)), corrected
+     * for rounding of the square root. */
+    long long kk = k;
+    long long p = (long long)floor((double)kk - sqrt((double)(kk * kk - cell)));
+    if (p < 0)
+        p = 0;
+    while (p > 0 && p * (2 * kk - p) > cell)
+        p--;
+    while (p + 1 < kk && (p + 1) * (2 * kk - p - 1) <= cell)
+        p++;
+    long long q = cell - p * (2 * kk - p);
+    if (w1 + w2 > 1.0) { /* fold the unit square onto the unit triangle */
+        w1 = 1.0 - w1;
+        w2 = 1.0 - w2;
+    }
+    /* Lattice corners of the cell (along a->b, along a->c). */
+    double s0, r0, s1, r1, s2, r2;
+    if (q % 2 == 0) { /* up: (p, j), (p, j+1), (p+1, j) in (row, column) */
+        double j = (double)(q / 2);
+        r0 = (double)p; s0 = j; r1 = (double)p; s1 = j + 1; r2 = (double)p + 1; s2 = j;
+    } else { /* down: (p, j+1), (p+1, j+1), (p+1, j) */
+        double j = (double)(q / 2);
+        r0 = (double)p; s0 = j + 1; r1 = (double)p + 1; s1 = j + 1; r2 = (double)p + 1; s2 = j;
+    }
+    *s = (s0 + w1 * (s1 - s0) + w2 * (s2 - s0)) / (double)k;
+    *t = (r0 + w1 * (r1 - r0) + w2 * (r2 - r0)) / (double)k;
+}
+
 int rad_geom_triangle_is_degenerate(rad_vec3 a, rad_vec3 b, rad_vec3 c, double rel_tol)
 {
     if (!rad_vec3_is_finite(a) || !rad_vec3_is_finite(b) || !rad_vec3_is_finite(c))

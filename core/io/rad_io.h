@@ -66,6 +66,10 @@ rad_status rad_io_face_averages(size_t nelem, const int *face_of, const double *
 /* The per-face table (header row face, area, B_r, B_g, B_b, then one row per
  * face) to an open stream; rad_io_write_faces_tsv and `radkit solve` use it. */
 void rad_io_print_faces(FILE *f, size_t n, const double *area, const double *B);
+/* The same with three more columns se_r, se_g, se_b (standard errors, n x 3
+ * column-major) when se is not NULL. */
+void rad_io_print_faces_se(FILE *f, size_t n, const double *area, const double *B,
+                           const double *se);
 
 rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area, const double *B,
                                   const rad_io_kv *header, size_t nheader);

@@ -66,9 +66,19 @@ rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area
 
 void rad_io_print_faces(FILE *f, size_t n, const double *area, const double *B)
 {
-    fprintf(f, "face\tarea\tB_r\tB_g\tB_b\n");
-    for (size_t i = 0; i < n; i++)
-        fprintf(f, "%zu\t%.17g\t%.17g\t%.17g\t%.17g\n", i, area[i], B[i], B[i + n], B[i + 2 * n]);
+    rad_io_print_faces_se(f, n, area, B, NULL);
+}
+
+void rad_io_print_faces_se(FILE *f, size_t n, const double *area, const double *B,
+                           const double *se)
+{
+    fprintf(f, se ? "face\tarea\tB_r\tB_g\tB_b\tse_r\tse_g\tse_b\n" : "face\tarea\tB_r\tB_g\tB_b\n");
+    for (size_t i = 0; i < n; i++) {
+        fprintf(f, "%zu\t%.17g\t%.17g\t%.17g\t%.17g", i, area[i], B[i], B[i + n], B[i + 2 * n]);
+        if (se)
+            fprintf(f, "\t%.17g\t%.17g\t%.17g", se[i], se[i + n], se[i + 2 * n]);
+        fputc('\n', f);
+    }
 }
 
 rad_status rad_io_face_averages(size_t nelem, const int *face_of, const double *elem_area,

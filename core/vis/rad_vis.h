@@ -153,6 +153,29 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
                              double tnear, int *tri, double *t_hit, double *u, double *v,
                              rad_vis_stats *stats);
 
+/* ---- single rays, for callers that trace paths (rad_mc) -------------------
+ * No batching and no conversion arrays: one Embree call each, on the calling
+ * thread.  `ignore` names a triangle whose hits are rejected by primitive id
+ * (the one a path vertex lies on), -1 for none; with it a ray may start
+ * exactly on its triangle with tnear = 0. */
+
+/* A closest hit: the triangle, the distance in units of |dir|, and the
+ * barycentric weights (u, v) of the triangle's second and third vertices. */
+typedef struct rad_vis_hit {
+    int tri; /* -1: no hit */
+    double t, u, v;
+} rad_vis_hit;
+
+/* The closest hit of org + t dir, t in (tnear, inf), ignoring `ignore`.
+ * Returns 1 on a hit, 0 otherwise (hit->tri = -1). */
+int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double dir[3],
+                        double tnear, int ignore, rad_vis_hit *hit);
+
+/* 1 when some triangle other than ignore0 and ignore1 (-1: none) crosses the
+ * segment p -> q shortened by the ray epsilon at both ends, else 0. */
+int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double q[3],
+                            int ignore0, int ignore1);
+
 #ifdef __cplusplus
 }
 #endif

@@ -7,9 +7,9 @@
  * 2. The scene scale L = max(box diagonal, largest |coordinate|) fixes the ray
  *    epsilon eps = eps_rel L and the shaft tolerance tol = shaft_tol_rel L.
  * 3. One triangle geometry with mask VIS_MASK_OCCLUDER in a ROBUST scene (no
- *    leaks through shared edges of a blocker's triangles), with an occlusion
- *    filter that drops hits on the primitives the query's context names (the
- *    pair query's own two triangles).
+ *    leaks through shared edges of a blocker's triangles), with occlusion and
+ *    intersection filters that drop hits on the primitives the query's context
+ *    names (a pair query's own two triangles, a path vertex's triangle).
  * 4. Occlusion of a segment p -> q is one ray with origin p, direction q - p,
  *    tnear = eps / |q - p| and tfar = 1 - eps / |q - p|: the open segment
  *    shortened by eps at both ends.  Segments shorter than 2 eps are visible.
@@ -191,6 +191,7 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
                                    vis->findex, 0, 3 * sizeof(unsigned), ntris);
         rtcSetGeometryMask(geom, VIS_MASK_OCCLUDER);
         rtcSetGeometryOccludedFilterFunction(geom, vis_ignore_filter);
+        rtcSetGeometryIntersectFilterFunction(geom, vis_ignore_filter);
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(vis->scene, geom, 0);
         rtcReleaseGeometry(geom);
@@ -343,8 +344,8 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
         return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the intersection query");
     if (!(tnear >= 0.0) || !isfinite(tnear))
         return RAD_ERROR(RAD_EINVAL, "visibility: tnear %g must be finite and >= 0", tnear);
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    vis_context vc;
+    vis_context_init(&vc, RTC_INVALID_GEOMETRY_ID, RTC_INVALID_GEOMETRY_ID);
     for (size_t k = 0; k < n; k++) {
         struct RTCRayHit rh;
         memset(&rh, 0, sizeof rh);
@@ -359,7 +360,7 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
         rh.ray.mask = VIS_MASK_OCCLUDER;
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(vis->scene, &ctx, &rh);
+        rtcIntersect1(vis->scene, &vc.ctx, &rh);
         int hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         tri[k] = hit ? (int)rh.hit.primID : -1;
         if (t_hit)
@@ -372,4 +373,61 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
     if (stats)
         stats->rays += n;
     return RAD_OK;
+}
+
+static unsigned ignore_id(int t) { return t < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)t; }
+
+int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double dir[3],
+                        double tnear, int ignore, rad_vis_hit *hit)
+{
+    vis_context vc;
+    vis_context_init(&vc, ignore_id(ignore), RTC_INVALID_GEOMETRY_ID);
+    struct RTCRayHit rh;
+    rh.ray.org_x = (float)org[0];
+    rh.ray.org_y = (float)org[1];
+    rh.ray.org_z = (float)org[2];
+    rh.ray.dir_x = (float)dir[0];
+    rh.ray.dir_y = (float)dir[1];
+    rh.ray.dir_z = (float)dir[2];
+    rh.ray.tnear = (float)tnear;
+    rh.ray.tfar = INFINITY;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = VIS_MASK_OCCLUDER;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(vis->scene, &vc.ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        hit->tri = -1;
+        hit->t = INFINITY;
+        hit->u = hit->v = 0.0;
+        return 0;
+    }
+    hit->tri = (int)rh.hit.primID;
+    hit->t = rh.ray.tfar;
+    hit->u = rh.hit.u;
+    hit->v = rh.hit.v;
+    return 1;
+}
+
+int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double q[3],
+                            int ignore0, int ignore1)
+{
+    float org[3], dir[3], tn, tf;
+    if (!segment_ray(vis, p, q, org, dir, &tn, &tf))
+        return 0;
+    vis_context vc;
+    vis_context_init(&vc, ignore_id(ignore0), ignore_id(ignore1));
+    struct RTCRay ray;
+    ray.org_x = org[0]; ray.org_y = org[1]; ray.org_z = org[2];
+    ray.dir_x = dir[0]; ray.dir_y = dir[1]; ray.dir_z = dir[2];
+    ray.tnear = tn;
+    ray.tfar = tf;
+    ray.time = 0.0f;
+    ray.mask = VIS_MASK_OCCLUDER;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(vis->scene, &vc.ctx, &ray);
+    return ray.tfar < 0.0f;
 }

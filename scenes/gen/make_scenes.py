@@ -323,6 +323,47 @@ def sphere():
               ["uniform grey furnace material"])
 
 
+def furnace_rooms():
+    """Closed rooms holding closed boxes: furnaces with occlusion.  Every face is
+    the furnace material and every point sees only furnace surfaces (the room
+    faces inward, the boxes outward, nothing touches), so B = E / (1 - rho)
+    exactly, whatever blocks what."""
+    d = os.path.join(ROOT, "furnace_room")
+    room = 2.0
+    rc = [room / 2] * 3
+
+    def write(name, boxes, header):
+        obj = Obj()
+        for quad in box_faces([0, 0, 0], [room] * 3):
+            obj.polygon(orient(quad, towards=rc), "furnace")
+        for lo, hi in boxes:
+            bc = [(lo[i] + hi[i]) / 2 for i in range(3)]
+            for quad in box_faces(lo, hi):
+                obj.polygon(orient(quad, away=bc), "furnace")
+        obj.write(os.path.join(d, name), "room.mtl", header + [
+            "Furnace: every face emits E = 2.385 and reflects rho = 0.375 (override with",
+            "--rho), so B = E / (1 - rho) on every face, occluded or not.",
+            "Written by scenes/gen/make_scenes.py."])
+
+    write("room_box.obj", [([0.6, 0.5, 0.6], [1.4, 1.3, 1.4])],
+          ["A closed 2 m room (inward) holding one closed 0.8 m box (outward) that",
+           "touches nothing."])
+    grid = []
+    for i in range(3):
+        for j in range(3):
+            for k in range(3):
+                lo = [0.35 + 0.5 * i, 0.35 + 0.5 * j, 0.35 + 0.5 * k]
+                grid.append((lo, [x + 0.3 for x in lo]))
+    write("room_27.obj", grid,
+          ["A closed 2 m room (inward) holding 27 closed 0.3 m boxes (outward) on a",
+           "3 x 3 x 3 grid, 0.2 m apart."])
+    write("room_hair.obj", [([0.6, 0.5, 0.001], [1.4, 1.3, 0.801])],
+          ["A closed 2 m room (inward) holding one closed 0.8 m box (outward) 1 mm",
+           "from the wall z = 0: a near-touching pair."])
+    write_mtl(os.path.join(d, "room.mtl"), [("furnace", [FURNACE_RHO] * 3, [FURNACE_E] * 3)],
+              ["uniform grey furnace material"])
+
+
 def plates():
     mats = [("emitter", [0, 0, 0], [1, 1, 1]), ("receiver", [0, 0, 0], [0, 0, 0])]
     d = os.path.join(ROOT, "plates_parallel")
@@ -467,6 +508,7 @@ def main():
     furnace_cube()
     tetrahedron()
     sphere()
+    furnace_rooms()
     plates()
     formats()
     bad()

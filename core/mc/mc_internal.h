@@ -1,0 +1,71 @@
+/* Internal to rad_mc: the per-triangle tables a path reads, the random number
+ * generator, and the one-path estimator (path.c). */
+#ifndef MC_INTERNAL_H
+#define MC_INTERNAL_H
+
+#include <stdint.h>
+
+#include "rad_geom.h"
+#include "rad_mc.h"
+
+/* A counter-based generator: splitmix64 over a 64-bit state, seeded per
+ * sample from (seed, triangle, sample) so that results do not depend on which
+ * thread draws them \cite{steele2014splitmix}. */
+typedef struct mc_rng {
+    uint64_t state;
+} mc_rng;
+
+static inline uint64_t mc_mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+static inline uint64_t mc_next64(mc_rng *r)
+{
+    r->state += 0x9e3779b97f4a7c15ull;
+    return mc_mix64(r->state);
+}
+
+/* Uniform on [0, 1) with 53 random bits. */
+static inline double mc_uniform(mc_rng *r) { return (double)(mc_next64(r) >> 11) * 0x1.0p-53; }
+
+static inline void mc_rng_seed(mc_rng *r, uint64_t seed, uint64_t tri, uint64_t sample)
+{
+    r->state = mc_mix64(seed ^ mc_mix64(tri * 0x9e3779b97f4a7c15ull ^ mc_mix64(sample + 1)));
+}
+
+/* What a path needs of one triangle. */
+typedef struct mc_tri {
+    rad_vec3 a, ab, ac;   /* corner and edges: x = a + s ab + t ac */
+    rad_vec3 n, t1, t2;   /* unit normal and a tangent frame */
+    double area;
+    double rho[3], E[3];
+    double light_pdf;     /* area density of next-event points on it (0: not an emitter) */
+} mc_tri;
+
+typedef struct mc_scene {
+    const mc_tri *tris;
+    size_t ntris;
+    const int *emitters;   /* triangles with some emission */
+    const double *emit_cdf; /* cumulative area x power over emitters, last = 1 */
+    size_t nemitters;
+    const rad_vis *vis;
+    int occlusion, next_event, max_depth;
+    double rr_weight;
+} mc_scene;
+
+/* Work of one path. */
+typedef struct mc_counts {
+    long long rays, bounces, too_long;
+} mc_counts;
+
+/* H(x) at the point x of triangle t (irradiance, W/m^2 per channel) by one
+ * path: next-event estimation and cosine continuation combined by MIS,
+ * Russian roulette on the throughput.  first (or NULL) gives the first
+ * vertex's uniform numbers: [0..1] the direction, [2..3] the emitter point. */
+void mc_path_irradiance(const mc_scene *s, int t, rad_vec3 x, mc_rng *rng, const double *first,
+                        double H[3], mc_counts *counts);
+
+#endif
