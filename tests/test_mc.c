@@ -155,8 +155,8 @@ TEST(mc_occluded_furnaces_within_standard_errors)
         {"scenes/furnace_room/room_box.obj", 0.9, 2048},
         {"scenes/furnace_room/room_box.obj", 0.99, 1024},
         {"scenes/furnace_room/room_hair.obj", 0.9, 2048},
-        {"scenes/furnace_room/room_27.obj", 0.5, 512},
-        {"scenes/furnace_room/room_27.obj", 0.99, 64},
+        {"scenes/furnace_room/room_27.obj", 0.5, 2048},
+        {"scenes/furnace_room/room_27.obj", 0.99, 128},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         mc_fixture f;

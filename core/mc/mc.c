@@ -3,7 +3,7 @@
  *
  * 1. Per triangle: corner, edges, unit normal and tangent frame, area,
  *    reflectance, emission, and the next-event density (path.c).  Emitters
- *    get a cumulative distribution over area x summed emission.
+ *    get an alias table over area x summed emission.
  * 2. Each triangle's N paths form B batches of m = N / B (N rounded up).  A
  *    batch cuts the triangle into k^2 cells, k = floor(sqrt(m))
  *    (rad_geom_triangle_stratum): its first k^2 floor(m / k^2) samples go
@@ -70,7 +70,41 @@ static rad_status check_params(const rad_mc_params *p)
     return RAD_OK;
 }
 
-/* The tables of step 1.  Returns RAD_EINPUT for bad materials. */
+/* Vose's construction of the alias table for the probabilities w[0..n)
+ * (summing to 1), using small[] and large[] (n each) as work space. */
+static void build_alias(size_t n, const double *w, double *prob, int *alias, int *small, int *large)
+{
+    size_t ns = 0, nl = 0;
+    for (size_t k = 0; k < n; k++) {
+        prob[k] = w[k] * (double)n;
+        if (prob[k] < 1.0)
+            small[ns++] = (int)k;
+        else
+            large[nl++] = (int)k;
+    }
+    while (ns && nl) {
+        int sm = small[--ns], lg = large[nl - 1];
+        alias[sm] = lg;
+        prob[lg] -= 1.0 - prob[sm];
+        if (prob[lg] < 1.0) {
+            nl--;
+            small[ns++] = lg;
+        }
+    }
+    while (nl) { /* rounding leaves these at (about) 1 */
+        int k = large[--nl];
+        prob[k] = 1.0;
+        alias[k] = k;
+    }
+    while (ns) {
+        int k = small[--ns];
+        prob[k] = 1.0;
+        alias[k] = k;
+    }
+}
+
+/* The tables of step 1 (cdf receives the emitters' probabilities).
+ * Returns RAD_EINPUT for bad materials. */
 static rad_status build_tables(const double *xyz, const int *tri, size_t nt, const double *rho,
                                const double *E, mc_tri *tris, int *emitters, double *cdf,
                                size_t *nemitters)
@@ -111,15 +145,13 @@ static rad_status build_tables(const double *xyz, const int *tri, size_t nt, con
         if (power > 0.0) {
             emitters[ne] = (int)i;
             total += m->area * power;
-            cdf[ne++] = total;
+            cdf[ne++] = m->area * power;
         }
     }
     for (size_t k = 0; k < ne; k++) {
         cdf[k] /= total;
         tris[emitters[k]].light_pdf /= total;
     }
-    if (ne)
-        cdf[ne - 1] = 1.0;
     *nemitters = ne;
     return RAD_OK;
 }
@@ -233,17 +265,19 @@ rad_status rad_mc_solve(const double *xyz, size_t nverts, const int *tri, size_t
     const size_t block = 4096;
     mc_tri *tris = malloc((ntris + 1) * sizeof *tris);
     int *emitters = malloc((ntris + 1) * sizeof *emitters);
-    double *cdf = malloc((ntris + 1) * sizeof *cdf);
+    double *cdf = malloc((ntris + 1) * sizeof *cdf), *prob = malloc((ntris + 1) * sizeof *prob);
+    int *alias = malloc(3 * (ntris + 1) * sizeof *alias);
     double *means = malloc(block * (size_t)nb * 3 * sizeof *means);
-    if (!tris || !emitters || !cdf || !means) {
+    if (!tris || !emitters || !cdf || !prob || !alias || !means) {
         st = RAD_ERROR(RAD_ENOMEM, "Monte Carlo: no memory for %zu triangles", ntris);
         goto done;
     }
     size_t ne = 0;
     if ((st = build_tables(xyz, tri, ntris, rho, E, tris, emitters, cdf, &ne)) != RAD_OK)
         goto done;
-    mc_scene s = {tris, ntris, emitters, cdf, ne, vis, p.occlusion, p.next_event, p.max_depth,
-                  p.rr_weight};
+    build_alias(ne, cdf, prob, alias, alias + ntris + 1, alias + 2 * (ntris + 1));
+    mc_scene s = {tris, ntris, emitters, prob, alias, ne, vis, p.occlusion, p.next_event,
+                  p.max_depth, p.rr_weight, rad_vis_epsilon(vis)};
 
     long long rays = 0, bounces = 0, too_long = 0, done_units = 0;
     long long total_units = (long long)ntris * nb;
@@ -308,6 +342,8 @@ done:
     free(tris);
     free(emitters);
     free(cdf);
+    free(prob);
+    free(alias);
     free(means);
     return st;
 }

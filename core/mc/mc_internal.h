@@ -48,13 +48,31 @@ typedef struct mc_tri {
 typedef struct mc_scene {
     const mc_tri *tris;
     size_t ntris;
-    const int *emitters;   /* triangles with some emission */
-    const double *emit_cdf; /* cumulative area x power over emitters, last = 1 */
+    const int *emitters;      /* triangles with some emission */
+    const double *emit_prob;  /* alias table over the emitters, in proportion to */
+    const int *emit_alias;    /* area x summed emission (mc_pick_emitter) */
     size_t nemitters;
     const rad_vis *vis;
     int occlusion, next_event, max_depth;
     double rr_weight;
+    /* Continuation rays start this far out: the ray epsilon of the
+     * visibility, beyond float rounding of the origin, so that the filter
+     * that rejects the path vertex's own triangle runs only on the rare
+     * grazing ray. */
+    double tnear;
 } mc_scene;
+
+/* An emitter index in proportion to area x power, from one uniform number:
+ * Walker's alias method \cite{walker1977alias} (constant time; the binary
+ * search of a cumulative table mispredicts a branch per level). */
+static inline size_t mc_pick_emitter(const mc_scene *s, double u)
+{
+    double x = u * (double)s->nemitters;
+    size_t k = (size_t)x;
+    if (k >= s->nemitters)
+        k = s->nemitters - 1;
+    return x - (double)k < s->emit_prob[k] ? k : (size_t)s->emit_alias[k];
+}
 
 /* Work of one path. */
 typedef struct mc_counts {
