@@ -468,3 +468,92 @@ TEST(io_face_averages_by_hand)
     int bad[3] = {0, 3, 0};
     CHECK(rad_io_face_averages(3, bad, area, B, 3, fa, fb) == RAD_EINPUT);
 }
+
+/* Write text to a fresh temporary file; its path in buf. */
+static void temp_text(char *buf, size_t size, const char *text)
+{
+    snprintf(buf, size, "/tmp/radkit-io-XXXXXX");
+    int fd = mkstemp(buf);
+    CHECK(fd >= 0);
+    if (fd < 0)
+        return;
+    FILE *f = fdopen(fd, "w");
+    fputs(text, f);
+    fclose(f);
+}
+
+TEST(io_read_faces_reads_what_solve_writes)
+{
+    char path[64];
+    temp_text(path, sizeof path,
+              "# radkit solve\n# method = mc\nface\tarea\tB_r\tB_g\tB_b\tse_r\tse_g\tse_b\n"
+              "0\t0.5\t1.25\t2.5\t3.75\t0.01\t0.02\t0.03\n"
+              "1\t1.5\t-0\t1e-300\t7\t0\t0\t0.5\n");
+    rad_io_faces t;
+    CHECK(rad_io_read_faces_tsv(path, &t) == RAD_OK);
+    CHECK(t.n == 2 && t.se != NULL);
+    if (t.n == 2 && t.se) {
+        CHECK(t.area[0] == 0.5 && t.area[1] == 1.5);
+        CHECK(t.B[0] == 1.25 && t.B[2] == 2.5 && t.B[4] == 3.75 && t.B[3] == 1e-300 && t.B[5] == 7);
+        CHECK(t.se[0] == 0.01 && t.se[2] == 0.02 && t.se[4] == 0.03 && t.se[5] == 0.5);
+    }
+    rad_io_faces_free(&t);
+    remove(path);
+    /* a table without se, as dense and hier write it */
+    temp_text(path, sizeof path, "face\tarea\tB_r\tB_g\tB_b\n0\t2\t1\t2\t3\n");
+    CHECK(rad_io_read_faces_tsv(path, &t) == RAD_OK && t.n == 1 && t.se == NULL && t.B[2] == 3);
+    rad_io_faces_free(&t);
+    remove(path);
+}
+
+TEST(io_read_faces_names_the_bad_line)
+{
+    struct { const char *text, *needle; } bad[] = {
+        {"face\tarea\tB_r\tB_g\tB_b\n0\t1\t2\t3\n", ":2: 4 columns"},
+        {"face\tarea\tB_r\tB_g\tB_b\n0\t1\t2\tx\t4\n", ":2: column 4: 'x'"},
+        {"face\tarea\tB_r\tB_g\tB_b\n0\t1\t2\tnan\t4\n", ":2: column 4"},
+        {"face\tarea\tB_r\tB_g\tB_b\n1\t1\t2\t3\t4\n", ":2: face 1 out of order"},
+        {"# only comments\n", "no per-face table"},
+        {"a\tb\n", ":1: expected the header row"},
+        {"face\tarea\tB_r\tB_g\tB_b\tse_r\n", ":1: unexpected columns"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char path[64];
+        temp_text(path, sizeof path, bad[k].text);
+        rad_io_faces t;
+        CHECK(rad_io_read_faces_tsv(path, &t) == RAD_EINPUT);
+        CHECK_MSG(strstr(rad_error_message(), bad[k].needle) && strstr(rad_error_message(), path),
+                  "case %zu: '%s'", k, rad_error_message());
+        CHECK(t.n == 0 && t.area == NULL);
+        remove(path);
+    }
+    rad_io_faces t;
+    CHECK(rad_io_read_faces_tsv("/nonexistent/x.tsv", &t) == RAD_EINPUT);
+}
+
+TEST(io_face_error_by_hand)
+{
+    /* Two faces, areas 1 and 3; face 0 emits 10 in every channel.  Reference
+     * reflected parts: face 0 (2, 4, 6), face 1 (1, 1, 1): R = (1 * 12 + 3 * 3)
+     * / (3 * 4) = 1.75.  Differences: face 0 (0.35, 0, 0), face 1 (0, -0.7, 0.175):
+     * l1 = (0.35 + 3 * 0.875) / (12 * 1.75) = 0.1416..., worst = 0.7 / 1.75 = 0.4
+     * at face 1, l2 = sqrt((0.1225 + 3 * 0.520625) / 12) / 1.75. */
+    double area[2] = {1, 3}, E[6] = {10, 0, 10, 0, 10, 0};
+    double ref[6] = {12, 1, 14, 1, 16, 1}, B[6] = {12.35, 1, 14, 0.3, 16, 1.175};
+    double se[6] = {0.1, 0.01, 0.2, 0.02, 0.3, 0.03};
+    rad_io_face_errors e;
+    CHECK(rad_io_face_error(2, area, E, B, ref, se, &e) == RAD_OK);
+    CHECK_NEAR(e.mean_reflected, 1.75, 1e-15, 0);
+    CHECK_NEAR(e.l1, (0.35 + 3 * 0.875) / (12 * 1.75), 1e-14, 0);
+    CHECK_NEAR(e.l2, sqrt((0.1225 + 3 * 0.520625) / 12) / 1.75, 1e-14, 0);
+    CHECK_NEAR(e.worst, 0.4, 1e-14, 0);
+    CHECK(e.worst_face == 1);
+    CHECK_NEAR(e.ref_worst, 0.02 / 1.75, 1e-14, 0);
+    CHECK_NEAR(e.ref_l1, (0.6 + 3 * 0.06) / (12 * 1.75), 1e-14, 0);
+    CHECK(rad_io_face_error(2, area, E, B, ref, NULL, &e) == RAD_OK && e.ref_l1 == 0.0);
+    /* nothing reflected: no relative error */
+    double dark[6] = {10, 0, 10, 0, 10, 0};
+    CHECK(rad_io_face_error(2, area, E, B, dark, NULL, &e) == RAD_EINPUT);
+    B[3] = NAN;
+    CHECK(rad_io_face_error(2, area, E, B, ref, NULL, &e) == RAD_EINPUT);
+}

@@ -133,3 +133,61 @@ TEST(mc_cli_rejects_bad_options)
                                "--refine");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "mcc", NULL}, "mcc");
 }
+
+/* radkit compare: a dense furnace solve (exact to rounding) against a Monte
+ * Carlo table of the same furnace differs by about the Monte Carlo's own
+ * standard error; tables of another scene, missing files and missing
+ * arguments are refused. */
+TEST(mc_cli_compare_against_a_reference)
+{
+    char dir[] = "/tmp/radkit-cmp-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    char dense[256], mc[256], buf[64];
+    snprintf(dense, sizeof dense, "%s/dense.tsv", dir);
+    snprintf(mc, sizeof mc, "%s/mc.tsv", dir);
+    const char *room = harness_path("scenes/furnace_room/room_box.obj");
+    char *out = NULL, *err = NULL;
+    CHECK(harness_radkit_run("solve", (const char *[]){room, "--rule", "exact", "--refine", "1",
+                             "--out", dense, "--quiet", NULL}, &out, &err) == 0);
+    free(out);
+    free(err);
+    CHECK(harness_radkit_run("solve", (const char *[]){room, "--method", "mc", "--samples", "1024",
+                             "--out", mc, "--quiet", NULL}, &out, &err) == 0);
+    free(out);
+    free(err);
+    CHECK(harness_radkit_run("compare", (const char *[]){room, dense, mc, NULL}, &out, &err) == 0);
+    if (out) {
+        double l1 = -1, se = -1, worst = -1;
+        if (harness_header(out, "error_l1", buf, sizeof buf))
+            l1 = atof(buf);
+        if (harness_header(out, "reference_se_l1", buf, sizeof buf))
+            se = atof(buf);
+        if (harness_header(out, "error_worst", buf, sizeof buf))
+            worst = atof(buf);
+        /* |B - B_ref| averages about 0.8 se for normal errors */
+        CHECK_MSG(se > 0 && l1 > 0.3 * se && l1 < 2.0 * se, "l1 %g, reference se %g", l1, se);
+        CHECK(worst >= l1 && worst < 0.1);
+        CHECK(harness_header(out, "mean_reflected", buf, sizeof buf) &&
+              fabs(atof(buf) - (2.385 / 0.625 - 2.385)) < 0.05);
+        CHECK(harness_count_lines(out) > 24);
+    }
+    free(out);
+    free(err);
+    /* a table against itself: no error at all */
+    CHECK(harness_radkit_run("compare", (const char *[]){room, dense, dense, NULL}, &out, &err) == 0);
+    CHECK(out && harness_header(out, "error_worst", buf, sizeof buf) && atof(buf) == 0.0);
+    free(out);
+    free(err);
+    HARNESS_EXPECT_USAGE_ERROR("compare", (const char *[]){harness_path("scenes/furnace_cube/cube.obj"),
+                               dense, mc, NULL}, "24 faces, the scene 12");
+    HARNESS_EXPECT_USAGE_ERROR("compare", (const char *[]){room, dense, NULL}, "SCENE TABLE REFERENCE");
+    HARNESS_EXPECT_USAGE_ERROR("compare", (const char *[]){room, dense, "/nonexistent.tsv", NULL},
+                               "/nonexistent.tsv");
+    HARNESS_EXPECT_USAGE_ERROR("compare", (const char *[]){room, dense, mc, mc, NULL}, "more than one");
+    remove(dense);
+    remove(mc);
+    rmdir(dir);
+}

@@ -16,10 +16,11 @@ typedef struct cli_option {
 } cli_option;
 
 /* Parse argv[first..argc) against a NULL-name-terminated option table.
- * Accepts "--name value" and "--name=value".  An entry with the empty name ""
- * takes the one positional argument (a word not starting with '-'; its value
- * must start NULL).  Unknown options, missing values, a second positional and
- * stray arguments are RAD_EINVAL with a message naming them. */
+ * Accepts "--name value" and "--name=value".  Entries with the empty name ""
+ * take the positional arguments (words not starting with '-'), in table
+ * order; their values must start NULL.  Unknown options, missing values, a
+ * positional beyond the last entry and stray arguments are RAD_EINVAL with a
+ * message naming them. */
 rad_status cli_parse(const char *command, int argc, char **argv, int first,
                      const cli_option *options);
 
@@ -54,5 +55,6 @@ int cli_galerkin1d(int argc, char **argv);
 int cli_ff(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_solve(int argc, char **argv);
+int cli_compare(int argc, char **argv);
 
 #endif

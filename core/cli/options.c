@@ -8,18 +8,22 @@
 rad_status cli_parse(const char *command, int argc, char **argv, int first,
                      const cli_option *options)
 {
-    const cli_option *positional = NULL;
+    const cli_option *last_positional = NULL;
     for (const cli_option *o = options; o->name; o++)
         if (o->name[0] == '\0')
-            positional = o;
+            last_positional = o;
     for (int i = first; i < argc; i++) {
         const char *arg = argv[i];
-        if (positional && arg[0] != '-') {
-            if (*positional->value)
+        if (last_positional && arg[0] != '-') {
+            const cli_option *slot = NULL; /* the first positional entry still empty */
+            for (const cli_option *o = options; o->name && !slot; o++)
+                if (o->name[0] == '\0' && !*o->value)
+                    slot = o;
+            if (!slot)
                 return RAD_ERROR(RAD_EINVAL, "%s: more than one %s given ('%s' and '%s')", command,
-                                 positional->what ? positional->what : "argument",
-                                 *positional->value, arg);
-            *positional->value = arg;
+                                 last_positional->what ? last_positional->what : "argument",
+                                 *last_positional->value, arg);
+            *slot->value = arg;
             continue;
         }
         const char *eq = strchr(arg, '=');

@@ -16,7 +16,9 @@ static const char usage[] =
     "commands:\n"
     "  galerkin1d   solve the 1D model problem of the notes and report its errors\n"
     "  info         load and validate a scene; its figures, adjacency and effects plan\n"
-    "  solve        dense Galerkin radiosity on a scene: radiosity per triangle\n"
+    "  solve        radiosity per triangle of a scene: dense or hierarchical Galerkin\n"
+    "               radiosity, or Monte Carlo path tracing (the independent reference)\n"
+    "  compare      the error of a per-face table against a reference table\n"
     "  ff           the form factor between two triangles by a chosen quadrature rule\n"
     "\n"
     "options:\n"
@@ -56,6 +58,8 @@ int main(int argc, char **argv)
         return cli_solve(argc, argv);
     if (strcmp(cmd, "ff") == 0)
         return cli_ff(argc, argv);
+    if (strcmp(cmd, "compare") == 0)
+        return cli_compare(argc, argv);
     fprintf(stderr, "radkit: unknown command '%s' (see 'radkit --help')\n", cmd);
     return 2;
 }

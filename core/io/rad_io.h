@@ -84,6 +84,40 @@ rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv
                             size_t nheader, size_t ncols, const char *const *columns,
                             size_t nrows, const double *data);
 
+/* ---- reading a per-face table back, and comparing two ---------------------- */
+
+/* A per-face table as `radkit solve` writes it: n rows in face order, area,
+ * B (n x 3 column-major) and, for tables with se_r se_g se_b columns (Monte
+ * Carlo), the standard errors (NULL otherwise).  One allocation, owned. */
+typedef struct rad_io_faces {
+    size_t n;
+    double *area, *B, *se;
+} rad_io_faces;
+
+/* '#' lines are skipped; the header row must be face area B_r B_g B_b
+ * [se_r se_g se_b], the rows numbered 0, 1, ... with finite numbers.
+ * RAD_EINPUT (a file that cannot be opened; path:line and what is wrong),
+ * RAD_EIO (a read error). */
+rad_status rad_io_read_faces_tsv(const char *path, rad_io_faces *out);
+void rad_io_faces_free(rad_io_faces *faces);
+
+/* The error of B against a reference B_ref (n x 3 column-major each; E the
+ * faces' emission, or NULL for none; se_ref the reference's standard errors,
+ * or NULL), every figure relative to R, the reference's area-weighted mean
+ * reflected radiosity (compare.c opens with the formulas). */
+typedef struct rad_io_face_errors {
+    double mean_reflected; /* R */
+    double l1, l2, worst;  /* area-weighted L1 and L2 of |B - B_ref|, and the largest, over R */
+    int worst_face;        /* where the largest is */
+    double ref_l1;         /* the reference's own standard error, as l1 (0 without se) */
+    double ref_worst;      /* its standard error at the worst face, over R */
+} rad_io_face_errors;
+
+/* RAD_EINPUT when the faces have no area, R is not positive or a value is
+ * not finite. */
+rad_status rad_io_face_error(size_t n, const double *area, const double *E, const double *B,
+                             const double *B_ref, const double *se_ref, rad_io_face_errors *out);
+
 /* ---- stats JSON ------------------------------------------------------------- */
 
 typedef struct rad_io_phase {

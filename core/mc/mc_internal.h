@@ -63,8 +63,9 @@ typedef struct mc_scene {
 } mc_scene;
 
 /* An emitter index in proportion to area x power, from one uniform number:
- * Walker's alias method \cite{walker1977alias} (constant time; the binary
- * search of a cumulative table mispredicts a branch per level). */
+ * Walker's alias method \cite{walker1977alias} with Vose's construction
+ * \cite{vose1991alias}, constant time where a binary search of a cumulative
+ * table mispredicts a branch per level. */
 static inline size_t mc_pick_emitter(const mc_scene *s, double u)
 {
     double x = u * (double)s->nemitters;

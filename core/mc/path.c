@@ -17,7 +17,8 @@
  *    the light density in solid angle and p_c = cos_p / pi the cosine
  *    density.
  * 2. Continuation: w cosine-weighted about the normal, the closest hit y on
- *    triangle j (hits on t itself ignored, so the ray leaves exactly from p).
+ *    triangle j beyond the ray epsilon (hits on t itself are also rejected
+ *    by id, for grazing rays whose float origin lies behind t's plane).
  *    No hit, or the back of j: the path ends.  If j emits, its emission
  *    counts with weight p_c^2 / (p_c^2 + p_l^2) (cos / p_c = pi cancels the
  *    1/pi of L: the term is beta E_j w).
@@ -26,8 +27,9 @@
  *    without roulette while its throughput is above rr_weight, and below it
  *    survivors carry about rr_weight; a path ends where nothing reflects.
  * The first vertex may take its direction and its emitter point from the
- * caller (stratified over a batch, mc.c); deeper vertices draw their own.  The power heuristic: \cite{veach1995mis}; cosine sampling by
- *    Malley's method and the branchless frame of \cite{duff2017onb}. */
+ * caller (stratified over a batch, mc.c); deeper vertices draw their own.
+ * The power heuristic: \cite{veach1995mis}; cosine sampling by Malley's
+ * method \cite{pharr2016pbrt}; the branchless frame of \cite{duff2017onb}. */
 #include "mc_internal.h"
 
 #include <math.h>

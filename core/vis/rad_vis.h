@@ -33,6 +33,7 @@
 #include <stddef.h>
 
 #include "rad_error.h"
+#include "rad_geom.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -152,6 +153,66 @@ rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double 
 rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, const double *dir,
                              double tnear, int *tri, double *t_hit, double *u, double *v,
                              rad_vis_stats *stats);
+
+/* ---- exact visibility: what part of a triangle a point sees ------------------
+ * visible.c opens with the method: the shadows of the possible blockers are
+ * projected from the point onto the target's plane and subtracted from it
+ * (convex polygon clipping), and the visible pieces are integrated in closed
+ * form.  In a closed scene the visible pieces of all triangles tile a point's
+ * hemisphere, so rows of form factors built on it sum to 1 up to the outer
+ * quadrature's error: energy is conserved where rays would only sample it. */
+
+/* The triangles that may block a segment between triangle a (lying on input
+ * triangle face_a of the vis scene, or -1) and triangle b (on face_b): the
+ * shaft test's survivors, face_a and face_b excluded.  Up to max indices
+ * into out; returns their count, max + 1 when there are more than max. */
+int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
+                     int face_b, int *out, int max);
+
+/* F_vis(x, b): the form factor from the point x (unit normal nx, its cosine
+ * clamped) to the part of triangle b that the given blockers leave visible
+ * (0 when x is behind b's plane); *F_open (may be NULL) the unoccluded one.
+ * Returns 0 when the visible part has too many pieces to represent (then F
+ * is not set; the caller falls back to rays), 1 otherwise.  evals (may be
+ * NULL) counts closed-form evaluations. */
+int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                          const int *blockers, int nb, double *F, double *F_open, long *evals);
+
+typedef struct rad_vis_visible_params {
+    int degree;       /* symmetric rule of this degree on each outer cell; default 2 */
+    double tol;       /* accept a cell when its 4 children change the value by at most
+                         its share of tol x the pair's unoccluded G; default 1e-4 */
+    int max_depth;    /* outer cell levels at most (1: the rule and its children once);
+                         default 5 */
+    int max_blockers; /* more possible blockers than this: not computed (status
+                         TOO_MANY); default 1024, at most 65536 */
+} rad_vis_visible_params;
+
+void rad_vis_visible_params_default(rad_vis_visible_params *params);
+
+enum {
+    RAD_VIS_VISIBLE_EXACT = 0,   /* computed: G to within error */
+    RAD_VIS_VISIBLE_TOO_MANY = 1 /* too many blockers or pieces: not computed */
+};
+
+typedef struct rad_vis_visible_result {
+    double G;       /* int_a int_b K V */
+    double G_open;  /* int_a int_b K on the same outer cells (no visibility) */
+    double error;   /* sum of the accepted cells' coarse-fine differences */
+    long evals;     /* closed-form point-to-polygon evaluations */
+    int blockers;   /* possible blockers found by the shaft test */
+    int status;     /* RAD_VIS_VISIBLE_EXACT or RAD_VIS_VISIBLE_TOO_MANY */
+} rad_vis_visible_result;
+
+/* G_vis(a, b) = int_a int_b K V by the adaptive outer rule of visible.c,
+ * with the blockers of the pair (a on input triangle face_a, b on face_b; -1
+ * for none).  G_open is the pair's unoccluded G (rad_ff): the scale of the
+ * tolerance; 0 (or less) returns G = 0 at once.  Re-entrant; call from many
+ * threads.  RAD_EINVAL for bad arguments. */
+rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int face_a,
+                                const rad_vec3 b[3], int face_b, double G_open,
+                                const rad_vis_visible_params *params,
+                                rad_vis_visible_result *out);
 
 /* ---- single rays, for callers that trace paths (rad_mc) -------------------
  * No batching and no conversion arrays: one Embree call each, on the calling

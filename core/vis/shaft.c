@@ -286,15 +286,11 @@ static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6],
     out[(*count)++] = (plane){n, d};
 }
 
-/* The kept face planes of the hull of triangles i and j (the caller has the
- * pair's bounding box already); -1 when none is kept (a coplanar pair). */
-static int shaft_planes(const rad_vis *vis, size_t i, size_t j, plane *pl)
+/* The kept face planes of the hull of the triangles pts[0..2] and pts[3..5]
+ * (the caller has the pair's bounding box already); -1 when none is kept (a
+ * coplanar pair). */
+static int shaft_planes(const rad_vis *vis, const rad_vec3 pts[6], plane *pl)
 {
-    rad_vec3 pts[6];
-    for (int v = 0; v < 3; v++) {
-        pts[v] = vis_vertex(vis, i, v);
-        pts[3 + v] = vis_vertex(vis, j, v);
-    }
     int count = 0;
     try_plane(pts[0], pts[1], pts[2], pts, vis->tol, pl, &count);
     try_plane(pts[3], pts[4], pts[5], pts, vis->tol, pl, &count);
@@ -355,34 +351,34 @@ static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int c
     return 0;
 }
 
-int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
+/* Walk the hierarchy for the shaft of pts[0..2] and pts[3..5]: the triangles
+ * other than ignore0 and ignore1 that the test does not dismiss, up to max of
+ * them into out (out may be NULL with max 0: stop at the first).  Returns
+ * their count (at most max + 1: more than max), or -1 for a flat hull. */
+static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0, size_t ignore1,
+                      int *out, int max)
 {
-    if (!vis || i >= vis->ntris || j >= vis->ntris)
-        return 1;
-    if (vis->unoccluded)
-        return 0;
-    if (vis->nnodes == 0)
+    if (vis->unoccluded || vis->nnodes == 0)
         return 0; /* nothing in the scene can block */
     double lo[3], hi[3];
     for (int c = 0; c < 3; c++) {
         lo[c] = INFINITY;
         hi[c] = -INFINITY;
     }
-    for (int v = 0; v < 3; v++) {
-        const double *a = vis->xyz + 3 * (size_t)vis->tri[3 * i + (size_t)v];
-        const double *b = vis->xyz + 3 * (size_t)vis->tri[3 * j + (size_t)v];
+    for (int v = 0; v < 6; v++) {
+        double q[3] = {pts[v].x, pts[v].y, pts[v].z};
         for (int c = 0; c < 3; c++) {
-            lo[c] = rad_dmin(lo[c], rad_dmin(a[c], b[c]));
-            hi[c] = rad_dmax(hi[c], rad_dmax(a[c], b[c]));
+            lo[c] = rad_dmin(lo[c], q[c]);
+            hi[c] = rad_dmax(hi[c], q[c]);
         }
     }
     if (boxes_apart(vis->nodes[0].lo, vis->nodes[0].hi, lo, hi, vis->tol))
         return 0;
     plane pl[MAX_PLANES];
-    int count = shaft_planes(vis, i, j, pl);
+    int count = shaft_planes(vis, pts, pl);
     if (count < 0)
-        return 1;
-    int stack[128], top = 0;
+        return -1;
+    int stack[128], top = 0, found = 0;
     stack[top++] = 0;
     while (top > 0) {
         const vis_node *node = &vis->nodes[stack[--top]];
@@ -391,15 +387,41 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
         if (node->left < 0) {
             for (int m = node->first; m < node->first + node->count; m++) {
                 size_t k = (size_t)vis->order[m];
-                if (k != i && k != j && !triangle_outside(vis, k, pl, count, lo, hi))
-                    return 1;
+                if (k == ignore0 || k == ignore1 || triangle_outside(vis, k, pl, count, lo, hi))
+                    continue;
+                if (found >= max)
+                    return max + 1;
+                out[found++] = (int)k;
             }
         } else {
             if (top + 2 > (int)(sizeof stack / sizeof stack[0]))
-                return 1; /* deeper than a median split can make: answer safely */
+                return max + 1; /* deeper than a median split can make: answer safely */
             stack[top++] = node->right;
             stack[top++] = node->left;
         }
     }
-    return 0;
+    return found;
+}
+
+int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
+{
+    if (!vis || i >= vis->ntris || j >= vis->ntris)
+        return 1;
+    rad_vec3 pts[6];
+    for (int v = 0; v < 3; v++) {
+        pts[v] = vis_vertex(vis, i, v);
+        pts[3 + v] = vis_vertex(vis, j, v);
+    }
+    return shaft_walk(vis, pts, i, j, NULL, 0) != 0;
+}
+
+int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
+                     int face_b, int *out, int max)
+{
+    if (!vis || max < 0 || (max > 0 && !out))
+        return -1;
+    rad_vec3 pts[6] = {a[0], a[1], a[2], b[0], b[1], b[2]};
+    size_t ia = face_a < 0 ? (size_t)-1 : (size_t)face_a, ib = face_b < 0 ? (size_t)-1 : (size_t)face_b;
+    int n = shaft_walk(vis, pts, ia, ib, out, max);
+    return n < 0 ? 0 : n; /* a flat pair: the kernel vanishes, nothing to block */
 }

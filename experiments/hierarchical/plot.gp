@@ -5,12 +5,14 @@ set grid
 set key bottom left font ",10"
 set format y "10^{%L}"
 sel(m) = sprintf("< awk -F'\\t' '$1==\"%s\"' data/runs.dat", m)
+# The Monte Carlo reference's own standard error (run.sh): below it, differences are noise.
+refse = real(system("awk '/reference_se_l1 =/{print $4}' data/runs.dat"))
 do for [fmt in "png pdf"] {
   if (fmt eq "png") { set terminal pngcairo size 1500,500 enhanced font ",11" }
   else { set terminal pdfcairo size 13in,4.3in enhanced font ",10" }
   set output "figures/hierarchical.".fmt
   set multiplot layout 1,3 title "Cornell box: hierarchical (two oracles) against dense radiosity"
-  set ylabel "relative L2 error of face radiosity"
+  set ylabel "L1 error of face radiosity / mean reflected"
   set xlabel "wall time (s), 2 cores"
   set format x "10^{%L}"
   plot sel("dense-auto") using 6:5 with linespoints pt 7 title "dense, auto (refine 0..3)", \
@@ -18,7 +20,8 @@ do for [fmt in "png pdf"] {
        sel("hier-bf") using 6:5 with linespoints pt 5 title "hier, BF oracle", \
        sel("hier-error") using 6:5 with linespoints pt 9 title "hier, error oracle", \
        sel("hier-error-coarse") using 6:5 with linespoints pt 11 title "hier, error, min area A/1280", \
-       0.01 with lines dashtype 2 lc "black" title "1%"
+       0.01 with lines dashtype 2 lc "black" title "1%", \
+       refse with lines dashtype 3 lc "gray" title "reference standard error"
   set xlabel "links (dense: facing ordered pairs)"
   plot sel("dense-auto") using 4:5 with linespoints pt 7 title "dense", \
        sel("hier-bf") using 4:5 with linespoints pt 5 title "hier, BF", \

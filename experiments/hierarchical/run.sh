@@ -1,10 +1,10 @@
 #!/bin/sh
 # Hierarchical against dense radiosity on the Cornell box (papers/hierarchical.md).
 #
-# Error of the per-input-face radiosity (relative area-weighted L2 over the
-# non-emitting faces and three channels, as in experiments/accuracy_time)
-# against ONE common reference, the dense solve at refinement 4 with auto at
-# 1e-6 that experiments/accuracy_time computes (made here if missing), for
+# Error of the per-input-face radiosity against the Monte Carlo reference of
+# experiments/reference (made if missing), by `radkit compare`: error_l1, the
+# area-weighted mean |B - B_ref| over the mean reflected radiosity, and
+# error_worst, the worst face and channel on that scale, for
 #  - hier with each oracle (bf, error) at several eps,
 #  - dense at refinements 0..MAX_REFINE with auto at 1e-3 and with gauss:2 (the
 #    fastest rule of experiments/accuracy_time), its default solver,
@@ -26,19 +26,17 @@ COARSE_EPS=${COARSE_EPS:-"0.03 0.01 0.006 0.005 0.004 0.003 0.002 0.001"}
 REPEAT=${REPEAT:-3}
 ORACLES=${ORACLES:-"bf error"}
 MAX_REFINE=${MAX_REFINE:-3}
-scene=$root/scenes/cornell/cornell.obj
-ref=$root/experiments/accuracy_time/data/reference.tsv
+scene=scenes/cornell/cornell.obj
+ref=experiments/reference/data/cornell.tsv
+cd "$root"
+[ -s "$ref" ] || RADKIT=$RADKIT sh experiments/reference/run.sh
 cd "$here"
 mkdir -p data figures
 version=$("$RADKIT" --version)
-if [ ! -s "$ref" ]; then
-  echo "hierarchical: the common reference (dense, refine 4, auto 1e-6) is missing: making it (minutes)" >&2
-  mkdir -p "$(dirname "$ref")"
-  "$RADKIT" solve "$scene" --refine 4 --rule auto --tol 1e-6 --solver lu --quiet --out "$ref"
-fi
 
-errorof() { # table reference (experiments/face_error.awk)
-  awk -F'\t' -f "$root/experiments/face_error.awk" "$1" "$2"
+# compare TABLE KEY: one figure of `radkit compare` against the reference
+compare() {
+  (cd "$root" && "$RADKIT" compare "$scene" "$here/$1" "$ref") | sed -n "s/^# $2 = //p"
 }
 hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
 
@@ -48,25 +46,26 @@ solve() {
   out=$1; shift
   i=0
   while [ "$i" -lt "$REPEAT" ]; do
-    "$RADKIT" solve "$scene" "$@" --quiet --out "$out"
+    (cd "$root" && "$RADKIT" solve "$scene" "$@" --quiet --out "$here/$out")
     hdr "$out" time_total_s
     i=$((i + 1))
   done | sort -g | awk '{ t[NR] = $1 } END { print t[int((NR + 1) / 2)] }'
 }
-total_area=$("$RADKIT" info "$scene" | sed -n 's/^# total_area = //p')
+total_area=$(cd "$root" && "$RADKIT" info "$scene" | sed -n 's/^# total_area = //p')
 coarse_area=$(awk -v a="$total_area" 'BEGIN { printf "%.6g", a / 1280 }')
 dat=data/runs.dat
 {
   echo "# experiment = hierarchical: hier (bf, error oracles) and dense on the Cornell box"
   echo "# generator = $version; machine = $(nproc) cores"
-  echo "# reference = $(hdr "$ref" method), refine 4, auto 1e-6 ($(grep '^# elements' "$ref" | sed 's/# //')); experiments/accuracy_time estimates its own error"
-  echo "# error = relative area-weighted L2 norm of (B - B_ref) over non-emitting input faces, 3 channels"
-  printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\n'
+  echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
+  echo "# reference_se_l1 = $(compare "$ref" reference_se_l1)"
+  echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"
+  printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\tworst\n'
 } > "$dat"
 row() { # method param table time
-  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$(hdr $3 elements)" \
-    "$(hdr $3 links)" "$(errorof $3 "$ref")" "$4" "$(hdr $3 rays)" \
-    "$(hdr $3 kernel_evals)" "$(hdr $3 links_partial)" >> "$dat"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$(hdr $3 elements)" \
+    "$(hdr $3 links)" "$(compare $3 error_l1)" "$4" "$(hdr $3 rays)" \
+    "$(hdr $3 kernel_evals)" "$(hdr $3 links_partial)" "$(compare $3 error_worst)" >> "$dat"
 }
 for o in $ORACLES; do
   for e in $EPS; do
@@ -89,8 +88,9 @@ for rule in auto gauss:2; do
     echo "hierarchical: dense --refine $k --rule $rule" >&2
     time_s=$(solve "$t" --refine "$k" --rule "$rule" --tol 1e-3)
     links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$k" "$(hdr $t elements)" "$links" \
-      "$(errorof $t "$ref")" "$time_s" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" >> "$dat"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$k" "$(hdr $t elements)" "$links" \
+      "$(compare $t error_l1)" "$time_s" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" \
+      "$(compare $t error_worst)" >> "$dat"
     k=$((k + 1))
   done
 done
@@ -132,11 +132,12 @@ done
 
 # pictures of the adaptive mesh (leaf edges drawn)
 for o in $ORACLES; do
-  "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps 0.1 --quiet --out /dev/null \
-    --png "figures/mesh_$o.png" --edges --image-size 512x512
+  (cd "$root" && "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps 0.1 --quiet \
+     --out /dev/null --png "$here/figures/mesh_$o.png" --edges --image-size 512x512)
 done
-"$RADKIT" solve "$scene" --method hier --oracle error --eps 0.003 --quiet --out /dev/null \
-  --png figures/cornell_hier.png --ply data/cornell_hier.ply --image-size 512x512
+(cd "$root" && "$RADKIT" solve "$scene" --method hier --oracle error --eps 0.003 --quiet \
+   --out /dev/null --png "$here/figures/cornell_hier.png" --ply "$here/data/cornell_hier.ply" \
+   --image-size 512x512)
 
 if command -v gnuplot >/dev/null 2>&1; then gnuplot plot.gp; else echo "hierarchical: no gnuplot, no plots" >&2; fi
 cat "$dat" "$slopes" "$target"

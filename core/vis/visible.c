@@ -1,0 +1,544 @@
+/* rad_vis: the visible part of the kernel integral, with visibility computed
+ * exactly at every outer point.
+ *
+ *   G_vis(a, b) = int_a F_vis(x, b) dA_x,
+ *   F_vis(x, b) = int_{part of b visible from x} K(x, y) dA_y.
+ *
+ * 1. Blockers: the triangles the shaft of the pair does not dismiss
+ *    (rad_vis_blockers), the pair's own input faces excluded.
+ * 2. The visible part of b from a point x (visible_pieces): in b's plane, b
+ *    minus the shadow of every blocker.  A blocker's shadow is its part
+ *    strictly between b's plane and x (clipped to the slab 0 < h < d, h the
+ *    height above b's plane, d that of x) and inside the cone from x over b
+ *    (clipped by the three planes through x and an edge of b), projected from
+ *    x onto b's plane: a convex polygon inside b.  Subtracting a convex
+ *    polygon from a convex piece cuts the piece along each edge line of the
+ *    polygon; the parts outside are kept, the part inside dropped.  The
+ *    visible part is thus a list of convex pieces.
+ * 3. F_vis(x, b) = sum over the pieces of the closed-form point-to-polygon
+ *    form factor (rad_ff_point_polygon: contour integral, x's cosine clamped).
+ *    In a closed scene the visible pieces of all triangles from x tile x's
+ *    hemisphere, so sum_b F_vis(x, b) = 1 at every x: whatever outer rule is
+ *    used, a row of form factors sums to 1 up to the outer rule's error.
+ * 4. The outer integral (rad_vis_pair_visible) over whichever triangle lies
+ *    wholly in front of the other's plane (a when both or neither do): a
+ *    symmetric rule of the given degree on it, compared with the same rule on
+ *    its four midpoint children; where the visible or the open value differs
+ *    by more than the cell's share of tol times the pair's unoccluded G (which
+ *    the caller knows from rad_ff), the children are refined in turn (to
+ *    max_depth), as is a cell across the other's plane whose nodes all see
+ *    nothing of it.  F_vis is continuous in x (a penumbra is continuous), so
+ *    the rule converges; the reported error is the sum of the accepted cells'
+ *    differences.
+ * Degenerate cases: a point behind b's plane sees nothing of it; a blocker in
+ * b's plane casts no shadow (it cannot cross a segment to b's interior). */
+#include "vis_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_ff.h"
+#include "rad_quad.h"
+
+enum { POLY_MAX = 20, PIECES_MAX = 4096 };
+
+typedef struct v2 {
+    double x, y;
+} v2;
+
+typedef struct poly2 {
+    int n;
+    v2 p[POLY_MAX];
+} poly2;
+
+void rad_vis_visible_params_default(rad_vis_visible_params *p)
+{
+    p->degree = 2;
+    p->tol = 1e-4;
+    p->max_depth = 5;
+    p->max_blockers = 1024;
+}
+
+static double cross2(v2 o, v2 a, v2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+
+static double area2(const poly2 *q)
+{
+    double s = 0.0;
+    for (int k = 0; k < q->n; k++) {
+        v2 a = q->p[k], b = q->p[(k + 1) % q->n];
+        s += a.x * b.y - a.y * b.x;
+    }
+    return 0.5 * s;
+}
+
+/* Split convex q by the line through a, b: left (cross >= 0) and right parts.
+ * 0 when a part would have more than POLY_MAX corners. */
+static int split_line(const poly2 *q, v2 a, v2 b, poly2 *left, poly2 *right)
+{
+    left->n = right->n = 0;
+    for (int k = 0; k < q->n; k++) {
+        v2 p = q->p[k], r = q->p[(k + 1) % q->n];
+        double sp = cross2(a, b, p), sr = cross2(a, b, r);
+        if (left->n + 2 > POLY_MAX || right->n + 2 > POLY_MAX)
+            return 0;
+        if (sp >= 0.0)
+            left->p[left->n++] = p;
+        if (sp <= 0.0)
+            right->p[right->n++] = p;
+        if ((sp > 0.0 && sr < 0.0) || (sp < 0.0 && sr > 0.0)) {
+            double t = sp / (sp - sr);
+            v2 m = {p.x + t * (r.x - p.x), p.y + t * (r.y - p.y)};
+            left->p[left->n++] = m;
+            right->p[right->n++] = m;
+        }
+    }
+    return 1;
+}
+
+/* Clip a 3D polygon (n <= 8: a triangle cut by at most five planes) to
+ * dot(m, p) - c >= 0. */
+static int clip3(const rad_vec3 *in, int n, rad_vec3 m, double c, rad_vec3 *out)
+{
+    int k = 0;
+    for (int i = 0; i < n; i++) {
+        rad_vec3 p = in[i], q = in[(i + 1) % n];
+        double sp = rad_vec3_dot(m, p) - c, sq = rad_vec3_dot(m, q) - c;
+        if (sp >= 0.0)
+            out[k++] = p;
+        if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0)) {
+            double t = sp / (sp - sq);
+            out[k++] = rad_vec3_add(p, rad_vec3_scale(rad_vec3_sub(q, p), t));
+        }
+    }
+    return k;
+}
+
+/* The frame of b's plane: origin b0, in-plane axes e1, e2 (counter-clockwise
+ * seen from the front), unit normal n. */
+typedef struct plane_frame {
+    rad_vec3 o, e1, e2, n;
+    double area;
+} plane_frame;
+
+static int make_frame(const rad_vec3 b[3], plane_frame *f)
+{
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b[1], b[0]), rad_vec3_sub(b[2], b[0]));
+    double len = rad_vec3_norm(n), l1 = rad_vec3_norm(rad_vec3_sub(b[1], b[0]));
+    if (!(len > 0.0) || !(l1 > 0.0))
+        return 0;
+    f->o = b[0];
+    f->n = rad_vec3_scale(n, 1.0 / len);
+    f->e1 = rad_vec3_scale(rad_vec3_sub(b[1], b[0]), 1.0 / l1);
+    f->e2 = rad_vec3_cross(f->n, f->e1);
+    f->area = 0.5 * len;
+    return 1;
+}
+
+static v2 to2(const plane_frame *f, rad_vec3 p)
+{
+    rad_vec3 d = rad_vec3_sub(p, f->o);
+    v2 r = {rad_vec3_dot(d, f->e1), rad_vec3_dot(d, f->e2)};
+    return r;
+}
+
+static rad_vec3 to3(const plane_frame *f, v2 q)
+{
+    return rad_vec3_add(f->o, rad_vec3_add(rad_vec3_scale(f->e1, q.x), rad_vec3_scale(f->e2, q.y)));
+}
+
+/* The shadow of blocker k on b's plane from x (height d above it), as a
+ * counter-clockwise convex polygon in the frame; 0 when it casts none. */
+static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, double d, const rad_vec3 b[3],
+                  const plane_frame *f, poly2 *out)
+{
+    rad_vec3 buf[2][POLY_MAX];
+    int n = 3;
+    for (int v = 0; v < 3; v++)
+        buf[0][v] = vis_vertex(vis, k, v);
+    int cur = 0;
+    /* the slab strictly between b's plane and x */
+    double h0 = rad_vec3_dot(f->n, f->o), eps = 1e-12 * (d + fabs(h0)) + 1e-300;
+    n = clip3(buf[cur], n, f->n, h0 + eps, buf[1 - cur]);
+    cur = 1 - cur;
+    if (n < 3)
+        return 0;
+    n = clip3(buf[cur], n, rad_vec3_scale(f->n, -1.0), -(h0 + d * (1.0 - 1e-9)), buf[1 - cur]);
+    cur = 1 - cur;
+    if (n < 3)
+        return 0;
+    /* the cone from x over b */
+    for (int e = 0; e < 3 && n >= 3; e++) {
+        rad_vec3 p = b[e], q = b[(e + 1) % 3], r = b[(e + 2) % 3];
+        rad_vec3 m = rad_vec3_cross(rad_vec3_sub(p, x), rad_vec3_sub(q, x));
+        if (rad_vec3_dot(m, rad_vec3_sub(r, x)) < 0.0)
+            m = rad_vec3_scale(m, -1.0);
+        n = clip3(buf[cur], n, m, rad_vec3_dot(m, x), buf[1 - cur]);
+        cur = 1 - cur;
+    }
+    if (n < 3)
+        return 0;
+    out->n = n;
+    for (int v = 0; v < n; v++) {
+        rad_vec3 p = buf[cur][v];
+        double h = rad_vec3_dot(f->n, p) - h0;
+        rad_vec3 y = rad_vec3_add(x, rad_vec3_scale(rad_vec3_sub(p, x), d / (d - h)));
+        out->p[v] = to2(f, y);
+    }
+    double a = area2(out);
+    if (!(fabs(a) > 1e-15 * f->area))
+        return 0;
+    if (a < 0.0) /* keep it counter-clockwise */
+        for (int v = 0; v < n / 2; v++) {
+            v2 t = out->p[v];
+            out->p[v] = out->p[n - 1 - v];
+            out->p[n - 1 - v] = t;
+        }
+    return 1;
+}
+
+/* 1 when the convex polygons p and q (counter-clockwise) are separated by
+ * the line of an edge of either (touching counts as separated): then
+ * subtracting q leaves p whole instead of cutting it into slivers. */
+static int separated(const poly2 *p, const poly2 *q, double min_edge2)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        const poly2 *a = pass ? q : p, *b = pass ? p : q;
+        for (int e = 0; e < a->n; e++) {
+            v2 u = a->p[e], w = a->p[(e + 1) % a->n];
+            double ex = w.x - u.x, ey = w.y - u.y;
+            if (!(ex * ex + ey * ey > min_edge2))
+                continue; /* a (nearly) repeated corner: its direction means nothing */
+            int k = 0;
+            while (k < b->n && cross2(u, w, b->p[k]) <= 0.0)
+                k++;
+            if (k == b->n)
+                return 1; /* every corner of b on the outer side of this edge */
+        }
+    }
+    return 0;
+}
+
+static void bbox2(const poly2 *q, double lo[2], double hi[2])
+{
+    lo[0] = lo[1] = INFINITY;
+    hi[0] = hi[1] = -INFINITY;
+    for (int k = 0; k < q->n; k++) {
+        lo[0] = rad_dmin(lo[0], q->p[k].x);
+        lo[1] = rad_dmin(lo[1], q->p[k].y);
+        hi[0] = rad_dmax(hi[0], q->p[k].x);
+        hi[1] = rad_dmax(hi[1], q->p[k].y);
+    }
+}
+
+/* Room for the pieces of a visible part: two lists that swap as each
+ * shadow is subtracted. */
+typedef struct pieces_ws {
+    poly2 *list[2];
+    int cap;
+} pieces_ws;
+
+static int ws_init(pieces_ws *ws, int cap)
+{
+    ws->list[0] = malloc(2 * (size_t)cap * sizeof(poly2));
+    ws->list[1] = ws->list[0] ? ws->list[0] + cap : NULL;
+    ws->cap = cap;
+    return ws->list[0] != NULL;
+}
+
+static void ws_free(pieces_ws *ws) { free(ws->list[0]); }
+
+/* The visible part of b from x as convex pieces (*out points into ws); -1
+ * when it needs more pieces, or pieces with more corners, than the
+ * workspace holds (the caller falls back), else their count. */
+static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
+                          const plane_frame *f, const int *blockers, int nb, pieces_ws *ws,
+                          const poly2 **out)
+{
+    double d = rad_vec3_dot(f->n, rad_vec3_sub(x, f->o));
+    *out = ws->list[0];
+    if (!(d > 0.0))
+        return 0;
+    int cur = 0;
+    poly2 *pieces = ws->list[cur];
+    pieces[0].n = 3;
+    for (int v = 0; v < 3; v++)
+        pieces[0].p[v] = to2(f, b[v]);
+    int np = 1;
+    double min_area = 1e-13 * f->area;
+    for (int k = 0; k < nb && np > 0; k++) {
+        poly2 q;
+        if (!shadow(vis, (size_t)blockers[k], x, d, b, f, &q))
+            continue;
+        double qlo[2], qhi[2];
+        bbox2(&q, qlo, qhi);
+        poly2 *next = ws->list[1 - cur];
+        int nn = 0;
+        for (int i = 0; i < np; i++) {
+            double plo[2], phi[2];
+            bbox2(&pieces[i], plo, phi);
+            if (plo[0] >= qhi[0] || phi[0] <= qlo[0] || plo[1] >= qhi[1] || phi[1] <= qlo[1] ||
+                separated(&pieces[i], &q, 1e-18 * f->area)) {
+                if (nn >= ws->cap)
+                    return -1;
+                next[nn++] = pieces[i];
+                continue;
+            }
+            poly2 rest = pieces[i];
+            for (int e = 0; e < q.n && rest.n >= 3; e++) {
+                poly2 in, outside;
+                if (!split_line(&rest, q.p[e], q.p[(e + 1) % q.n], &in, &outside))
+                    return -1;
+                if (outside.n >= 3 && area2(&outside) > min_area) {
+                    if (nn >= ws->cap)
+                        return -1;
+                    next[nn++] = outside;
+                }
+                rest = in;
+            }
+        }
+        cur = 1 - cur;
+        pieces = next;
+        np = nn;
+    }
+    *out = pieces;
+    return np;
+}
+
+/* F_vis(x, b) from the pieces (fanned into triangles when a piece has more
+ * corners than the closed form takes). */
+static double pieces_ff(rad_vec3 x, rad_vec3 nx, const plane_frame *f, const poly2 *pieces, int np,
+                        long *evals)
+{
+    double sum = 0.0;
+    for (int i = 0; i < np; i++) {
+        const poly2 *q = &pieces[i];
+        rad_vec3 pts[POLY_MAX];
+        for (int v = 0; v < q->n; v++)
+            pts[v] = to3(f, q->p[v]);
+        if (q->n <= 8) {
+            sum += rad_ff_point_polygon(x, nx, pts, q->n);
+            (*evals)++;
+        } else {
+            for (int v = 1; v + 1 < q->n; v++) {
+                rad_vec3 t[3] = {pts[0], pts[v], pts[v + 1]};
+                sum += rad_ff_point_polygon(x, nx, t, 3);
+                (*evals)++;
+            }
+        }
+    }
+    return sum;
+}
+
+static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                            const int *blockers, int nb, pieces_ws *ws, double *F,
+                            double *F_open, long *evals)
+{
+    plane_frame f;
+    long ev = 0;
+    *F = 0.0;
+    if (F_open)
+        *F_open = 0.0;
+    if (!make_frame(b, &f))
+        return 1;
+    if (F_open) {
+        *F_open = rad_ff_point_polygon(x, nx, b, 3);
+        ev++;
+    }
+    if (nb == 0 && F_open) {
+        *F = *F_open;
+    } else {
+        const poly2 *pieces;
+        int np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces);
+        if (np < 0) {
+            if (evals)
+                *evals += ev;
+            return 0;
+        }
+        *F = pieces_ff(x, nx, &f, pieces, np, &ev);
+    }
+    if (evals)
+        *evals += ev;
+    return 1;
+}
+
+int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                          const int *blockers, int nb, double *F, double *F_open, long *evals)
+{
+    pieces_ws ws;
+    if (!ws_init(&ws, PIECES_MAX))
+        return 0;
+    int ok = point_visible_ws(vis, x, nx, b, blockers, nb, &ws, F, F_open, evals);
+    ws_free(&ws);
+    return ok;
+}
+
+/* ---- the outer integral ------------------------------------------------- */
+
+typedef struct outer_ctx {
+    const rad_vis *vis;
+    const rad_vec3 *b;
+    rad_vec3 na;
+    const int *blockers;
+    int nb;
+    double s[RAD_QUAD_TRI_MAX_POINTS], t[RAD_QUAD_TRI_MAX_POINTS], w[RAD_QUAD_TRI_MAX_POINTS];
+    int npts;
+    int max_depth;
+    long evals;
+    pieces_ws ws;
+    int failed; /* too many pieces somewhere */
+} outer_ctx;
+
+/* The rule on cell c: the visible and the open integral. */
+static void cell_rule(outer_ctx *o, const rad_vec3 c[3], double *vis_sum, double *open_sum)
+{
+    double area = rad_geom_triangle_area(c[0], c[1], c[2]), sv = 0.0, so = 0.0;
+    for (int k = 0; k < o->npts; k++) {
+        rad_vec3 x = rad_geom_triangle_point(c[0], c[1], c[2], o->s[k], o->t[k]);
+        double F = 0.0, Fo = 0.0;
+        if (!point_visible_ws(o->vis, x, o->na, o->b, o->blockers, o->nb, &o->ws, &F, &Fo,
+                              &o->evals))
+            o->failed = 1;
+        sv += o->w[k] * F;
+        so += o->w[k] * Fo;
+    }
+    *vis_sum = area * sv;
+    *open_sum = area * so;
+}
+
+static void children_of(const rad_vec3 c[3], rad_vec3 ch[4][3])
+{
+    rad_vec3 ab = rad_vec3_scale(rad_vec3_add(c[0], c[1]), 0.5);
+    rad_vec3 bc = rad_vec3_scale(rad_vec3_add(c[1], c[2]), 0.5);
+    rad_vec3 ca = rad_vec3_scale(rad_vec3_add(c[2], c[0]), 0.5);
+    rad_vec3 k[4][3] = {{c[0], ab, ca}, {ab, c[1], bc}, {ca, bc, c[2]}, {ab, bc, ca}};
+    memcpy(ch, k, sizeof k);
+}
+
+/* 1 when the cell c has corners on both sides of b's plane (part of it may
+ * see b although every node of its rule lies behind the plane). */
+static int straddles(const rad_vec3 c[3], const rad_vec3 b[3])
+{
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b[1], b[0]), rad_vec3_sub(b[2], b[0]));
+    int front = 0, back = 0;
+    for (int k = 0; k < 3; k++) {
+        double h = rad_vec3_dot(n, rad_vec3_sub(c[k], b[0]));
+        front += h > 0.0;
+        back += h < 0.0;
+    }
+    return front && back;
+}
+
+/* Adaptive refinement of one cell whose rule gave (coarse, coarse_open): the
+ * cell is accepted when its four children change neither value by more than
+ * tol (and a cell across b's plane whose nodes all see nothing is split
+ * anyway); returns the accepted value, adds the accepted differences to *err
+ * and the open integral to *open. */
+static double refine(outer_ctx *o, const rad_vec3 c[3], double coarse, double coarse_open,
+                     double tol, int depth, double *err, double *open)
+{
+    rad_vec3 ch[4][3];
+    children_of(c, ch);
+    double v[4], vo[4], fine = 0.0, fine_open = 0.0;
+    for (int k = 0; k < 4; k++) {
+        cell_rule(o, ch[k], &v[k], &vo[k]);
+        fine += v[k];
+        fine_open += vo[k];
+    }
+    double diff = rad_dmax(fabs(fine - coarse), fabs(fine_open - coarse_open));
+    int blind = fine_open == 0.0 && straddles(c, o->b);
+    if ((diff <= tol && !blind) || depth >= o->max_depth) {
+        *err += diff;
+        *open += fine_open;
+        return fine;
+    }
+    double sum = 0.0;
+    for (int k = 0; k < 4; k++)
+        sum += refine(o, ch[k], v[k], vo[k], tol / 2.0, depth + 1, err, open);
+    return sum;
+}
+
+/* 1 when every corner of c lies on or in front of b's plane. */
+static int in_front(const rad_vec3 c[3], const rad_vec3 b[3])
+{
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(b[1], b[0]), rad_vec3_sub(b[2], b[0]));
+    for (int k = 0; k < 3; k++)
+        if (rad_vec3_dot(n, rad_vec3_sub(c[k], b[0])) < 0.0)
+            return 0;
+    return 1;
+}
+
+rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int face_a,
+                                const rad_vec3 b[3], int face_b, double G_open,
+                                const rad_vis_visible_params *params,
+                                rad_vis_visible_result *out)
+{
+    if (!vis || !a || !b || !out)
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the visible integral");
+    rad_vis_visible_params p;
+    if (params)
+        p = *params;
+    else
+        rad_vis_visible_params_default(&p);
+    if (p.max_blockers < 0 || p.max_blockers > 65536 || p.max_depth < 0 || p.max_depth > 12 ||
+        !(p.tol > 0.0))
+        return RAD_ERROR(RAD_EINVAL, "visibility: bad parameters of the visible integral");
+    memset(out, 0, sizeof *out);
+    if (!(G_open > 0.0))
+        return RAD_OK; /* the pair does not interact */
+    /* The outer integral runs over a triangle that lies wholly in front of the
+     * other's plane when one does: its integrand is then smooth across it,
+     * and the other's straddling part is clipped exactly by the closed form. */
+    if (!in_front(a, b) && in_front(b, a)) {
+        const rad_vec3 *tmp = a;
+        a = b;
+        b = tmp;
+        int f = face_a;
+        face_a = face_b;
+        face_b = f;
+    }
+    int stack_blockers[256];
+    int *blk = stack_blockers, cap = p.max_blockers;
+    if (cap > 256 && !(blk = malloc((size_t)cap * sizeof *blk)))
+        return RAD_ERROR(RAD_ENOMEM, "visibility: no memory for %d blockers", cap);
+    int nb = rad_vis_blockers(vis, a, face_a, b, face_b, blk, cap);
+    out->blockers = nb;
+    if (nb > cap) {
+        out->status = RAD_VIS_VISIBLE_TOO_MANY;
+        if (blk != stack_blockers)
+            free(blk);
+        return RAD_OK;
+    }
+    outer_ctx o;
+    memset(&o, 0, sizeof o);
+    o.vis = vis;
+    o.b = b;
+    o.na = rad_geom_triangle_normal(a[0], a[1], a[2]);
+    o.blockers = blk;
+    o.nb = nb;
+    o.max_depth = p.max_depth;
+    rad_status st = rad_quad_tri_symmetric(p.degree, o.s, o.t, o.w, &o.npts);
+    if (st == RAD_OK && !ws_init(&o.ws, PIECES_MAX))
+        st = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the visible pieces");
+    if (st != RAD_OK) {
+        if (blk != stack_blockers)
+            free(blk);
+        return st;
+    }
+    double wsum = 0.0;
+    for (int k = 0; k < o.npts; k++)
+        wsum += o.w[k];
+    for (int k = 0; k < o.npts; k++)
+        o.w[k] /= wsum;
+    double coarse, coarse_open, err = 0.0, open = 0.0;
+    cell_rule(&o, a, &coarse, &coarse_open);
+    out->G = refine(&o, a, coarse, coarse_open, p.tol * G_open, 1, &err, &open);
+    ws_free(&o.ws);
+    if (blk != stack_blockers)
+        free(blk);
+    out->G_open = open;
+    out->error = err;
+    out->evals = o.evals;
+    out->status = o.failed ? RAD_VIS_VISIBLE_TOO_MANY : RAD_VIS_VISIBLE_EXACT;
+    return RAD_OK;
+}

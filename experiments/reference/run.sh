@@ -1,0 +1,71 @@
+#!/bin/sh
+# Monte Carlo references for the study scenes (papers/monte-carlo.md): per
+# input face, the area-average radiosity and its standard error by
+# `radkit solve --method mc`, which shares nothing with the Galerkin solvers
+# but the scene loader and Embree.  The other studies measure against these.
+#
+#   cornell   scenes/cornell/cornell.obj, SAMPLES_CORNELL paths per face: the
+#             target is an area-weighted relative standard error (se_rel_l1)
+#             of at most 1e-4 (about 12 minutes on 2 cores)
+#   occluder  scenes/occluder/occluder.obj with every reflectance 0.5 (as
+#             shipped everything is black and B = E)
+#   many_64   scenes/many_objects/many_64.obj: 64 boxes in a lit room
+#
+# Each table (data/<name>.tsv) starts with '# command = ...', the command that
+# made it; a seed makes it reproducible bit for bit on any thread count, so a
+# rerun changes only the timing lines.  data/summary.dat lists the figures.
+# REFERENCE_SCALE=k divides every sample count by k (quick trial runs write
+# to data/trial_*); SKIP_EXISTING=1 keeps tables already made with the same
+# command.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+RADKIT=${RADKIT:-$root/build/radkit}
+case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
+SCALE=${REFERENCE_SCALE:-1}
+SAMPLES_CORNELL=${SAMPLES_CORNELL:-52428800}
+SAMPLES_OCCLUDER=${SAMPLES_OCCLUDER:-4194304}
+SAMPLES_MANY=${SAMPLES_MANY:-262144}
+cd "$root"
+mkdir -p "$here/data"
+prefix=""
+[ "$SCALE" = 1 ] || prefix=trial_
+
+hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
+
+# reference NAME SAMPLES SCENE [scene options...]
+reference() {
+  name=$1; samples=$(( $2 / SCALE )); scene=$3; shift 3
+  out=$here/data/$prefix$name.tsv
+  cmd="radkit solve $scene --method mc --samples $samples --seed 1 $*"
+  if [ "${SKIP_EXISTING:-0}" = 1 ] && [ -s "$out" ] && [ "$(hdr "$out" command)" = "$cmd" ]; then
+    echo "reference: $name kept ($out)" >&2
+    return
+  fi
+  echo "reference: $name: $cmd" >&2
+  { echo "# command = $cmd"
+    "$RADKIT" solve "$scene" --method mc --samples "$samples" --seed 1 "$@"
+  } > "$out.part"
+  mv "$out.part" "$out"
+}
+
+reference cornell "$SAMPLES_CORNELL" scenes/cornell/cornell.obj
+reference occluder "$SAMPLES_OCCLUDER" scenes/occluder/occluder.obj --rho 0.5
+reference many_64 "$SAMPLES_MANY" scenes/many_objects/many_64.obj
+
+dat=$here/data/${prefix}summary.dat
+{
+  echo "# experiment = reference: Monte Carlo references (radkit solve --method mc)"
+  echo "# generator = $("$RADKIT" --version); machine = $(nproc) cores"
+  echo "# se_rel_l1 = sum_f A_f sum_c se_fc / sum_f A_f sum_c (B_fc - E_fc): the area-weighted"
+  echo "#   standard error relative to the area-weighted mean reflected radiosity"
+  echo "# se_rel_max = the largest se_fc over that mean (per channel)"
+  printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
+  for name in cornell occluder many_64; do
+    f=$here/data/$prefix$name.tsv
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
+      "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \
+      "$(hdr "$f" se_rel_max)" "$(hdr "$f" time_total_s)"
+  done
+} > "$dat"
+grep -v '^#' "$dat" | column -t
