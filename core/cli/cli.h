@@ -32,13 +32,13 @@ int cli_fail(rad_status st);
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 
 /* The options every scene-reading command shares: --scale, --drop-degenerate,
- * --rho, --emission and the five effect overrides.  cli_scene_options_add
+ * --rho, --emission and the six effect overrides.  cli_scene_options_add
  * appends their entries to a table (room for CLI_SCENE_OPTION_COUNT);
  * cli_scene_options_apply turns the parsed text into parameters. */
-#define CLI_SCENE_OPTION_COUNT 9
+#define CLI_SCENE_OPTION_COUNT 10
 typedef struct cli_scene_options {
     const char *scale, *rho, *emission;
-    const char *mode[5]; /* occlusion, colour, facing-away, singular, clustering */
+    const char *mode[6]; /* occlusion, colour, facing-away, singular, clustering, reflectance */
     int drop_degenerate;
 } cli_scene_options;
 

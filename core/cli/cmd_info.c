@@ -138,11 +138,11 @@ int cli_info(int argc, char **argv)
     printf("# surface_mesh = %s\n", info.surface_mesh ? "yes" : "no (not a manifold polygon mesh)");
     printf("# pairs_total = %lld\n# pairs_facing_away = %lld\n# pairs_singular = %d\n",
            plan.pairs_total, plan.pairs_facing_away, plan.pairs_singular);
-    print_decision("occlusion", &plan.occlusion);
-    print_decision("colour", &plan.colour);
-    print_decision("facing_away", &plan.facing_away);
-    print_decision("singular", &plan.singular);
-    print_decision("clustering", &plan.clustering);
+    const rad_effect_decision *dec[RAD_EFFECT_COUNT];
+    const char *names[RAD_EFFECT_COUNT];
+    rad_scene_effects_list(&plan, dec, names);
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++)
+        print_decision(names[k], dec[k]);
 
     /* The material table: faces and area per material. */
     int nm = rad_scene_material_count(scene), nt = rad_scene_triangle_count(scene);

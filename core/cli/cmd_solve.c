@@ -82,8 +82,9 @@ static const char help_head[] =
     "  --refine K       split every triangle 1 -> 4, K times, before solving (default 0)\n"
     "  --threads N      OpenMP threads for the assembly (hier: for the link\n"
     "                   estimates; mc: for the paths; default: all cores)\n"
-    "  --vis-strata K   visibility samples: K^2 points per triangle, K^4 rays per\n"
-    "                   pair that something might block (default 3)\n"
+    "  --vis-strata K   where a pair's visibility is too complex to clip exactly\n"
+    "                   (too many possible blockers): K^2 points per triangle,\n"
+    "                   K^4 rays (default 8)\n"
     "  --out FILE       write the table to FILE instead of standard output\n"
     "  --ply FILE       the (refined) mesh as ASCII PLY with per-vertex colours: the\n"
     "                   area-weighted radiosity of the faces around each vertex,\n"
@@ -150,7 +151,7 @@ static rad_status write_outputs(const solve_options *o, const rad_scene *scene, 
     st = solve_write_display(o, scene, &d, &t_render);
     free(corners);
     if (st == RAD_OK && o->stats) {
-        rad_io_effect effects[5];
+        rad_io_effect effects[RAD_EFFECT_COUNT];
         solve_effects_json(plan, effects);
         rad_io_phase phases[5] = {{"setup", phase_s[0]}, {"visibility", phase_s[1]},
                                   {"assemble", phase_s[2]}, {"solve", phase_s[3]},
@@ -159,7 +160,7 @@ static rad_status write_outputs(const solve_options *o, const rad_scene *scene, 
             .method = "dense", .faces = faces, .elements = n, .links = as->pairs - as->pairs_not_facing,
             .rays = (long long)as->rays, .kernel_evals = as->kernel_evals, .phases = phases,
             .nphases = 5, .total_seconds = rad_sys_seconds() - t_start,
-            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = 5,
+            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = RAD_EFFECT_COUNT,
             .solver_name = rad_dense_method_name(report->method),
             .solver_iterations = report->iterations, .solver_residual = report->residual,
         };
@@ -251,7 +252,7 @@ int cli_solve(int argc, char **argv)
         return cli_fail(st);
     if (o.solver_tol && (st = solve_parse_double("--solver-tol", o.solver_tol, 0.0, &dp.tol)) != RAD_OK)
         return cli_fail(st);
-    int refine = 0, threads = 0, strata = 3;
+    int refine = 0, threads = 0, strata = 8;
     if (o.max_iter && (st = cli_parse_positive_int("solve: --max-iter", o.max_iter, 100000000, &dp.max_iter)) != RAD_OK)
         return cli_fail(st);
     if (o.refine && strcmp(o.refine, "0") != 0 &&
@@ -295,6 +296,16 @@ int cli_solve(int argc, char **argv)
     rad_effects_plan plan;
     if ((st = rad_scene_effects_plan(scene, base, &ep, &plan)) != RAD_OK)
         goto done;
+    if (plan.refusal[0]) {
+        st = RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan.refusal);
+        goto done;
+    }
+    /* Reflectance near 1: the defaults' tolerances tightened (effects.c, 6). */
+    if (!o.tol)
+        ap.ff.tol *= plan.tighten;
+    if (!o.solver_tol)
+        dp.tol *= plan.tighten;
+    ap.visible.tol *= plan.tighten;
     /* The dense limit in elements, before refining into something too big. */
     size_t max_elements = 46340;
     if (refine > 0) {
@@ -339,17 +350,18 @@ int cli_solve(int argc, char **argv)
     }
 
     /* ---- visibility, only where the plan says something can occlude ---- */
+    /* Over the input triangles: an element lies on its input triangle, which
+     * cannot block it; the visible integral of a pair of elements takes the
+     * blockers from the shaft of the two elements. */
     rad_vis_params vp;
     rad_vis_params_default(&vp);
     vp.strata_per_edge = strata;
-    /* Jittered (hashed, reproducible) strata: stratum centroids line up with
-     * geometry built on the same grid and bias shadows (5% on the occluder
-     * scene, tests/test_solve.c); jittered points do not. */
-    vp.jitter = 1;
     if (plan.occlusion.on &&
-        (st = rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
-                             rad_mesh_triangles(mesh), (size_t)n, &vp, &vis)) != RAD_OK)
+        (st = rad_vis_create(rad_scene_vertices(scene), (size_t)rad_scene_vertex_count(scene),
+                             rad_scene_triangles(scene), (size_t)faces, &vp, &vis)) != RAD_OK)
         goto done;
+    ap.face_of = parent;
+    ap.visible.sample_strata = strata;
     double t_vis = rad_sys_seconds();
 
     /* ---- assembly and solve ---- */
@@ -400,8 +412,10 @@ int cli_solve(int argc, char **argv)
     for (int w = 0; w < rad_scene_warning_count(scene); w++)
         fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
     solve_print_effects(out, &plan);
-    fprintf(out, "# pairs = %lld\n# pairs_not_facing = %lld\n# pairs_occlusion_tested = %lld\n",
-            as.pairs, as.pairs_not_facing, as.pairs_occlusion_tested);
+    fprintf(out, "# pairs = %lld\n# pairs_not_facing = %lld\n# pairs_occlusion_tested = %lld\n"
+                 "# pairs_visibility_sampled = %lld\n# visibility_error = %.3e\n",
+            as.pairs, as.pairs_not_facing, as.pairs_occlusion_tested, as.pairs_sampled,
+            as.visibility_error);
     fprintf(out, "# pairs_out_of_range = %lld\n# rays = %llu\n# kernel_evals = %lld\n",
             as.pairs_out_of_range, as.rays, as.kernel_evals);
     fprintf(out, "# solver_factorizations = %d\n# solver_iterations = %d\n# solver_residual = %.3e\n",

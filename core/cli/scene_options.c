@@ -13,17 +13,17 @@ const char cli_scene_options_help[] =
     "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
     "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
     "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
-    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M\n"
-    "                     override one decision of the effects plan: M is auto\n"
+    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M,\n"
+    "  --reflectance M    override one decision of the effects plan: M is auto\n"
     "                     (decide from the scene, the default), on or off\n";
 
-static const char *const mode_option[5] = {"--occlusion", "--colour", "--facing-away",
-                                           "--singular", "--clustering"};
+static const char *const mode_option[RAD_EFFECT_COUNT] = {
+    "--occlusion", "--colour", "--facing-away", "--singular", "--clustering", "--reflectance"};
 
 void cli_scene_options_init(cli_scene_options *o)
 {
     o->scale = o->rho = o->emission = NULL;
-    for (int k = 0; k < 5; k++)
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++)
         o->mode[k] = "auto";
     o->drop_degenerate = 0;
 }
@@ -35,7 +35,7 @@ int cli_scene_options_add(cli_scene_options *o, cli_option *t)
     t[n++] = (cli_option){"--drop-degenerate", NULL, &o->drop_degenerate, NULL};
     t[n++] = (cli_option){"--rho", &o->rho, NULL, NULL};
     t[n++] = (cli_option){"--emission", &o->emission, NULL, NULL};
-    for (int k = 0; k < 5; k++)
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++)
         t[n++] = (cli_option){mode_option[k], &o->mode[k], NULL, NULL};
     return n;
 }
@@ -95,9 +95,9 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
             return st;
         sp->has_emission = 1;
     }
-    rad_effect_mode *modes[5] = {&ep->occlusion, &ep->colour, &ep->facing_away, &ep->singular,
-                                 &ep->clustering};
-    for (int k = 0; k < 5; k++) {
+    rad_effect_mode *modes[RAD_EFFECT_COUNT] = {&ep->occlusion, &ep->colour, &ep->facing_away,
+                                                &ep->singular, &ep->clustering, &ep->reflectance};
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         char what[64];
         snprintf(what, sizeof what, "%s: %s", command, mode_option[k]);
         if ((st = rad_scene_effect_mode_parse(what, o->mode[k], modes[k])) != RAD_OK)

@@ -45,8 +45,8 @@ rad_status solve_write_display(const solve_options *o, const rad_scene *scene,
 
 /* The effects plan as '#' lines of the table. */
 void solve_print_effects(FILE *out, const rad_effects_plan *plan);
-/* The same as the stats JSON's effects (five entries). */
-void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[5]);
+/* The same as the stats JSON's effects (RAD_EFFECT_COUNT entries). */
+void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[RAD_EFFECT_COUNT]);
 
 int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);
 int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);

@@ -117,31 +117,21 @@ out:
     return st;
 }
 
-static const char *const effect_names[5] = {"occlusion", "colour", "facing_away", "singular",
-                                            "clustering"};
-
-static void decisions(const rad_effects_plan *plan, const rad_effect_decision *dec[5])
-{
-    dec[0] = &plan->occlusion;
-    dec[1] = &plan->colour;
-    dec[2] = &plan->facing_away;
-    dec[3] = &plan->singular;
-    dec[4] = &plan->clustering;
-}
-
 void solve_print_effects(FILE *out, const rad_effects_plan *plan)
 {
-    const rad_effect_decision *dec[5];
-    decisions(plan, dec);
-    for (int k = 0; k < 5; k++)
-        fprintf(out, "# effect_%s = %s\n# effect_%s_reason = %s\n", effect_names[k],
-                dec[k]->on ? "on" : "off", effect_names[k], dec[k]->reason);
+    const rad_effect_decision *dec[RAD_EFFECT_COUNT];
+    const char *names[RAD_EFFECT_COUNT];
+    rad_scene_effects_list(plan, dec, names);
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++)
+        fprintf(out, "# effect_%s = %s\n# effect_%s_reason = %s\n", names[k],
+                dec[k]->on ? "on" : "off", names[k], dec[k]->reason);
 }
 
-void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[5])
+void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[RAD_EFFECT_COUNT])
 {
-    const rad_effect_decision *dec[5];
-    decisions(plan, dec);
-    for (int k = 0; k < 5; k++)
-        effects[k] = (rad_io_effect){effect_names[k], dec[k]->on ? "on" : "off", dec[k]->reason};
+    const rad_effect_decision *dec[RAD_EFFECT_COUNT];
+    const char *names[RAD_EFFECT_COUNT];
+    rad_scene_effects_list(plan, dec, names);
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++)
+        effects[k] = (rad_io_effect){names[k], dec[k]->on ? "on" : "off", dec[k]->reason};
 }

@@ -175,6 +175,10 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     rad_effects_plan plan;
     if ((st = rad_scene_effects_plan(scene, base, ep, &plan)) != RAD_OK)
         goto done;
+    if (plan.refusal[0]) {
+        st = RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan.refusal);
+        goto done;
+    }
     rad_scene_summary sum;
     rad_scene_summarize(scene, &sum);
     if (!min_area_given)
@@ -271,7 +275,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             goto done;
     }
     if (o->stats) {
-        rad_io_effect effects[5];
+        rad_io_effect effects[RAD_EFFECT_COUNT];
         solve_effects_json(&plan, effects);
         rad_io_phase phases[6] = {{"setup", t_setup - t_start}, {"visibility", t_vis - t_setup},
                                   {"link", hs.time_link_s},     {"refine", hs.time_refine_s},
@@ -295,7 +299,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             .links = (long long)hs.links, .rays = (long long)hs.rays,
             .kernel_evals = hs.kernel_evals, .phases = phases, .nphases = 6,
             .total_seconds = rad_sys_seconds() - t_start,
-            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = 5,
+            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = RAD_EFFECT_COUNT,
             .solver_name = "jacobi-push-pull", .solver_iterations = hs.iterations,
             .solver_residual = hs.residual, .details = details, .ndetails = 13};
         st = rad_io_write_stats_json(o->stats, &js);

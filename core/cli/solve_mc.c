@@ -133,6 +133,10 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
     rad_effects_plan plan;
     if ((st = rad_scene_effects_plan(scene, mesh, ep, &plan)) != RAD_OK)
         goto done;
+    if (plan.refusal[0]) {
+        st = RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan.refusal);
+        goto done;
+    }
     work = malloc(n * 13 * sizeof *work);
     if (!work) {
         st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d faces", faces);
@@ -220,7 +224,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
             goto done;
     }
     if (o->stats) {
-        rad_io_effect effects[5];
+        rad_io_effect effects[RAD_EFFECT_COUNT];
         solve_effects_json(&plan, effects);
         rad_io_phase phases[4] = {{"setup", t_setup - t_start},
                                   {"visibility", t_vis - t_setup},
@@ -237,7 +241,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
             .method = "mc", .faces = faces, .elements = faces, .links = 0,
             .rays = ms.rays, .kernel_evals = 0, .phases = phases, .nphases = 4,
             .total_seconds = rad_sys_seconds() - t_start,
-            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = 5,
+            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = RAD_EFFECT_COUNT,
             .solver_name = "path-tracing", .solver_iterations = ms.paths,
             .solver_residual = se_l1, .details = details, .ndetails = 6};
         st = rad_io_write_stats_json(o->stats, &js);

@@ -238,6 +238,31 @@ static rad_status solve_iterative(int n, const double *G, const double *area, co
     return RAD_OK;
 }
 
+/* Radiosity is never negative (B = E + rho F B with nothing negative in it).
+ * A solution whose entries are non-finite, or negative beyond rounding
+ * (1e-9 of the largest), comes from a system too ill-conditioned to solve:
+ * RAD_ENUMERIC.  Negatives within rounding are set to 0. */
+static rad_status check_solution(int n, double *B)
+{
+    double bmax = 0.0;
+    for (size_t k = 0; k < 3 * (size_t)n; k++) {
+        if (!isfinite(B[k]))
+            return RAD_ERROR(RAD_ENUMERIC, "dense solve: element %zu has a non-finite radiosity "
+                                           "(the system is singular to working precision)",
+                             k % (size_t)n);
+        bmax = fmax(bmax, fabs(B[k]));
+    }
+    for (size_t k = 0; k < 3 * (size_t)n; k++) {
+        if (B[k] < -1e-9 * bmax)
+            return RAD_ERROR(RAD_ENUMERIC, "dense solve: element %zu has a negative radiosity "
+                                           "%.3g (the system is too ill-conditioned; is a "
+                                           "reflectance too close to 1?)", k % (size_t)n, B[k]);
+        if (B[k] < 0.0)
+            B[k] = 0.0;
+    }
+    return RAD_OK;
+}
+
 rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area, const double *rho,
                                      const double *E, double *B, const rad_dense_params *params,
                                      rad_dense_report *report)
@@ -303,6 +328,8 @@ rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area,
             }
         }
     }
+    if (status == RAD_OK)
+        status = check_solution(n, B);
     if (report)
         *report = rep;
     return status;

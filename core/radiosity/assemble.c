@@ -1,12 +1,13 @@
-/* Dense assembly of the symmetric coupling G_ij = A_i F_ij V_ij.
+/* Dense assembly of the symmetric coupling G_ij = int_i int_j K V.
  *
  * 1. Areas first (one pass), so a degenerate triangle fails before any work.
  * 2. Rows i in parallel (OpenMP, dynamic schedule: row i has n-1-i pairs);
- *    for j > i one rad_ff_compute gives G = A_i F_ij; pairs flagged
- *    NOT_FACING are zero with no integration.
- * 3. With a visibility structure, a pair with G > 0 is multiplied by its
- *    visible fraction (rad_vis_pair_fraction, which traces no rays when the
- *    shaft between the two triangles is empty).
+ *    for j > i one rad_ff_compute gives the unoccluded G = A_i F_ij; pairs
+ *    flagged NOT_FACING are zero with no integration.
+ * 3. With a visibility structure, a pair with G > 0 whose shaft holds
+ *    possible blockers takes the visible integral rad_vis_pair_visible (with
+ *    the unoccluded G as the scale of its tolerance); a pair with an empty
+ *    shaft keeps rad_ff's value.
  * 4. G_ij and G_ji receive the same value: reciprocity is exact by
  *    construction.  Counters are summed by OpenMP reductions, so the result and
  *    the counts do not depend on the number of threads. */
@@ -29,6 +30,7 @@ void rad_assembly_params_default(rad_assembly_params *params)
     params->rule.scheme = RAD_FF_AUTO;
     params->rule.order = 0;
     params->ff = rad_ff_defaults();
+    rad_vis_visible_params_default(&params->visible);
 }
 
 static void load_triangle(const double *xyz, const int *tri, int k, rad_vec3 t[3])
@@ -66,8 +68,9 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
     for (size_t k = 0; k < nn; k++)
         G[k + k * nn] = 0.0;
 
-    long long not_facing = 0, tested = 0, out_of_range = 0, evals = 0;
+    long long not_facing = 0, tested = 0, sampled = 0, out_of_range = 0, evals = 0;
     unsigned long long rays = 0;
+    double vis_err = 0.0, vis_G = 0.0;
     long long rows_done = 0;
     rad_status first_error = RAD_OK;
     int bad_i = -1, bad_j = -1;
@@ -77,21 +80,30 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
         omp_set_num_threads(p.threads);
 #endif
 
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : not_facing, tested, out_of_range, evals, rays)
+#pragma omp parallel for schedule(dynamic, 1) \
+    reduction(+ : not_facing, tested, sampled, out_of_range, evals, rays, vis_err, vis_G)
     for (int i = 0; i < n; i++) {
         rad_vec3 ti[3], tj[3];
         load_triangle(xyz, tri, i, ti);
-        rad_vis_stats vs = {0, 0, 0};
+        int fi = p.face_of ? p.face_of[i] : i;
         for (int j = i + 1; j < n; j++) {
             load_triangle(xyz, tri, j, tj);
             rad_ff_result r;
             rad_status s = rad_ff_compute(ti, tj, p.rule, &p.ff, &r);
             double g = r.G;
             if (s == RAD_OK && vis && g > 0.0) {
-                double frac = 1.0;
-                s = rad_vis_pair_fraction(vis, (size_t)i, (size_t)j, &frac, &vs);
-                g *= frac;
-                tested++;
+                rad_vis_visible_result vr;
+                s = rad_vis_pair_visible(vis, ti, fi, tj, p.face_of ? p.face_of[j] : j, g,
+                                         &p.visible, &vr);
+                if (s == RAD_OK && vr.blockers > 0) {
+                    g = vr.G;
+                    tested++;
+                    sampled += vr.status == RAD_VIS_VISIBLE_SAMPLED;
+                    evals += vr.evals;
+                    rays += (unsigned long long)vr.rays;
+                    vis_err += vr.error;
+                    vis_G += vr.G;
+                }
             }
             if (s == RAD_OK && !isfinite(g))
                 s = RAD_ENUMERIC;
@@ -111,7 +123,6 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
             G[(size_t)i + (size_t)j * nn] = g;
             G[(size_t)j + (size_t)i * nn] = g;
         }
-        rays += vs.rays;
         long long done;
 #pragma omp atomic capture
         done = ++rows_done;
@@ -126,6 +137,8 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
     st.pairs = (long long)n * (n - 1) / 2;
     st.pairs_not_facing = not_facing;
     st.pairs_occlusion_tested = tested;
+    st.pairs_sampled = sampled;
+    st.visibility_error = vis_G > 0.0 ? vis_err / vis_G : 0.0;
     st.pairs_out_of_range = out_of_range;
     st.kernel_evals = evals;
     st.rays = rays;

@@ -3,11 +3,15 @@
  *
  * For P0 elements on triangles the Galerkin system is
  *     B_i = E_i + rho_i sum_j F_ij B_j,
- * and radkit assembles the symmetric coupling G_ij = A_i F_ij V_ij once per
- * unordered pair {i, j} (V_ij the visible fraction): reciprocity
- * A_i F_ij = A_j F_ji then holds exactly in the assembled system, and every pair
- * costs one form factor instead of two.  G is dense, column-major, with zero
- * diagonal (a flat triangle does not see itself).
+ * and radkit assembles the symmetric coupling G_ij = int_i int_j K V (the
+ * visible part of the kernel integral) once per unordered pair {i, j}:
+ * reciprocity A_i F_ij = A_j F_ji then holds exactly in the assembled system,
+ * and every pair costs one form factor instead of two.  G is dense,
+ * column-major, with zero diagonal (a flat triangle does not see itself).
+ * A pair nothing can block takes rad_ff's unoccluded G; a pair with possible
+ * blockers takes rad_vis_pair_visible (visibility exact at every outer point,
+ * so that the rows of a closed scene sum to 1 up to the outer rule's error;
+ * rays where the clipping would be too complex).
  *
  * Departure from DESIGN.md: the assembly lives here, not in rad_dense, so that
  * the linear-algebra module does not depend on form factors and visibility. */
@@ -28,6 +32,11 @@ typedef struct rad_assembly_params {
     rad_ff_rule rule;   /* form-factor scheme per pair (default auto) */
     rad_ff_params ff;   /* its parameters (auto's tolerance among them) */
     int threads;        /* OpenMP threads; 0 = the OpenMP default */
+    /* The triangle of the visibility structure each element lies on (borrowed,
+     * n entries): the elements of a refined mesh over a rad_vis built on the
+     * input triangles.  NULL: the rad_vis holds the elements themselves. */
+    const int *face_of;
+    rad_vis_visible_params visible; /* the visible integral's parameters */
     /* Called from one thread now and then with the fraction of pairs done
      * (0..1); NULL for none.  Must not call back into the library. */
     void (*progress)(double done, void *ctx);
@@ -40,7 +49,10 @@ void rad_assembly_params_default(rad_assembly_params *params);
 typedef struct rad_assembly_stats {
     long long pairs;             /* unordered pairs considered, n (n-1)/2 */
     long long pairs_not_facing;  /* zero without integration (facing away, coplanar) */
-    long long pairs_occlusion_tested; /* pairs handed to visibility */
+    long long pairs_occlusion_tested; /* pairs with possible blockers (visible integral) */
+    long long pairs_sampled;          /* of those, pairs that fell back to rays */
+    double visibility_error;          /* sum of the visible integrals' error estimates,
+                                         over the sum of their G (relative) */
     long long pairs_out_of_range;     /* form-factor estimates flagged outside [0,1] */
     long long kernel_evals;
     unsigned long long rays;
@@ -50,8 +62,8 @@ typedef struct rad_assembly_stats {
 /* Assemble G (n x n, column-major, caller-owned) and the areas (n) of the
  * triangles tri[3k..3k+2] over the vertices xyz.  `vis` may be NULL: no
  * occlusion (the effects plan found that nothing can block).  Otherwise each
- * pair with a nonzero unoccluded form factor is multiplied by
- * rad_vis_pair_fraction (which itself skips pairs its shaft test clears).
+ * pair with a nonzero unoccluded form factor and possible blockers takes
+ * rad_vis_pair_visible (see params->face_of).
  * RAD_EINPUT for a degenerate triangle (naming it), RAD_ENUMERIC if a form
  * factor is not finite. */
 rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,

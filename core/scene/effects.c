@@ -21,6 +21,14 @@
  *  5. Clustering.  Initial linking is quadratic in the number of faces; a
  *     cluster hierarchy pays when there are many faces in many separate
  *     objects (cluster_min_faces faces in cluster_min_objects components).
+ *  6. Reflectance near 1.  An error d in a row of form factors (energy lost
+ *     or gained per bounce) changes B by up to d / (1 - rho) after all
+ *     bounces, and a solver stopped at a step change c is up to
+ *     c rho / (1 - rho) from its fixed point.  The defaults are set for
+ *     rho_max <= near_one; above it every such tolerance is multiplied by
+ *     tighten = (1 - rho_max) / (1 - near_one).  Beyond an amplification of
+ *     max_amplification no tolerance double precision can deliver would do:
+ *     the plan refuses (refusal), and the solvers exit with its reason.
  * Every decision can be forced on or off; the reason then says so.
  * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
@@ -38,6 +46,25 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->cluster_min_objects = 50;
     p->grey_tol = 1e-12;
     p->plane_rel_tol = 1e-12;
+    p->near_one = 0.5;
+    p->max_amplification = 1e6;
+}
+
+void rad_scene_effects_list(const rad_effects_plan *plan,
+                            const rad_effect_decision *dec[RAD_EFFECT_COUNT],
+                            const char *names[RAD_EFFECT_COUNT])
+{
+    static const char *const all[RAD_EFFECT_COUNT] = {"occlusion", "colour", "facing_away",
+                                                      "singular", "clustering", "reflectance"};
+    const rad_effect_decision *d[RAD_EFFECT_COUNT] = {&plan->occlusion, &plan->colour,
+                                                      &plan->facing_away, &plan->singular,
+                                                      &plan->clustering, &plan->reflectance};
+    for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
+        if (dec)
+            dec[k] = d[k];
+        if (names)
+            names[k] = all[k];
+    }
 }
 
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out)
@@ -173,5 +200,29 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
              "%d components)", s->nt, info.components, params->cluster_min_faces,
              params->cluster_min_objects);
     settle(&plan->clustering, params->clustering, pays, why);
+
+    /* 6. reflectance near 1 */
+    double rho_max = 0.0;
+    for (int t = 0; t < s->nt; t++)
+        for (int c = 0; c < 3; c++)
+            rho_max = fmax(rho_max, s->mats[s->tri_mat[t]].rho[c]);
+    plan->rho_max = rho_max;
+    double amp = rho_max < 1.0 ? 1.0 / (1.0 - rho_max) : INFINITY;
+    int near = rho_max > params->near_one;
+    snprintf(why, sizeof why, "the largest reflectance is %.10g: errors are amplified up to %.3g "
+             "times%s", rho_max, amp,
+             near ? ", so form-factor and solver tolerances are tightened by that factor over "
+                    "the defaults'"
+                  : "");
+    settle(&plan->reflectance, params->reflectance, near, why);
+    plan->tighten = 1.0;
+    if (plan->reflectance.on && params->near_one < 1.0)
+        plan->tighten = fmin(1.0, (1.0 - rho_max) / (1.0 - params->near_one));
+    if (amp > params->max_amplification)
+        snprintf(plan->refusal, sizeof plan->refusal, "the largest reflectance %.10g is within "
+                 "%.3g of 1: errors would be amplified %.3g times, beyond the %.3g that radkit's "
+                 "tolerances can hold; use a reflectance of at most %.10g", rho_max,
+                 1.0 - rho_max, amp, params->max_amplification,
+                 1.0 - 1.0 / params->max_amplification);
     return RAD_OK;
 }

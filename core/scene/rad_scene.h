@@ -133,17 +133,20 @@ typedef enum rad_effect_mode {
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out);
 
 typedef struct rad_effects_params {
-    rad_effect_mode occlusion, colour, facing_away, singular, clustering;
+    rad_effect_mode occlusion, colour, facing_away, singular, clustering, reflectance;
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     int cluster_min_faces;    /* clustering pays only with at least this many faces ... */
     int cluster_min_objects;  /* ... in at least this many connected components */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
                                  face's plane counts as on it (facing-away test) */
+    double near_one;          /* reflectance from which tolerances are tightened */
+    double max_amplification; /* refuse scenes whose 1 / (1 - rho_max) exceeds this */
 } rad_effects_params;
 
 /* Everything automatic; pair scan up to 20000 faces; clustering from 5000
- * faces in 50 components; grey within 1e-12; plane tolerance 1e-12. */
+ * faces in 50 components; grey within 1e-12; plane tolerance 1e-12;
+ * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6. */
 void rad_scene_effects_params_default(rad_effects_params *params);
 
 typedef struct rad_effect_decision {
@@ -164,6 +167,16 @@ typedef struct rad_effects_plan {
     rad_effect_decision singular;
     /* on: build a cluster hierarchy before linking. */
     rad_effect_decision clustering;
+    /* on: the largest reflectance is near 1, so that errors of the form
+     * factors and of the solver's stopping test are amplified by up to
+     * 1 / (1 - rho_max): their tolerances are multiplied by `tighten`. */
+    rad_effect_decision reflectance;
+    double rho_max;               /* the largest reflectance of any face and channel */
+    double tighten;               /* (1 - rho_max) / (1 - near_one) when reflectance is on, else 1 */
+    /* Not empty when no method of radkit can reach its accuracy on this scene
+     * (reflectance within 1 / max_amplification of 1): the reason, which the
+     * solvers report with RAD_ENUMERIC. */
+    char refusal[256];
     long long pairs_total;        /* n (n - 1) / 2 */
     long long pairs_facing_away;  /* -1 when not counted (more faces than the scan limit) */
     int pairs_singular;           /* adjacent, non-coplanar */
@@ -173,6 +186,13 @@ typedef struct rad_effects_plan {
 /* Decide the plan for a scene and its mesh (built from the same triangles). */
 rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan);
+
+/* The decisions in a fixed order with their names ("occlusion", "colour",
+ * "facing_away", "singular", "clustering", "reflectance"), for printing. */
+#define RAD_EFFECT_COUNT 6
+void rad_scene_effects_list(const rad_effects_plan *plan,
+                            const rad_effect_decision *decisions[RAD_EFFECT_COUNT],
+                            const char *names[RAD_EFFECT_COUNT]);
 
 #ifdef __cplusplus
 }

@@ -181,27 +181,30 @@ int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
 typedef struct rad_vis_visible_params {
     int degree;       /* symmetric rule of this degree on each outer cell; default 2 */
     double tol;       /* accept a cell when its 4 children change the value by at most
-                         its share of tol x the pair's unoccluded G; default 1e-4 */
+                         its share of tol x the pair's unoccluded G; default 1e-2 */
     int max_depth;    /* outer cell levels at most (1: the rule and its children once);
-                         default 5 */
-    int max_blockers; /* more possible blockers than this: not computed (status
-                         TOO_MANY); default 1024, at most 65536 */
+                         0 (default): ceil(log4(1 / tol)) + 1 within 3..8 */
+    int max_blockers; /* more possible blockers than this: rays instead (status
+                         SAMPLED); default 1024, at most 65536 */
+    int sample_strata;/* the rays' fallback: k^2 jittered points per triangle, k^4 rays;
+                         default 8 */
 } rad_vis_visible_params;
 
 void rad_vis_visible_params_default(rad_vis_visible_params *params);
 
 enum {
-    RAD_VIS_VISIBLE_EXACT = 0,   /* computed: G to within error */
-    RAD_VIS_VISIBLE_TOO_MANY = 1 /* too many blockers or pieces: not computed */
+    RAD_VIS_VISIBLE_EXACT = 0,  /* visibility exact at every outer point */
+    RAD_VIS_VISIBLE_SAMPLED = 1 /* too many blockers or pieces: rays (the fallback) */
 };
 
 typedef struct rad_vis_visible_result {
     double G;       /* int_a int_b K V */
-    double G_open;  /* int_a int_b K on the same outer cells (no visibility) */
+    double G_open;  /* the caller's unoccluded G */
     double error;   /* sum of the accepted cells' coarse-fine differences */
-    long evals;     /* closed-form point-to-polygon evaluations */
+    long evals;     /* closed-form point-to-polygon (or kernel) evaluations */
+    long rays;      /* rays of the fallback */
     int blockers;   /* possible blockers found by the shaft test */
-    int status;     /* RAD_VIS_VISIBLE_EXACT or RAD_VIS_VISIBLE_TOO_MANY */
+    int status;     /* RAD_VIS_VISIBLE_EXACT or RAD_VIS_VISIBLE_SAMPLED */
 } rad_vis_visible_result;
 
 /* G_vis(a, b) = int_a int_b K V by the adaptive outer rule of visible.c,

@@ -415,6 +415,33 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     return shaft_walk(vis, pts, i, j, NULL, 0) != 0;
 }
 
+int vis_shaft_filter(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3], const int *in,
+                     int n, int *out)
+{
+    rad_vec3 pts[6] = {a[0], a[1], a[2], b[0], b[1], b[2]};
+    double lo[3], hi[3];
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (int v = 0; v < 6; v++) {
+        double q[3] = {pts[v].x, pts[v].y, pts[v].z};
+        for (int c = 0; c < 3; c++) {
+            lo[c] = rad_dmin(lo[c], q[c]);
+            hi[c] = rad_dmax(hi[c], q[c]);
+        }
+    }
+    plane pl[MAX_PLANES];
+    int count = shaft_planes(vis, pts, pl);
+    if (count < 0)
+        return 0;
+    int kept = 0;
+    for (int k = 0; k < n; k++)
+        if (!triangle_outside(vis, (size_t)in[k], pl, count, lo, hi))
+            out[kept++] = in[k];
+    return kept;
+}
+
 int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
                      int face_b, int *out, int max)
 {

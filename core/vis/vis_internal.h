@@ -62,5 +62,10 @@ void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const doubl
 /* Classify the triangles (which can block at all; is the scene unoccluded?)
  * and build the shaft hierarchy over the potential blockers.  0: no memory. */
 int vis_bvh_build(rad_vis *vis);
+/* The triangles in[0..n) that the shaft of triangles a and b does not dismiss,
+ * in order, into out (which may be in); returns their count (0 for a flat
+ * pair, whose kernel vanishes). */
+int vis_shaft_filter(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3], const int *in,
+                     int n, int *out);
 
 #endif

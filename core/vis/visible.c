@@ -20,6 +20,8 @@
  *    In a closed scene the visible pieces of all triangles from x tile x's
  *    hemisphere, so sum_b F_vis(x, b) = 1 at every x: whatever outer rule is
  *    used, a row of form factors sums to 1 up to the outer rule's error.
+ *    A cell of the outer integral (below) keeps only the blockers its own
+ *    shaft with b does not dismiss, filtered from its parent's list.
  * 4. The outer integral (rad_vis_pair_visible) over whichever triangle lies
  *    wholly in front of the other's plane (a when both or neither do): a
  *    symmetric rule of the given degree on it, compared with the same rule on
@@ -30,11 +32,16 @@
  *    nothing of it.  F_vis is continuous in x (a penumbra is continuous), so
  *    the rule converges; the reported error is the sum of the accepted cells'
  *    differences.
+ * 5. Where the shaft holds more than max_blockers triangles, or a visible part
+ *    would need more pieces than the workspace holds, the pair falls back to
+ *    rays: the kernel-weighted share of open segments between stratified
+ *    points of a and b, times the unoccluded G (sampled()).
  * Degenerate cases: a point behind b's plane sees nothing of it; a blocker in
  * b's plane casts no shadow (it cannot cross a segment to b's interior). */
 #include "vis_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,9 +62,10 @@ typedef struct poly2 {
 void rad_vis_visible_params_default(rad_vis_visible_params *p)
 {
     p->degree = 2;
-    p->tol = 1e-4;
-    p->max_depth = 5;
+    p->tol = 5e-3;
+    p->max_depth = 0;
     p->max_blockers = 1024;
+    p->sample_strata = 8;
 }
 
 static double cross2(v2 o, v2 a, v2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
@@ -147,41 +155,68 @@ static rad_vec3 to3(const plane_frame *f, v2 q)
     return rad_vec3_add(f->o, rad_vec3_add(rad_vec3_scale(f->e1, q.x), rad_vec3_scale(f->e2, q.y)));
 }
 
-/* The shadow of blocker k on b's plane from x (height d above it), as a
- * counter-clockwise convex polygon in the frame; 0 when it casts none. */
-static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, double d, const rad_vec3 b[3],
-                  const plane_frame *f, poly2 *out)
+/* The five planes that bound what can shadow b from x: the slab strictly
+ * between b's plane and x (heights above b's plane in (0, d)) and the three
+ * planes through x and an edge of b, all as dot(m, p) >= c. */
+typedef struct shadow_planes {
+    rad_vec3 m[5];
+    double c[5];
+    double h0, d;
+} shadow_planes;
+
+static void make_shadow_planes(rad_vec3 x, double d, const rad_vec3 b[3], const plane_frame *f,
+                               shadow_planes *sp)
 {
-    rad_vec3 buf[2][POLY_MAX];
-    int n = 3;
-    for (int v = 0; v < 3; v++)
-        buf[0][v] = vis_vertex(vis, k, v);
-    int cur = 0;
-    /* the slab strictly between b's plane and x */
     double h0 = rad_vec3_dot(f->n, f->o), eps = 1e-12 * (d + fabs(h0)) + 1e-300;
-    n = clip3(buf[cur], n, f->n, h0 + eps, buf[1 - cur]);
-    cur = 1 - cur;
-    if (n < 3)
-        return 0;
-    n = clip3(buf[cur], n, rad_vec3_scale(f->n, -1.0), -(h0 + d * (1.0 - 1e-9)), buf[1 - cur]);
-    cur = 1 - cur;
-    if (n < 3)
-        return 0;
-    /* the cone from x over b */
-    for (int e = 0; e < 3 && n >= 3; e++) {
+    sp->h0 = h0;
+    sp->d = d;
+    sp->m[0] = f->n;
+    sp->c[0] = h0 + eps;
+    sp->m[1] = rad_vec3_scale(f->n, -1.0);
+    sp->c[1] = -(h0 + d * (1.0 - 1e-9));
+    for (int e = 0; e < 3; e++) {
         rad_vec3 p = b[e], q = b[(e + 1) % 3], r = b[(e + 2) % 3];
         rad_vec3 m = rad_vec3_cross(rad_vec3_sub(p, x), rad_vec3_sub(q, x));
         if (rad_vec3_dot(m, rad_vec3_sub(r, x)) < 0.0)
             m = rad_vec3_scale(m, -1.0);
-        n = clip3(buf[cur], n, m, rad_vec3_dot(m, x), buf[1 - cur]);
-        cur = 1 - cur;
+        sp->m[2 + e] = m;
+        sp->c[2 + e] = rad_vec3_dot(m, x);
     }
+}
+
+/* The shadow of blocker k on b's plane from x, as a counter-clockwise convex
+ * polygon in the frame; 0 when it casts none.  A blocker wholly outside one
+ * plane is dismissed at once, one wholly inside all five is projected
+ * without clipping. */
+static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, const shadow_planes *sp,
+                  const plane_frame *f, poly2 *out)
+{
+    rad_vec3 buf[2][POLY_MAX];
+    for (int v = 0; v < 3; v++)
+        buf[0][v] = vis_vertex(vis, k, v);
+    int clip_mask = 0;
+    for (int q = 0; q < 5; q++) {
+        int inside = 0;
+        for (int v = 0; v < 3; v++)
+            inside += rad_vec3_dot(sp->m[q], buf[0][v]) >= sp->c[q];
+        if (inside == 0)
+            return 0;
+        if (inside < 3)
+            clip_mask |= 1 << q;
+    }
+    int n = 3, cur = 0;
+    for (int q = 0; q < 5 && n >= 3; q++)
+        if (clip_mask & (1 << q)) {
+            n = clip3(buf[cur], n, sp->m[q], sp->c[q], buf[1 - cur]);
+            cur = 1 - cur;
+        }
     if (n < 3)
         return 0;
     out->n = n;
+    double d = sp->d;
     for (int v = 0; v < n; v++) {
         rad_vec3 p = buf[cur][v];
-        double h = rad_vec3_dot(f->n, p) - h0;
+        double h = rad_vec3_dot(f->n, p) - sp->h0;
         rad_vec3 y = rad_vec3_add(x, rad_vec3_scale(rad_vec3_sub(p, x), d / (d - h)));
         out->p[v] = to2(f, y);
     }
@@ -266,9 +301,12 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
         pieces[0].p[v] = to2(f, b[v]);
     int np = 1;
     double min_area = 1e-13 * f->area;
+    shadow_planes sp;
+    if (nb > 0)
+        make_shadow_planes(x, d, b, f, &sp);
     for (int k = 0; k < nb && np > 0; k++) {
         poly2 q;
-        if (!shadow(vis, (size_t)blockers[k], x, d, b, f, &q))
+        if (!shadow(vis, (size_t)blockers[k], x, &sp, f, &q))
             continue;
         double qlo[2], qhi[2];
         bbox2(&q, qlo, qhi);
@@ -355,7 +393,8 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
                 *evals += ev;
             return 0;
         }
-        *F = pieces_ff(x, nx, &f, pieces, np, &ev);
+        /* rounding in slivers can leave a sum a hair below 0 */
+        *F = rad_dmax(0.0, pieces_ff(x, nx, &f, pieces, np, &ev));
     }
     if (evals)
         *evals += ev;
@@ -386,6 +425,9 @@ typedef struct outer_ctx {
     int max_depth;
     long evals;
     pieces_ws ws;
+    /* per refinement level, room for the four children's blocker lists */
+    int *scratch;
+    int scratch_per_level;
     int failed; /* too many pieces somewhere */
 } outer_ctx;
 
@@ -439,22 +481,36 @@ static double refine(outer_ctx *o, const rad_vec3 c[3], double coarse, double co
 {
     rad_vec3 ch[4][3];
     children_of(c, ch);
+    /* each child's own blockers: its shaft lies inside the cell's */
+    const int *parent_blk = o->blockers;
+    int parent_nb = o->nb, *mine = o->scratch + (size_t)depth * (size_t)o->scratch_per_level;
+    int child_nb[4];
     double v[4], vo[4], fine = 0.0, fine_open = 0.0;
     for (int k = 0; k < 4; k++) {
+        int *list = mine + (size_t)k * (size_t)parent_nb;
+        child_nb[k] = parent_nb ? vis_shaft_filter(o->vis, ch[k], o->b, parent_blk, parent_nb, list) : 0;
+        o->blockers = list;
+        o->nb = child_nb[k];
         cell_rule(o, ch[k], &v[k], &vo[k]);
         fine += v[k];
         fine_open += vo[k];
     }
     double diff = rad_dmax(fabs(fine - coarse), fabs(fine_open - coarse_open));
     int blind = fine_open == 0.0 && straddles(c, o->b);
+    double sum = fine;
     if ((diff <= tol && !blind) || depth >= o->max_depth) {
         *err += diff;
         *open += fine_open;
-        return fine;
+    } else {
+        sum = 0.0;
+        for (int k = 0; k < 4; k++) {
+            o->blockers = mine + (size_t)k * (size_t)parent_nb;
+            o->nb = child_nb[k];
+            sum += refine(o, ch[k], v[k], vo[k], tol / 2.0, depth + 1, err, open);
+        }
     }
-    double sum = 0.0;
-    for (int k = 0; k < 4; k++)
-        sum += refine(o, ch[k], v[k], vo[k], tol / 2.0, depth + 1, err, open);
+    o->blockers = parent_blk;
+    o->nb = parent_nb;
     return sum;
 }
 
@@ -466,6 +522,79 @@ static int in_front(const rad_vec3 c[3], const rad_vec3 b[3])
         if (rad_vec3_dot(n, rad_vec3_sub(c[k], b[0])) < 0.0)
             return 0;
     return 1;
+}
+
+/* A uniform number in [0, 1) from a key (splitmix64). */
+static double hashed(uint64_t z)
+{
+    z += 0x9e3779b97f4a7c15ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}
+
+/* The fallback where the clipping would need too many blockers or pieces:
+ * G = G_open x (sum K v / sum K) over the segments joining jittered
+ * stratified points of a and b (k^2 each, k = sample_strata), the
+ * kernel-weighted visible fraction; its error is taken as the binomial
+ * standard error of that fraction times G_open. */
+static rad_status sampled(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
+                          int face_b, double G_open, const rad_vis_visible_params *p,
+                          rad_vis_visible_result *out)
+{
+    int k = p->sample_strata, m = k * k;
+    rad_vec3 na = rad_geom_triangle_normal(a[0], a[1], a[2]);
+    rad_vec3 nb = rad_geom_triangle_normal(b[0], b[1], b[2]);
+    enum { BATCH = 256 };
+    double from[3 * BATCH], to[3 * BATCH], w[BATCH];
+    unsigned char blocked[BATCH];
+    double wsum = 0.0, wopen = 0.0;
+    long evals = 0;
+    int filled = 0;
+    vis_context vc;
+    vis_context_init(&vc, face_a < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_a,
+                     face_b < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_b);
+    unsigned long long rays = 0;
+    /* the points' keys: the pair's corners hashed, so the same pair gives the same points */
+    uint64_t key = 0;
+    for (int v = 0; v < 3; v++) {
+        double c[6] = {a[v].x, a[v].y, a[v].z, b[v].x, b[v].y, b[v].z};
+        for (int q = 0; q < 6; q++) {
+            uint64_t bits;
+            memcpy(&bits, &c[q], sizeof bits);
+            key = key * 0x100000001b3ull ^ bits;
+        }
+    }
+    for (int i = 0; i < m; i++) {
+        double s, t;
+        rad_geom_triangle_stratum(k, i, hashed(key + 4 * (uint64_t)i), hashed(key + 4 * (uint64_t)i + 1), &s, &t);
+        rad_vec3 x = rad_geom_triangle_point(a[0], a[1], a[2], s, t);
+        for (int j = 0; j < m; j++) {
+            rad_geom_triangle_stratum(k, j, hashed(~key + 4 * (uint64_t)j), hashed(~key + 4 * (uint64_t)j + 1), &s, &t);
+            rad_vec3 y = rad_geom_triangle_point(b[0], b[1], b[2], s, t);
+            w[filled] = rad_ff_kernel(x, na, y, nb, NULL);
+            evals++;
+            from[3 * filled] = x.x; from[3 * filled + 1] = x.y; from[3 * filled + 2] = x.z;
+            to[3 * filled] = y.x; to[3 * filled + 1] = y.y; to[3 * filled + 2] = y.z;
+            if (++filled == BATCH || (i == m - 1 && j == m - 1)) {
+                vis_occluded_ctx(vis, &vc, (size_t)filled, from, to, blocked, &rays);
+                for (int q = 0; q < filled; q++) {
+                    wsum += w[q];
+                    wopen += blocked[q] ? 0.0 : w[q];
+                }
+                filled = 0;
+            }
+        }
+    }
+    double V = wsum > 0.0 ? rad_dmin(1.0, wopen / wsum) : 1.0;
+    out->G = G_open * V;
+    out->G_open = G_open;
+    out->error = G_open * sqrt(rad_dmax(V * (1.0 - V), 1.0 / m) / (double)(m * m));
+    out->evals = evals;
+    out->rays = (long)rays;
+    out->status = RAD_VIS_VISIBLE_SAMPLED;
+    return RAD_OK;
 }
 
 rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int face_a,
@@ -480,8 +609,10 @@ rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int fac
         p = *params;
     else
         rad_vis_visible_params_default(&p);
+    if (p.max_depth == 0) /* about log4(1 / tol) levels: a kink's cells shrink as tol does */
+        p.max_depth = (int)rad_dmin(8.0, rad_dmax(3.0, ceil(log(1.0 / p.tol) / log(4.0)) + 1.0));
     if (p.max_blockers < 0 || p.max_blockers > 65536 || p.max_depth < 0 || p.max_depth > 12 ||
-        !(p.tol > 0.0))
+        !(p.tol > 0.0) || p.sample_strata < 1 || p.sample_strata > 64)
         return RAD_ERROR(RAD_EINVAL, "visibility: bad parameters of the visible integral");
     memset(out, 0, sizeof *out);
     if (!(G_open > 0.0))
@@ -504,10 +635,9 @@ rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int fac
     int nb = rad_vis_blockers(vis, a, face_a, b, face_b, blk, cap);
     out->blockers = nb;
     if (nb > cap) {
-        out->status = RAD_VIS_VISIBLE_TOO_MANY;
         if (blk != stack_blockers)
             free(blk);
-        return RAD_OK;
+        return sampled(vis, a, face_a, b, face_b, G_open, &p, out);
     }
     outer_ctx o;
     memset(&o, 0, sizeof o);
@@ -518,9 +648,14 @@ rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int fac
     o.nb = nb;
     o.max_depth = p.max_depth;
     rad_status st = rad_quad_tri_symmetric(p.degree, o.s, o.t, o.w, &o.npts);
+    o.scratch_per_level = 4 * nb;
+    if (st == RAD_OK && nb > 0 &&
+        !(o.scratch = malloc((size_t)(p.max_depth + 1) * (size_t)o.scratch_per_level * sizeof *o.scratch)))
+        st = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the cells' blockers");
     if (st == RAD_OK && !ws_init(&o.ws, PIECES_MAX))
         st = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the visible pieces");
     if (st != RAD_OK) {
+        free(o.scratch);
         if (blk != stack_blockers)
             free(blk);
         return st;
@@ -534,11 +669,14 @@ rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int fac
     cell_rule(&o, a, &coarse, &coarse_open);
     out->G = refine(&o, a, coarse, coarse_open, p.tol * G_open, 1, &err, &open);
     ws_free(&o.ws);
+    free(o.scratch);
     if (blk != stack_blockers)
         free(blk);
+    if (o.failed) /* too many visible pieces somewhere */
+        return sampled(vis, a, face_a, b, face_b, G_open, &p, out);
     out->G_open = open;
     out->error = err;
     out->evals = o.evals;
-    out->status = o.failed ? RAD_VIS_VISIBLE_TOO_MANY : RAD_VIS_VISIBLE_EXACT;
+    out->status = RAD_VIS_VISIBLE_EXACT;
     return RAD_OK;
 }
