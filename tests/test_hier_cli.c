@@ -99,7 +99,8 @@ TEST(hier_cli_occluded_cornell_with_all_outputs)
     CHECK(harness_header(out, "oracle", buf, sizeof buf) && strcmp(buf, "error") == 0);
     CHECK(harness_header(out, "effect_occlusion", buf, sizeof buf) && strcmp(buf, "on") == 0);
     long leaves = harness_header(out, "elements", buf, sizeof buf) ? atol(buf) : -1;
-    CHECK(harness_header(out, "rays", buf, sizeof buf) && atol(buf) > 0);
+    CHECK(harness_header(out, "links_partial", buf, sizeof buf) && atol(buf) > 0);
+    CHECK(harness_header(out, "error_estimate", buf, sizeof buf) && atof(buf) > 0.0);
     CHECK(leaves > 38); /* refinement happened */
     /* the scene's area from the table */
     double total = 0.0;

@@ -505,6 +505,8 @@ TEST(conform_hier_leaves_of_closed_cube)
     rad_hier_params p;
     rad_hier_params_default(&p);
     CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+    p.use_rule = 1;
+    p.oracle = RAD_HIER_ORACLE_BF; /* refines the cube to mixed levels */
     p.eps = 0.1;
     p.min_area = 1.25 * 1.25 / 2.0 / 64.0 * (1.0 - 1e-9);
     p.tol = 1e-12;

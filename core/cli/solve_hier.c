@@ -38,9 +38,9 @@ static rad_status parse_hier_params(const solve_options *o, rad_hier_params *hp,
     rad_hier_params_default(hp);
     if (o->rule && (st = rad_ff_rule_parse(o->rule, &hp->rule)) != RAD_OK)
         return st;
-    if (o->rule) { /* an explicit rule applies to every pair */
+    if (o->rule) { /* an explicit rule gives every link's unoccluded F */
+        hp->use_rule = 1;
         hp->far_ratio = 0.0;
-        hp->oracle_F = 0;
     }
     if (o->tol && (st = solve_parse_double("--tol", o->tol, 0.0, &hp->ff.tol)) != RAD_OK)
         return st;
@@ -181,8 +181,15 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     }
     rad_scene_summary sum;
     rad_scene_summarize(scene, &sum);
+    /* The default minimum area follows eps (an element's P0 error is about
+     * its size times the gradient: area ~ eps^2), so that it does not cap the
+     * accuracy asked for; where it does bind, the stats say so. */
     if (!min_area_given)
-        hp.min_area = sum.total_area * 1e-4;
+        hp.min_area = sum.total_area * fmin(1e-4, fmax(1e-10, 1e-2 * hp.eps * hp.eps));
+    hp.sealed = plan.sealed;
+    /* Reflectance near 1: the solver's stopping tests tightened (effects plan) */
+    hp.tol *= plan.tighten;
+    hp.bound_tol *= plan.tighten;
     work = malloc((size_t)faces * 6 * sizeof *work);
     if (!work) {
         st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d faces", faces);
@@ -220,6 +227,11 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
         goto done;
     rad_hier_stats hs;
     rad_hier_get_stats(h, &hs);
+    if (!hs.target_met && !o->quiet)
+        fprintf(stderr, "radkit: warning: the error bound %.3g of the mean reflected radiosity "
+                        "exceeds --eps %g: %lld links could not be refined further (--min-area "
+                        "or the depth limit binds)\n", hs.bound_leaf_max, hp.eps,
+                hs.links_bound);
     size_t n = rad_hier_leaf_count(h);
     leaf = malloc(n * 4 * sizeof *leaf);
     leaf_face = malloc(n * sizeof *leaf_face);
@@ -251,6 +263,11 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             hs.links_blocked, hs.links_unknown);
     fprintf(out, "# iterations = %lld\n# refinements = %lld\n# rounds = %d\n# residual = %.3e\n",
             hs.iterations, hs.refinements, hs.rounds, hs.residual);
+    fprintf(out, "# error_estimate = %.3e\n# error_estimate_l1 = %.3e\n"
+                 "# error_estimate_leaf_max = %.3e\n# error_target_met = %s\n"
+                 "# links_bound = %lld\n",
+            hs.bound_face_max, hs.bound_mean, hs.bound_leaf_max, hs.target_met ? "yes" : "no",
+            hs.links_bound);
     for (int w = 0; w < rad_scene_warning_count(scene); w++)
         fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
     solve_print_effects(out, &plan);
@@ -280,7 +297,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
         rad_io_phase phases[6] = {{"setup", t_setup - t_start}, {"visibility", t_vis - t_setup},
                                   {"link", hs.time_link_s},     {"refine", hs.time_refine_s},
                                   {"solve", hs.time_solve_s},   {"render", t_render}};
-        rad_io_figure details[13] = {
+        rad_io_figure details[18] = {
             {"nodes", (double)hs.nodes},
             {"max_depth", hs.max_depth},
             {"links_leaf", (double)hs.links_leaf},
@@ -293,7 +310,12 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             {"rounds", hs.rounds},
             {"eps", hp.eps},
             {"min_area", hp.min_area},
-            {"oracle_error", hp.oracle == RAD_HIER_ORACLE_ERROR}};
+            {"oracle_error", hp.oracle == RAD_HIER_ORACLE_ERROR},
+            {"error_estimate", hs.bound_face_max},
+            {"error_estimate_l1", hs.bound_mean},
+            {"error_estimate_leaf_max", hs.bound_leaf_max},
+            {"error_target_met", hs.target_met},
+            {"links_bound", (double)hs.links_bound}};
         rad_io_stats js = {
             .method = "hier", .faces = faces, .elements = (long long)hs.elements,
             .links = (long long)hs.links, .rays = (long long)hs.rays,
@@ -301,7 +323,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             .total_seconds = rad_sys_seconds() - t_start,
             .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = RAD_EFFECT_COUNT,
             .solver_name = "jacobi-push-pull", .solver_iterations = hs.iterations,
-            .solver_residual = hs.residual, .details = details, .ndetails = 13};
+            .solver_residual = hs.residual, .details = details, .ndetails = 18};
         st = rad_io_write_stats_json(o->stats, &js);
     }
 done:

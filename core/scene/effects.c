@@ -33,6 +33,7 @@
  * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "rad_geom.h"
@@ -200,6 +201,32 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
              "%d components)", s->nt, info.components, params->cluster_min_faces,
              params->cluster_min_objects);
     settle(&plan->clustering, params->clustering, pays, why);
+
+    /* sealed: closed components, the largest-volume one facing inward (a
+       negative signed volume), every other one outward */
+    {
+        int nc = info.components, ok = nc > 0 && info.closed;
+        double *vol = ok ? calloc((size_t)nc, sizeof *vol) : NULL;
+        const int *comp = rad_mesh_face_components(mesh);
+        if (vol && comp) {
+            for (int t = 0; t < s->nt; t++) {
+                const int *v = s->tri + 3 * (size_t)t;
+                rad_vec3 a = vertex(s->xyz, v[0]), b = vertex(s->xyz, v[1]), c = vertex(s->xyz, v[2]);
+                vol[comp[t]] += rad_vec3_dot(a, rad_vec3_cross(b, c)) / 6.0;
+            }
+            int big = 0;
+            for (int k = 1; k < nc; k++)
+                if (fabs(vol[k]) > fabs(vol[big]))
+                    big = k;
+            ok = vol[big] < 0.0;
+            for (int k = 0; k < nc && ok; k++)
+                ok = k == big || vol[k] > 0.0;
+        } else {
+            ok = 0;
+        }
+        free(vol);
+        plan->sealed = ok;
+    }
 
     /* 6. reflectance near 1 */
     double rho_max = 0.0;

@@ -172,6 +172,11 @@ typedef struct rad_effects_plan {
      * 1 / (1 - rho_max): their tolerances are multiplied by `tighten`. */
     rad_effect_decision reflectance;
     double rho_max;               /* the largest reflectance of any face and channel */
+    /* 1 when every point sees only front faces, so that every row of form
+     * factors sums to exactly 1: every component is closed, one (the
+     * enclosure, the largest by volume) faces inward and every other faces
+     * outward.  Hierarchical radiosity then normalizes its rows. */
+    int sealed;
     double tighten;               /* (1 - rho_max) / (1 - near_one) when reflectance is on, else 1 */
     /* Not empty when no method of radkit can reach its accuracy on this scene
      * (reflectance within 1 / max_amplification of 1): the reason, which the

@@ -48,7 +48,7 @@
 #include "rad_ff.h"
 #include "rad_quad.h"
 
-enum { POLY_MAX = 20, PIECES_MAX = 4096 };
+enum { POLY_MAX = 20, PIECES_SMALL = 48, PIECES_MAX = 4096 };
 
 typedef struct v2 {
     double x, y;
@@ -271,17 +271,30 @@ static void bbox2(const poly2 *q, double lo[2], double hi[2])
 typedef struct pieces_ws {
     poly2 *list[2];
     int cap;
+    poly2 *heap;                   /* PIECES_MAX each, once a part needs more */
+    poly2 small[2 * PIECES_SMALL]; /* the usual case, on the caller's stack */
 } pieces_ws;
 
-static int ws_init(pieces_ws *ws, int cap)
+static void ws_init(pieces_ws *ws)
 {
-    ws->list[0] = malloc(2 * (size_t)cap * sizeof(poly2));
-    ws->list[1] = ws->list[0] ? ws->list[0] + cap : NULL;
-    ws->cap = cap;
-    return ws->list[0] != NULL;
+    ws->heap = NULL;
+    ws->list[0] = ws->small;
+    ws->list[1] = ws->small + PIECES_SMALL;
+    ws->cap = PIECES_SMALL;
 }
 
-static void ws_free(pieces_ws *ws) { free(ws->list[0]); }
+/* 0 when the workspace is at its largest already or memory is short. */
+static int ws_grow(pieces_ws *ws)
+{
+    if (ws->heap || !(ws->heap = malloc(2 * (size_t)PIECES_MAX * sizeof(poly2))))
+        return 0;
+    ws->list[0] = ws->heap;
+    ws->list[1] = ws->heap + PIECES_MAX;
+    ws->cap = PIECES_MAX;
+    return 1;
+}
+
+static void ws_free(pieces_ws *ws) { free(ws->heap); }
 
 /* The visible part of b from x as convex pieces (*out points into ws); -1
  * when it needs more pieces, or pieces with more corners, than the
@@ -388,6 +401,8 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
     } else {
         const poly2 *pieces;
         int np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces);
+        if (np < 0 && ws_grow(ws))
+            np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces);
         if (np < 0) {
             if (evals)
                 *evals += ev;
@@ -405,8 +420,7 @@ int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
                           const int *blockers, int nb, double *F, double *F_open, long *evals)
 {
     pieces_ws ws;
-    if (!ws_init(&ws, PIECES_MAX))
-        return 0;
+    ws_init(&ws);
     int ok = point_visible_ws(vis, x, nx, b, blockers, nb, &ws, F, F_open, evals);
     ws_free(&ws);
     return ok;
@@ -652,8 +666,7 @@ rad_status rad_vis_pair_visible(const rad_vis *vis, const rad_vec3 a[3], int fac
     if (st == RAD_OK && nb > 0 &&
         !(o.scratch = malloc((size_t)(p.max_depth + 1) * (size_t)o.scratch_per_level * sizeof *o.scratch)))
         st = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the cells' blockers");
-    if (st == RAD_OK && !ws_init(&o.ws, PIECES_MAX))
-        st = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the visible pieces");
+    ws_init(&o.ws);
     if (st != RAD_OK) {
         free(o.scratch);
         if (blk != stack_blockers)

@@ -1,0 +1,129 @@
+/* Internal to rad_hier: the element tree, the links, and the functions the
+ * module's files share (tree.c: elements; link.c: estimating links;
+ * solve.c: gather / push-pull and the error transport; refine.c: the
+ * oracles and the refinement loop). */
+#ifndef HIER_INTERNAL_H
+#define HIER_INTERNAL_H
+
+#include <stddef.h>
+
+#include "rad_geom.h"
+#include "rad_hier.h"
+
+typedef struct hier_elem {
+    rad_vec3 p[3];
+    rad_vec3 c;              /* centroid */
+    double area;
+    double size;             /* longest edge */
+    int parent, first_child; /* -1 for none; children are first_child .. + 3 */
+    int face;                /* input triangle */
+    int depth;
+    double B[3];             /* radiosity (area average) */
+    double Bg[3];            /* irradiance gathered by its own links, at the centroid ... */
+    rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
+    rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
+                                the gathered gradient (the variation P0 leaves
+                                unresolved); on an inner element, the linear fit of its
+                                children plus their mean gradient */
+    double var[3];           /* how far B strays from its mean over the element: on a
+                                leaf, what gB implies at its corners; on an inner
+                                element, the farthest leaf below, that leaf's var
+                                included */
+    double cap;              /* leaf: 1 / (its row sum) where that exceeds 1, else 1 */
+    double q[3], d[3], dr[3];/* local error bounds gathered by its own links:
+                                q: F's own error (conservation); d (squared): the
+                                sources' variation; dr: the linear fits'
+                                residuals, which
+                                count only below the element (its own average is
+                                exact); on a leaf, after solve.c's push, the sums
+                                over the leaf and its ancestors */
+    double T[3], Tg[3];      /* the transported conservation error (solve.c) ... */
+    rad_vec3 TGg[3];         /* ... gathered with its gradient, as B is */
+} hier_elem;
+
+/* A link joins two elements both ways: a <- b and b <- a at the same levels
+ * (a symmetric link structure keeps the hierarchical operator self-adjoint in
+ * the area inner product, so that energy is conserved to second order). */
+typedef struct hier_link {
+    int a, b;       /* the elements; a = -1 marks a refined (dead) link */
+    double G;       /* int_a int_b K V: F_ab = G / A_a, F_ba = G / A_b */
+    rad_vec3 ga, gb;/* the gradients of F(x, b) over a and of F(y, a) over b */
+    double dG;      /* estimated error of G */
+    double ra, rb;  /* the largest residual of each side's linear fit (its receiver's units) */
+    double va, vb;  /* the largest deviation of each side's point values from their
+                       mean, in the units of the other side (the kernel's variation
+                       over that element as a source) */
+
+    unsigned char unknown; /* G is 0 although the pair faces: refine while possible */
+    unsigned char vis;     /* 0: nothing can block, 1: blockers, all open, 2: partly
+                              hidden, 3: hidden at every point value */
+} hier_link;
+
+struct rad_hier {
+    rad_hier_params p;
+    const rad_vis *vis;
+    int use_vis;
+    unsigned char *can_block; /* per pair of input triangles, or NULL (ask each time) */
+    rad_vec3 *normal;         /* unit normal per input triangle */
+    size_t nroots;
+    double *rho, *E;          /* per input triangle, ntris x 3 */
+    double E_max, rho_max;
+    double *face_scale;       /* per input triangle, the ERROR oracle's threshold scale */
+    hier_elem *el;
+    size_t nel, capel;
+    hier_link *ln;
+    size_t nln, capln;
+    rad_hier_stats st;
+    int stepped;
+    double last_change;       /* relative */
+    /* the point-value rules (link.c) */
+    double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
+    int nodes;
+};
+
+/* ---- tree.c ---- */
+rad_status hier_grow_elems(rad_hier *h, size_t extra);
+rad_status hier_reserve_links(rad_hier *h, size_t extra);
+int hier_can_split(const rad_hier *h, int e);
+rad_status hier_split(rad_hier *h, int e);
+
+/* ---- link.c ---- */
+typedef struct hier_job {
+    int a, b;
+} hier_job;
+/* Estimate jobs[0..n) (pairs) in parallel and append the facing ones to the
+ * links in job order (the result does not depend on the thread count). */
+rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n);
+int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
+
+/* ---- refine.c ---- */
+/* Quarter the threshold scale of the input triangles whose bound exceeds
+ * eps R; returns how many (0: none fails, or none may be tightened). */
+int hier_tighten_failing(rad_hier *h);
+
+/* ---- solve.c ---- */
+/* Every leaf's cap: its row sum (the form factors of the links over it, the
+ * linear push included) scaled back to 1 where it exceeds 1.  Call after the
+ * links change. */
+void hier_row_caps(rad_hier *h);
+/* Steps until the step change is at most tol relative to the largest B. */
+rad_status hier_solve_links(rad_hier *h, double tol);
+/* The local error bounds per leaf (q, d summed over the links at the leaf and
+ * its ancestors) and the transported conservation error T (solve.c). */
+rad_status hier_error_estimate(rad_hier *h);
+/* R: the area-weighted mean reflected radiosity of the leaves, the three
+ * channels averaged (E_max before anything is reflected). */
+double hier_reflected_scale(const rad_hier *h);
+/* The error bound of a leaf, channel c, and the part of it that does not
+ * average out over an input triangle (the linear fits' residuals do): see
+ * solve.c. */
+double hier_leaf_bound(const rad_hier *h, const hier_elem *x, int c);
+double hier_face_part(const rad_hier *h, const hier_elem *x, int c);
+/* What an error of F between receiver r and source s is multiplied by:
+ * s's B, or, in a sealed scene, where every row is normalized so that an
+ * error of F only moves light between the sources of a receiver, how far
+ * s's B lies from r's irradiance (the rows' weighted mean of their B). */
+double hier_weight(const rad_hier *h, const hier_elem *r, const hier_elem *s, int c);
+
+
+#endif

@@ -1,0 +1,319 @@
+/* rad_hier: estimating a link between elements a and b from point values.
+ *
+ * 1. Facing test (rad_ff_facing): a pair facing away or coplanar makes no link.
+ * 2. Blockers: none without visibility, or when the pair of input triangles
+ *    is clear (the table of rad_vis_pair_can_block made at creation: a
+ *    sub-element pair's shaft lies inside its input pair's); otherwise the
+ *    triangles the shaft of the two elements does not dismiss
+ *    (rad_vis_blockers).
+ * 3. Point values at the nodes x_k of the symmetric rule on a and y_k on b:
+ *    F(x_k, b) and F(y_k, a), the closed-form point-to-triangle form factor
+ *    over the part visible from the point (rad_vis_point_visible), or, for a
+ *    far pair nothing can block, from the kernel at the degree-2 nodes of the
+ *    other element (the kernel is smooth there).
+ * 4. G_a = A_a sum w_k F(x_k, b), G_b = A_b sum w_k F(y_k, a); G is their mean
+ *    (reciprocity exact) and dG = |G_a - G_b| / 2 its error.  Each side's
+ *    values get a weighted least-squares linear fit over its element (the
+ *    gradient the gather pushes down, solve.c, and, over the same element as
+ *    a source, the kernel's variation) with its largest residual.  With an explicit rule the unoccluded G
+ *    comes from rad_ff and the point values give the visible fraction.
+ * 5. Fallback: where the clipping needs too many blockers or pieces, the
+ *    visible integral of the pair (rad_vis_pair_visible, which falls back to
+ *    rays) scales the open point values, and the link counts as partly hidden
+ *    (its variation is the hidden part, so that the oracle refines it).
+ * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
+ * each job into its own slot: the result does not depend on the thread count. */
+#include "hier_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { LINK_MAX_BLOCKERS = 256 };
+
+int hier_pair_can_block(const rad_hier *h, int r, int s)
+{
+    if (!h->use_vis)
+        return 0;
+    if (h->can_block)
+        return h->can_block[(size_t)r * h->nroots + (size_t)s];
+    return rad_vis_pair_can_block(h->vis, (size_t)r, (size_t)s);
+}
+
+/* Work counters of estimates made on one thread. */
+typedef struct work_count {
+    long long evals;
+    unsigned long long rays;
+} work_count;
+
+/* The point-to-element form factor from x (normal n) to t (normal nt) by
+ * the kernel at t's degree-2 nodes: far pairs only. */
+static double kernel_sampled(rad_vec3 x, rad_vec3 n, const hier_elem *t, rad_vec3 nt)
+{
+    static const double w[3][3] = {{4.0 / 6, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 4.0 / 6, 1.0 / 6},
+                                   {1.0 / 6, 1.0 / 6, 4.0 / 6}};
+    double f = 0.0;
+    for (int j = 0; j < 3; j++) {
+        rad_vec3 y = rad_vec3_add(rad_vec3_add(rad_vec3_scale(t->p[0], w[j][0]),
+                                               rad_vec3_scale(t->p[1], w[j][1])),
+                                  rad_vec3_scale(t->p[2], w[j][2]));
+        f += rad_ff_kernel(x, n, y, nt, NULL);
+    }
+    return t->area * f / 3.0;
+}
+
+/* The point values of side e towards t (F[k], and the unoccluded Fo[k]);
+ * 0 when the visible part was too complex somewhere. */
+static int side_values(const rad_hier *h, const hier_elem *e, const hier_elem *t, int far,
+                       const int *blk, int nb, double *F, double *Fo, work_count *wc)
+{
+    rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
+    for (int k = 0; k < h->nodes; k++) {
+        rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
+        if (far) {
+            F[k] = Fo[k] = kernel_sampled(x, ne, t, nt);
+            wc->evals += 3;
+        } else if (nb == 0) {
+            F[k] = Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
+            wc->evals++;
+        } else {
+            long ev = 0;
+            int ok = rad_vis_point_visible(h->vis, x, ne, t->p, blk, nb, &F[k], &Fo[k], &ev);
+            wc->evals += ev;
+            if (!ok)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* The weighted least-squares linear fit m + g (x - c) of the point values
+ * F[k] over element e (the rule's nodes are symmetric about the centroid, so
+ * the constant is their weighted mean m): *g, and the largest residual. */
+static double linear_fit(const rad_hier *h, const hier_elem *e, const double *F, double m,
+                         rad_vec3 *g)
+{
+    rad_vec3 u = rad_vec3_sub(e->p[1], e->p[0]);
+    u = rad_vec3_scale(u, 1.0 / rad_vec3_norm(u));
+    rad_vec3 v = rad_vec3_cross(h->normal[e->face], u);
+    double saa = 0.0, sab = 0.0, sbb = 0.0, saf = 0.0, sbf = 0.0;
+    double a[RAD_HIER_MAX_NODES], b[RAD_HIER_MAX_NODES];
+    for (int k = 0; k < h->nodes; k++) {
+        rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
+        rad_vec3 d = rad_vec3_sub(x, e->c);
+        a[k] = rad_vec3_dot(d, u);
+        b[k] = rad_vec3_dot(d, v);
+        double w = h->rw[k], f = F[k] - m;
+        saa += w * a[k] * a[k];
+        sab += w * a[k] * b[k];
+        sbb += w * b[k] * b[k];
+        saf += w * a[k] * f;
+        sbf += w * b[k] * f;
+    }
+    double det = saa * sbb - sab * sab, al = 0.0, be = 0.0;
+    if (det > 1e-12 * (saa * sbb) && h->nodes >= 3) {
+        al = (saf * sbb - sbf * sab) / det;
+        be = (sbf * saa - saf * sab) / det;
+    }
+    *g = rad_vec3_add(rad_vec3_scale(u, al), rad_vec3_scale(v, be));
+    double res = 0.0;
+    for (int k = 0; k < h->nodes; k++)
+        res = rad_dmax(res, fabs(F[k] - m - al * a[k] - be * b[k]));
+    return res;
+}
+
+/* Estimate the link between elements a and b (both directions); *facing = 0
+ * when there is nothing to link.  Reads h only (re-entrant); its work goes to
+ * *wc. */
+static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_link *out,
+                           work_count *wc)
+{
+    const hier_elem *ea = &h->el[ia], *eb = &h->el[ib];
+    if (!rad_ff_facing(ea->p, eb->p, &h->p.ff)) {
+        *facing = 0;
+        return RAD_OK;
+    }
+    *facing = 1;
+    int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0;
+    int blocked = hier_pair_can_block(h, ea->face, eb->face);
+    if (blocked) {
+        nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
+        too_many = nb > LINK_MAX_BLOCKERS;
+        if (too_many)
+            nb = 0;
+    }
+    int far = 0;
+    if (!blocked && h->p.far_ratio > 0.0)
+        far = rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) >
+              h->p.far_ratio * rad_dmax(ea->size, eb->size);
+    double Fa[RAD_HIER_MAX_NODES], Fao[RAD_HIER_MAX_NODES];
+    double Fb[RAD_HIER_MAX_NODES], Fbo[RAD_HIER_MAX_NODES];
+    if (!side_values(h, ea, eb, far, blk, nb, Fa, Fao, wc) ||
+        !side_values(h, eb, ea, far, blk, nb, Fb, Fbo, wc)) {
+        too_many = 1; /* the open values are there; visibility from the pair integral */
+        nb = 0;
+        side_values(h, ea, eb, far, blk, 0, Fa, Fao, wc);
+        side_values(h, eb, ea, far, blk, 0, Fb, Fbo, wc);
+    }
+    double ma = 0.0, mb = 0.0, mao = 0.0, mbo = 0.0;
+    for (int k = 0; k < h->nodes; k++) {
+        ma += h->rw[k] * Fa[k];
+        mb += h->rw[k] * Fb[k];
+        mao += h->rw[k] * Fao[k];
+        mbo += h->rw[k] * Fbo[k];
+    }
+    double Ga = ea->area * ma, Gb = eb->area * mb, Go = 0.5 * (ea->area * mao + eb->area * mbo);
+    rad_vec3 ga, gb;
+    double ra = linear_fit(h, ea, Fa, ma, &ga), rb = linear_fit(h, eb, Fb, mb, &gb);
+    double va = 0.0, vb = 0.0;
+    for (int k = 0; k < h->nodes; k++) {
+        va = rad_dmax(va, fabs(Fa[k] - ma));
+        vb = rad_dmax(vb, fabs(Fb[k] - mb));
+    }
+    va *= ea->area / eb->area; /* as sources: a's in b's units, b's in a's */
+    vb *= eb->area / ea->area;
+    /* dG: the two sides' disagreement, and no less than what the better side's
+       residual says of its rule (linear functions it integrates exactly; a
+       shadow or a peak that both sides miss alike shows in the residuals) */
+    double G = 0.5 * (Ga + Gb);
+    double dG = rad_dmax(0.5 * fabs(Ga - Gb), 0.25 * rad_dmin(ra * ea->area, rb * eb->area));
+    unsigned char vis = 0;
+    if (blocked) {
+        int all_open = 1, all_hidden = 1;
+        for (int k = 0; k < h->nodes; k++) {
+            all_open &= Fa[k] == Fao[k] && Fb[k] == Fbo[k];
+            all_hidden &= Fa[k] == 0.0 && Fb[k] == 0.0;
+        }
+        vis = all_open ? 1 : all_hidden ? 3 : 2;
+    }
+    if (too_many) {
+        /* the pair's visible integral scales the open values; the hidden part
+           counts as residual, so the link is refined where it matters */
+        rad_vis_visible_result vr;
+        rad_status st = rad_vis_pair_visible(h->vis, ea->p, ea->face, eb->p, eb->face, Go, NULL,
+                                             &vr);
+        if (st != RAD_OK)
+            return st;
+        wc->evals += vr.evals;
+        wc->rays += (unsigned long long)vr.rays;
+        G = vr.G;
+        dG += vr.error;
+        ra = rad_dmax(ra, (Go - G) / ea->area);
+        rb = rad_dmax(rb, (Go - G) / eb->area);
+        vis = G >= Go ? 1 : G > 0.0 ? 2 : 3;
+    }
+    /* Elements that touch have a kernel singular where they meet, and no
+     * point rule's error shrinks as they do.  Their unoccluded G comes from
+     * Sauter-Schwab where they share a vertex or an edge (ss:5, about 1e-4;
+     * ss:4 beside it gives the error), from the contour-integral reference
+     * where one touches the other without a shared vertex (a box standing on
+     * a floor), or from an explicit rule; the point values then give the
+     * visible fraction only. */
+    int map[3], adjacent = 0, contact = 0;
+    if (!h->p.use_rule && !far) {
+        adjacent = rad_ff_adjacency_detect(ea->p, eb->p, 1e-9, map) != RAD_FF_DISJOINT;
+        contact = !adjacent && rad_ff_triangle_distance(ea->p, eb->p) <=
+                                   1e-9 * rad_dmax(ea->size, eb->size);
+    }
+    if (h->p.use_rule || adjacent || contact) {
+        rad_ff_rule rule = h->p.rule;
+        if (adjacent) {
+            rule.scheme = RAD_FF_SS;
+            rule.order = 5;
+        } else if (contact) {
+            rule.scheme = RAD_FF_EXACT;
+            rule.order = 0;
+        }
+        rad_ff_result res, low;
+        rad_status st = rad_ff_compute(ea->p, eb->p, rule, &h->p.ff, &res);
+        if (st == RAD_OK && adjacent) {
+            rule.order = 4;
+            st = rad_ff_compute(ea->p, eb->p, rule, &h->p.ff, &low);
+            wc->evals += low.evals;
+        }
+        if (st != RAD_OK)
+            return st;
+        wc->evals += res.evals;
+        double V = vis == 0 ? 1.0 : Go > 0.0 ? G / Go : 0.0;
+        G = res.G * V;
+        dG = adjacent ? fabs(res.G - low.G) * V
+                      : isfinite(res.rel_error) ? res.rel_error * G : 0.0;
+    }
+    if (!isfinite(G) || !(G >= 0.0) || !isfinite(dG) || !isfinite(ra) || !isfinite(rb))
+        return RAD_ERROR(RAD_ENUMERIC, "hier: form factor of elements %d, %d is not finite", ia,
+                         ib);
+    /* each side's linear function G / A + g (x - c) must not go negative on it */
+    const hier_elem *side[2] = {ea, eb};
+    rad_vec3 *grad[2] = {&ga, &gb};
+    for (int t = 0; t < 2; t++) {
+        double F = G / side[t]->area, low = 0.0;
+        for (int v = 0; v < 3; v++)
+            low = rad_dmin(low, rad_vec3_dot(*grad[t], rad_vec3_sub(side[t]->p[v], side[t]->c)));
+        if (F + low < 0.0)
+            *grad[t] = rad_vec3_scale(*grad[t], low < 0.0 ? F / -low : 0.0);
+    }
+    out->a = ia;
+    out->b = ib;
+    out->G = G;
+    out->ga = ga;
+    out->gb = gb;
+    out->dG = dG;
+    out->ra = ra;
+    out->rb = rb;
+    out->va = va;
+    out->vb = vb;
+    out->vis = vis;
+    /* A pair that faces but whose point values are all 0 straddles a plane;
+     * what it carries is unknown, so it is refined while it can be. */
+    out->unknown = !(G > 0.0) && vis != 3;
+    return RAD_OK;
+}
+
+rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
+{
+    if (n == 0)
+        return RAD_OK;
+    rad_status st = hier_reserve_links(h, n);
+    unsigned char *ok = st == RAD_OK ? malloc(n) : NULL;
+    if (!ok)
+        return st != RAD_OK ? st
+                            : RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link estimates", n);
+    long long evals = 0, failed = -1;
+    unsigned long long rays = 0;
+    const rad_hier *hc = h;
+    hier_link *out = h->ln + h->nln;
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n > 32)
+    for (long long k = 0; k < (long long)n; k++) {
+        work_count wc = {0, 0};
+        int facing = 0;
+        rad_status est = estimate(hc, jobs[k].a, jobs[k].b, &facing, &out[k], &wc);
+        evals += wc.evals;
+        rays += wc.rays;
+        ok[k] = est == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
+    }
+    h->st.kernel_evals += evals;
+    h->st.rays += rays;
+    size_t w = h->nln;
+    for (size_t k = 0; k < n; k++) {
+        if (ok[k] == 2) {
+            failed = (long long)k;
+            break;
+        }
+        if (ok[k] == 1)
+            h->ln[w++] = out[k]; /* w <= nln + k: never overwrites an unread slot */
+    }
+    free(ok);
+    if (failed >= 0) {
+        /* estimated again on this thread, so that its (thread-local) message is the caller's */
+        work_count wc = {0, 0};
+        int facing = 0;
+        hier_link l;
+        st = estimate(h, jobs[failed].a, jobs[failed].b, &facing, &l, &wc);
+        if (st == RAD_OK)
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: link %d, %d failed on a worker thread",
+                           jobs[failed].a, jobs[failed].b);
+        return st;
+    }
+    h->nln = w;
+    return RAD_OK;
+}

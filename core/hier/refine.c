@@ -1,0 +1,186 @@
+/* rad_hier: the refinement oracles.
+ *
+ * A link's contributions to the error bounds of the leaves under each of its
+ * elements are its terms of solve.c's bound (the error of F, the source's
+ * variation, and, for an inner element, the linear fit's residual).
+ *
+ * ERROR (default).  A link is refined when a contribution exceeds
+ * link_share x eps R x the scale of the receiving input triangle; the scale
+ * starts at 1, and when a pass refines nothing, rad_hier_solve computes the
+ * bound and quarters the scale of every input triangle whose bound still
+ * exceeds eps R (at most HIER_MAX_TIGHTEN times): refinement goes where the
+ * error is largest, and stops where the minimum area or depth binds.
+ * BF (HSA 1991).  A link is refined when the radiosity it brings either way,
+ * rho F B, exceeds eps R.
+ *
+ * Either way a link whose point values are all 0 although its elements face
+ * each other is refined while it can be.  A refined link is replaced by four,
+ * between one element's children and the other (ERROR: the element whose
+ * split reduces the contributions more; BF: the larger; the other one when
+ * the first may not be split).  The new links are
+ * estimated in parallel and examined in the same pass, generation by
+ * generation: the same links in the same order as HSA 1991's recursive
+ * Refine.  A link the oracle would refine but whose elements can both no
+ * longer be split is counted (links_bound). */
+#include "hier_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "rad_sys.h"
+
+
+/* A link's contributions to the error bounds of the input triangles under
+ * a (*ca) and under b (*cb) (ERROR: solve.c's terms that do not average out
+ * over a triangle: the error of G and the source's variation), or the
+ * radiosity it brings each (BF); and how much splitting a, or b, would
+ * reduce the bounds (*sa, *sb: the residual of its linear push, its
+ * variation as a source). */
+static void contributions(const rad_hier *h, const hier_link *l, double *ca, double *cb,
+                          double *sa, double *sb)
+{
+    const hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    size_t n = h->nroots;
+    *ca = *cb = *sa = *sb = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double ra = h->rho[(size_t)a->face + c * n], rb = h->rho[(size_t)b->face + c * n];
+        if (h->p.oracle == RAD_HIER_ORACLE_BF) {
+            *ca = rad_dmax(*ca, ra * l->G / a->area * b->B[c]);
+            *cb = rad_dmax(*cb, rb * l->G / b->area * a->B[c]);
+            continue;
+        }
+        double wb = hier_weight(h, a, b, c), wa = hier_weight(h, b, a, c);
+        double qa = ra * l->dG / a->area * wb, qb = rb * l->dG / b->area * wa;
+        double srcb = ra * l->vb * b->var[c], srca = rb * l->va * a->var[c];
+        double resa = ra * l->ra * wb, resb = rb * l->rb * wa;
+        *ca = rad_dmax(*ca, qa + srcb);
+        *cb = rad_dmax(*cb, qb + srca);
+        /* splitting a brings the a <- b link below a and shrinks a as a source */
+        *sa = rad_dmax(*sa, resa + srca);
+        *sb = rad_dmax(*sb, resb + srcb);
+    }
+}
+
+/* ERROR oracle: tighten the thresholds of the input triangles whose error
+ * bound (the area-weighted mean of their leaves', solve.c) exceeds eps R, by
+ * 4 each time, at most HIER_MAX_TIGHTEN times.  Returns how many were
+ * tightened (0: none fails, or none may be tightened further). */
+#define HIER_MAX_TIGHTEN 3
+int hier_tighten_failing(rad_hier *h)
+{
+    size_t n = h->nroots;
+    double *area = calloc(4 * n, sizeof *area);
+    if (!area)
+        return 0;
+    double *bound = area + n, target = h->p.eps * hier_reflected_scale(h);
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        area[x->face] += x->area;
+        for (int c = 0; c < 3; c++)
+            bound[3 * (size_t)x->face + (size_t)c] += x->area * hier_face_part(h, x, c);
+    }
+    int tightened = 0;
+    for (size_t f = 0; f < n; f++) {
+        double b = 0.0;
+        for (int c = 0; c < 3; c++)
+            b = rad_dmax(b, area[f] > 0.0 ? bound[3 * f + (size_t)c] / area[f] : 0.0);
+        if (b > target && h->face_scale[f] > 1.0 / (1 << (2 * HIER_MAX_TIGHTEN)) * 1.0001) {
+            h->face_scale[f] *= 0.25;
+            tightened++;
+        }
+    }
+    free(area);
+    return tightened;
+}
+
+rad_status rad_hier_refine(rad_hier *h, long long *refined)
+{
+    double t0 = rad_sys_seconds();
+    if (refined)
+        *refined = 0;
+    if (!h)
+        return RAD_ERROR(RAD_EINVAL, "hier: no handle");
+    rad_status st = RAD_OK;
+    long long count = 0;
+    hier_job *jobs = NULL;
+    size_t capj = 0;
+    double target = h->p.eps * hier_reflected_scale(h);
+    int error_oracle = h->p.oracle == RAD_HIER_ORACLE_ERROR;
+    h->st.links_bound = 0;
+    size_t begin = 0, end = h->E_max > 0.0 ? h->nln : 0;
+    while (begin < end) {
+        size_t nj = 0;
+        for (size_t k = begin; k < end; k++) {
+            hier_link l = h->ln[k];
+            if (l.a < 0)
+                continue;
+            const hier_elem *ea = &h->el[l.a], *eb = &h->el[l.b];
+            double ca, cb, sa, sb;
+            contributions(h, &l, &ca, &cb, &sa, &sb);
+            double la = target, lb = target;
+            if (error_oracle) {
+                la *= h->p.link_share * h->face_scale[ea->face];
+                lb *= h->p.link_share * h->face_scale[eb->face];
+            }
+            if (!(ca > la) && !(cb > lb) && !l.unknown)
+                continue;
+            int first_choice;
+            if (h->p.oracle == RAD_HIER_ORACLE_ERROR && !l.unknown && sa != sb)
+                first_choice = sa > sb ? l.a : l.b;
+            else
+                first_choice = ea->area >= eb->area ? l.a : l.b;
+            int second = first_choice == l.a ? l.b : l.a;
+            int target_elem = hier_can_split(h, first_choice) ? first_choice
+                              : hier_can_split(h, second)     ? second
+                                                              : -1;
+            if (target_elem < 0) {
+                h->st.links_bound += !l.unknown;
+                continue;
+            }
+            if ((st = hier_split(h, target_elem)) != RAD_OK)
+                goto done;
+            if (nj + 4 > capj) {
+                size_t cap = capj ? 2 * capj : 1024;
+                hier_job *grown = realloc(jobs, cap * sizeof *jobs);
+                if (!grown) {
+                    st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu new links", cap);
+                    goto done;
+                }
+                jobs = grown;
+                capj = cap;
+            }
+            h->ln[k].a = -1; /* the link is replaced */
+            int first = h->el[target_elem].first_child, other = target_elem == l.a ? l.b : l.a;
+            for (int c4 = 0; c4 < 4; c4++)
+                jobs[nj++] = (hier_job){first + c4, other};
+            count++;
+        }
+        if ((st = hier_estimate_batch(h, jobs, nj)) != RAD_OK)
+            goto done;
+        begin = end;
+        end = h->nln;
+    }
+done:
+    free(jobs);
+    /* drop the replaced links (keeps order, so results do not depend on capacity) */
+    {
+        size_t w = 0;
+        for (size_t k = 0; k < h->nln; k++)
+            if (h->ln[k].a >= 0)
+                h->ln[w++] = h->ln[k];
+        h->nln = w;
+    }
+    if (count > 0)
+        hier_row_caps(h);
+    h->st.refinements += count;
+    h->st.time_refine_s += rad_sys_seconds() - t0;
+    if (count > 0) {
+        h->st.rounds++;
+        h->stepped = 0; /* the system changed: the last test no longer holds */
+    }
+    if (refined)
+        *refined = count;
+    return st;
+}

@@ -1,0 +1,528 @@
+/* rad_hier: the solve (gather / push-pull) and the error bound.
+ *
+ * 1. Step (Jacobi): gather at every element the irradiance its links bring,
+ *    as a linear function over it (value F_ab B_b at its centroid, gradient
+ *    g_a B_b; all levels, old B); push-pull from each root: the linear
+ *    functions are summed down the tree, a leaf takes
+ *    B = E + rho cap (value at its centroid), which is the linear function's
+ *    mean over the leaf, and an inner element the area-weighted mean of its
+ *    children's B.  cap scales a leaf whose row sum (the same push with
+ *    B = 1) exceeds (1 + 1 / rho_max) / 2 back to that: no point sees more
+ *    than its hemisphere, and the step then contracts by less than
+ *    (1 + rho_max) / 2 < 1 whatever the approximations.  In a sealed scene
+ *    every row is scaled to 1, its exact value: the hierarchy's approximation
+ *    then only redistributes light, it cannot create or lose any, which
+ *    reflectance near 1 would amplify.  The test compares the largest change
+ *    of a leaf B in the step with tol times the largest leaf B.  Jacobi
+ *    converges because the hierarchical operator keeps the norm of rho F
+ *    below max rho < 1 (push-pull conserves power; F rows sum to about 1).
+ * 2. The error bound (rad_hier.h): in each direction a <- b a link adds
+ *    rho_a (dG / A_a) B_b to a's q (the error of F); (rho_a v_b var_b)^2 to
+ *    its d, v_b the kernel's largest deviation over b (in a's units) and
+ *    var_b how far B strays from b's mean (a leaf's from its gathered
+ *    gradient, an inner element's from the leaves below), which bounds the
+ *    error of transporting b's mean B; and rho_a r_a B_b to its dr (the
+ *    residual of the linear push over a).  Pushed down, a leaf's q and d sum
+ *    the links at it and at its ancestors, its dr those at its ancestors only
+ *    (its own average is exact).  T = q + rho K T is solved by the same
+ *    gather / push-pull (to bound_tol), and a leaf's bound per channel is
+ *    T + (sqrt(d) + dr) / (1 - rho_max / 2): the sources' variations add as
+ *    independent errors, the residuals (which near a shared edge have one
+ *    sign for all its links) in full.  Over an input triangle the residuals average out
+ *    (each fit's residual has zero mean over its receiver), so its bound is
+ *    the area-weighted mean of T + sqrt(d) / (1 - rho_max / 2).
+ * 3. Solve: steps until the test passes; rad_hier_solve alternates solves and
+ *    refinement rounds (refine.c), then solves to tol and computes the bound. */
+#include "hier_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_sys.h"
+
+/* Push the ancestors' gathered irradiance (the linear function down0 +
+ * downg . (x - c_e), re-centred at e) to the leaves under e and pull the
+ * area-weighted mean back up; accumulates the largest leaf change.  A leaf
+ * takes the linear function's value at its centroid, which is its average
+ * over the leaf. */
+static void push_pull(rad_hier *h, int e, const double down0[3], const rad_vec3 downg[3],
+                      double *change, double *bmax)
+{
+    hier_elem *x = &h->el[e];
+    double tot0[3];
+    rad_vec3 totg[3];
+    for (int c = 0; c < 3; c++) {
+        tot0[c] = down0[c] + x->Bg[c];
+        totg[c] = rad_vec3_add(downg[c], x->Gg[c]);
+    }
+    if (x->first_child < 0) {
+        const double *rho = h->rho, *E = h->E;
+        size_t n = h->nroots, f = (size_t)x->face;
+        for (int c = 0; c < 3; c++) {
+            double r = rho[f + c * n];
+            double b = E[f + c * n] + r * x->cap * tot0[c];
+            /* a non-finite b makes the change infinite, which the caller reports */
+            *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
+            *bmax = rad_dmax(*bmax, fabs(b));
+            x->B[c] = b;
+            x->gB[c] = rad_vec3_scale(totg[c], r);
+            double v = 0.0;
+            for (int i = 0; i < 3; i++)
+                v = rad_dmax(v, fabs(rad_vec3_dot(x->gB[c], rad_vec3_sub(x->p[i], x->c))));
+            x->var[c] = v;
+        }
+        return;
+    }
+    double sum[3] = {0, 0, 0}, area = 0.0;
+    for (int k = 0; k < 4; k++) {
+        int ch = h->el[e].first_child + k;
+        double d0[3];
+        rad_vec3 delta = rad_vec3_sub(h->el[ch].c, h->el[e].c);
+        for (int c = 0; c < 3; c++)
+            d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
+        push_pull(h, ch, d0, totg, change, bmax);
+        const hier_elem *y = &h->el[ch];
+        area += y->area;
+        for (int c = 0; c < 3; c++)
+            sum[c] += y->area * y->B[c];
+    }
+    x = &h->el[e];
+    for (int c = 0; c < 3; c++)
+        x->B[c] = area > 0.0 ? sum[c] / area : 0.0;
+}
+
+/* Push the gathered form factors (value and gradient) down to the leaves. */
+static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg)
+{
+    hier_elem *x = &h->el[e];
+    double tot0 = down0 + x->Bg[0];
+    rad_vec3 totg = rad_vec3_add(downg, x->Gg[0]);
+    if (x->first_child < 0) {
+        /* sealed: exactly 1; else at most halfway between 1 and 1 / rho_max,
+           which keeps the step a contraction and leaves ordinary rows alone */
+        double top = h->p.sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(h->rho_max, 0.5));
+        x->cap = tot0 > top || (h->p.sealed && tot0 > 0.0) ? top / tot0 : 1.0;
+        return;
+    }
+    for (int k = 0; k < 4; k++) {
+        int ch = h->el[e].first_child + k;
+        push_rows(h, ch, tot0 + rad_vec3_dot(totg, rad_vec3_sub(h->el[ch].c, h->el[e].c)), totg);
+    }
+}
+
+void hier_row_caps(rad_hier *h)
+{
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+    for (size_t e = 0; e < h->nel; e++) {
+        h->el[e].Bg[0] = 0.0;
+        h->el[e].Gg[0] = zero_v;
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        a->Bg[0] += l->G / a->area;
+        a->Gg[0] = rad_vec3_add(a->Gg[0], l->ga);
+        b->Bg[0] += l->G / b->area;
+        b->Gg[0] = rad_vec3_add(b->Gg[0], l->gb);
+    }
+    for (size_t t = 0; t < h->nroots; t++)
+        push_rows(h, (int)t, 0.0, zero_v);
+}
+
+rad_status rad_hier_step(rad_hier *h)
+{
+    if (!h)
+        return RAD_ERROR(RAD_EINVAL, "hier: no handle");
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+    for (size_t e = 0; e < h->nel; e++)
+        for (int c = 0; c < 3; c++) {
+            h->el[e].Bg[c] = 0.0;
+            h->el[e].Gg[c] = zero_v;
+        }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        double Fab = l->G / a->area, Fba = l->G / b->area;
+        for (int c = 0; c < 3; c++) {
+            a->Bg[c] += Fab * b->B[c];
+            a->Gg[c] = rad_vec3_add(a->Gg[c], rad_vec3_scale(l->ga, b->B[c]));
+            b->Bg[c] += Fba * a->B[c];
+            b->Gg[c] = rad_vec3_add(b->Gg[c], rad_vec3_scale(l->gb, a->B[c]));
+        }
+    }
+    double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
+    rad_vec3 zerog[3] = {zero_v, zero_v, zero_v};
+    for (size_t t = 0; t < h->nroots; t++)
+        push_pull(h, (int)t, zero, zerog, &change, &bmax);
+    if (!isfinite(change) || !isfinite(bmax))
+        return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
+                         h->st.iterations + 1);
+    h->last_change = bmax > 0.0 ? change / bmax : change;
+    h->st.residual = h->last_change;
+    h->st.iterations++;
+    h->stepped = 1;
+    return RAD_OK;
+}
+
+rad_status rad_hier_test(const rad_hier *h)
+{
+    if (!h || !h->stepped)
+        return RAD_CONTINUE;
+    return h->last_change <= h->p.tol ? RAD_OK : RAD_CONTINUE;
+}
+
+rad_status hier_solve_links(rad_hier *h, double tol)
+{
+    double t0 = rad_sys_seconds();
+    for (int it = 0; it < h->p.max_iterations; it++) {
+        rad_status st = rad_hier_step(h);
+        if (st != RAD_OK)
+            return st;
+        if (h->last_change <= tol) {
+            h->st.time_solve_s += rad_sys_seconds() - t0;
+            return RAD_OK;
+        }
+    }
+    return RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
+                                   "(change %.3g > tol %.3g)", h->p.max_iterations,
+                     h->last_change, tol);
+}
+
+double hier_reflected_scale(const rad_hier *h)
+{
+    double sum = 0.0, area = 0.0;
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        for (int c = 0; c < 3; c++)
+            sum += x->area * (x->B[c] - h->E[(size_t)x->face + c * h->nroots]);
+        area += x->area;
+    }
+    double mean = area > 0.0 ? sum / (3.0 * area) : 0.0;
+    return mean > 0.0 ? mean : h->E_max;
+}
+
+static double sq(double x) { return x * x; }
+
+double hier_weight(const rad_hier *h, const hier_elem *r, const hier_elem *s, int c)
+{
+    if (!h->p.sealed)
+        return s->B[c];
+    size_t n = h->nroots, f = (size_t)r->face;
+    double rho = h->rho[f + c * n];
+    if (!(rho > 0.0))
+        return s->B[c];
+    return fabs(s->B[c] - (r->B[c] - h->E[f + c * n]) / rho);
+}
+
+/* T is the transported q, or q itself in a sealed scene, where it is
+ * damped like the zero-mean terms. */
+double hier_leaf_bound(const rad_hier *h, const hier_elem *x, int c)
+{
+    double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
+    return (h->p.sealed ? damp : 1.0) * x->T[c] + (sqrt(x->d[c]) + x->dr[c]) * damp;
+}
+
+double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
+{
+    double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
+    return (h->p.sealed ? damp : 1.0) * x->T[c] + sqrt(x->d[c]) * damp;
+}
+
+/* Push the local errors down: a leaf's q and d become the sums over the
+ * links at it and at its ancestors, its dr the sum over its ancestors only. */
+static void push_local(rad_hier *h, int e, const double dq[3], const double dd[3],
+                       const double ddr[3])
+{
+    hier_elem *x = &h->el[e];
+    double q[3], d[3], dr[3];
+    for (int c = 0; c < 3; c++) {
+        q[c] = dq[c] + x->q[c];
+        d[c] = dd[c] + x->d[c];
+        dr[c] = ddr[c] + x->dr[c];
+    }
+    if (x->first_child < 0) {
+        memcpy(x->q, q, sizeof q);
+        memcpy(x->d, d, sizeof d);
+        memcpy(x->dr, ddr, sizeof x->dr);
+        return;
+    }
+    for (int k = 0; k < 4; k++)
+        push_local(h, h->el[e].first_child + k, q, d, dr);
+}
+
+/* An inner element's var: the farthest deviation from its B of a leaf
+ * below, that leaf's own var included (lo, hi: the subtree's extremes). */
+static void spread(rad_hier *h, int e, double lo[3], double hi[3])
+{
+    hier_elem *x = &h->el[e];
+    if (x->first_child < 0) {
+        for (int c = 0; c < 3; c++) {
+            lo[c] = x->B[c] - x->var[c];
+            hi[c] = x->B[c] + x->var[c];
+        }
+        return;
+    }
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (int k = 0; k < 4; k++) {
+        double l2[3], h2[3];
+        spread(h, h->el[e].first_child + k, l2, h2);
+        for (int c = 0; c < 3; c++) {
+            lo[c] = rad_dmin(lo[c], l2[c]);
+            hi[c] = rad_dmax(hi[c], h2[c]);
+        }
+    }
+    x = &h->el[e];
+    for (int c = 0; c < 3; c++)
+        x->var[c] = rad_dmax(hi[c] - x->B[c], x->B[c] - lo[c]);
+}
+
+/* An inner element's gB: the least-squares linear fit of its children's B
+ * at their centroids (the constant is its own B, their area-weighted mean),
+ * plus their mean gradient. */
+static void pull_gradient(rad_hier *h, int e)
+{
+    hier_elem *x = &h->el[e];
+    if (x->first_child < 0)
+        return;
+    for (int k = 0; k < 4; k++)
+        pull_gradient(h, h->el[e].first_child + k);
+    x = &h->el[e];
+    rad_vec3 u = rad_vec3_sub(x->p[1], x->p[0]);
+    u = rad_vec3_scale(u, 1.0 / rad_vec3_norm(u));
+    rad_vec3 v = rad_vec3_cross(h->normal[x->face], u);
+    double saa = 0.0, sab = 0.0, sbb = 0.0, saf[3] = {0, 0, 0}, sbf[3] = {0, 0, 0};
+    rad_vec3 mean[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int k = 0; k < 4; k++) {
+        const hier_elem *y = &h->el[x->first_child + k];
+        rad_vec3 d = rad_vec3_sub(y->c, x->c);
+        double a = rad_vec3_dot(d, u), b = rad_vec3_dot(d, v), w = y->area;
+        saa += w * a * a;
+        sab += w * a * b;
+        sbb += w * b * b;
+        for (int c = 0; c < 3; c++) {
+            saf[c] += w * a * (y->B[c] - x->B[c]);
+            sbf[c] += w * b * (y->B[c] - x->B[c]);
+            mean[c] = rad_vec3_add(mean[c], rad_vec3_scale(y->gB[c], w / x->area));
+        }
+    }
+    double det = saa * sbb - sab * sab;
+    for (int c = 0; c < 3; c++) {
+        double al = 0.0, be = 0.0;
+        if (det > 0.0) {
+            al = (saf[c] * sbb - sbf[c] * sab) / det;
+            be = (sbf[c] * saa - saf[c] * sab) / det;
+        }
+        x->gB[c] = rad_vec3_add(mean[c], rad_vec3_add(rad_vec3_scale(u, al), rad_vec3_scale(v, be)));
+    }
+}
+
+/* One step of T = q + rho K T (push-pull as for B, the same operator). */
+static void push_pull_T(rad_hier *h, int e, const double down0[3], const rad_vec3 downg[3],
+                        double *change, double *tmax)
+{
+    hier_elem *x = &h->el[e];
+    double tot0[3];
+    rad_vec3 totg[3];
+    for (int c = 0; c < 3; c++) {
+        tot0[c] = down0[c] + x->Tg[c];
+        totg[c] = rad_vec3_add(downg[c], x->TGg[c]);
+    }
+    if (x->first_child < 0) {
+        size_t n = h->nroots, f = (size_t)x->face;
+        for (int c = 0; c < 3; c++) {
+            double t = x->q[c] + h->rho[f + c * n] * x->cap * tot0[c];
+            *change = rad_dmax(*change, fabs(t - x->T[c]));
+            *tmax = rad_dmax(*tmax, fabs(t));
+            x->T[c] = t;
+        }
+        return;
+    }
+    double sum[3] = {0, 0, 0}, area = 0.0;
+    for (int k = 0; k < 4; k++) {
+        int ch = h->el[e].first_child + k;
+        double d0[3];
+        rad_vec3 delta = rad_vec3_sub(h->el[ch].c, h->el[e].c);
+        for (int c = 0; c < 3; c++)
+            d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
+        push_pull_T(h, ch, d0, totg, change, tmax);
+        const hier_elem *y = &h->el[ch];
+        area += y->area;
+        for (int c = 0; c < 3; c++)
+            sum[c] += y->area * y->T[c];
+    }
+    x = &h->el[e];
+    for (int c = 0; c < 3; c++)
+        x->T[c] = area > 0.0 ? sum[c] / area : 0.0;
+}
+
+rad_status hier_error_estimate(rad_hier *h)
+{
+    double t0 = rad_sys_seconds();
+    size_t n = h->nroots;
+    for (size_t t = 0; t < n; t++) {
+        double lo[3], hi[3];
+        pull_gradient(h, (int)t);
+        spread(h, (int)t, lo, hi);
+    }
+    for (size_t e = 0; e < h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        for (int c = 0; c < 3; c++)
+            x->q[c] = x->d[c] = x->dr[c] = x->T[c] = 0.0;
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        for (int c = 0; c < 3; c++) {
+            double ra = h->rho[(size_t)a->face + c * n], rb = h->rho[(size_t)b->face + c * n];
+            /* a <- b */
+            double wb = hier_weight(h, a, b, c), wa = hier_weight(h, b, a, c);
+            a->q[c] += ra * l->dG / a->area * wb;
+            a->d[c] += sq(ra * l->vb * b->var[c]);
+            a->dr[c] += ra * l->ra * wb;
+            /* b <- a */
+            b->q[c] += rb * l->dG / b->area * wa;
+            b->d[c] += sq(rb * l->va * a->var[c]);
+            b->dr[c] += rb * l->rb * wa;
+        }
+    }
+    double zero[3] = {0, 0, 0};
+    for (size_t t = 0; t < n; t++)
+        push_local(h, (int)t, zero, zero, zero);
+    /* T = q + rho K T: start from T = q on the leaves */
+    for (size_t e = 0; e < h->nel; e++)
+        if (h->el[e].first_child < 0)
+            memcpy(h->el[e].T, h->el[e].q, sizeof h->el[e].T);
+    rad_status st = RAD_OK;
+    int it;
+    /* In a sealed scene the rows are normalized: an error of F only moves
+       light between receivers, and q is not carried through the bounces
+       (hier_leaf_bound divides it like the other zero-mean terms). */
+    for (it = h->p.sealed ? h->p.max_iterations + 1 : 0; it < h->p.max_iterations; it++) {
+        rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0), zerog[3] = {zv, zv, zv};
+        for (size_t e = 0; e < h->nel; e++)
+            for (int c = 0; c < 3; c++) {
+                h->el[e].Tg[c] = 0.0;
+                h->el[e].TGg[c] = zv;
+            }
+        for (size_t k = 0; k < h->nln; k++) {
+            const hier_link *l = &h->ln[k];
+            if (l->a < 0)
+                continue;
+            hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+            for (int c = 0; c < 3; c++) {
+                a->Tg[c] += l->G / a->area * b->T[c];
+                a->TGg[c] = rad_vec3_add(a->TGg[c], rad_vec3_scale(l->ga, b->T[c]));
+                b->Tg[c] += l->G / b->area * a->T[c];
+                b->TGg[c] = rad_vec3_add(b->TGg[c], rad_vec3_scale(l->gb, a->T[c]));
+            }
+        }
+        double change = 0.0, tmax = 0.0;
+        for (size_t t = 0; t < n; t++)
+            push_pull_T(h, (int)t, zero, zerog, &change, &tmax);
+        if (!isfinite(change) || !isfinite(tmax)) {
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: the error bound is not finite");
+            break;
+        }
+        if (change <= h->p.bound_tol * tmax)
+            break;
+    }
+    if (st == RAD_OK && it == h->p.max_iterations)
+        st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
+                       h->p.max_iterations);
+    /* the figures of the bound */
+    double R = hier_reflected_scale(h), total = 0.0, sum = 0.0, leaf_max = 0.0;
+    double *face_area = NULL, *face_sum = NULL;
+    face_area = calloc(4 * n, sizeof *face_area);
+    if (face_area)
+        face_sum = face_area + n;
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        total += x->area;
+        for (int c = 0; c < 3; c++) {
+            double b = hier_leaf_bound(h, x, c), bf = hier_face_part(h, x, c);
+            sum += x->area * bf;
+            leaf_max = rad_dmax(leaf_max, b);
+            if (face_sum)
+                face_sum[(size_t)x->face * 3 + (size_t)c] += x->area * bf;
+        }
+        if (face_area)
+            face_area[x->face] += x->area;
+    }
+    double face_max = 0.0;
+    for (size_t f = 0; face_sum && f < n; f++)
+        for (int c = 0; c < 3; c++)
+            if (face_area[f] > 0.0)
+                face_max = rad_dmax(face_max, face_sum[3 * f + (size_t)c] / face_area[f]);
+    if (getenv("HIERFACE") && face_sum)
+        for (size_t f = 0; f < n; f++)
+            fprintf(stderr, "FACE %zu %.4e %.4e %.4e\n", f, face_sum[3*f]/face_area[f]/R, face_sum[3*f+1]/face_area[f]/R, face_sum[3*f+2]/face_area[f]/R);
+    free(face_area);
+    h->st.reflected = R;
+    h->st.bound_leaf_max = R > 0.0 ? leaf_max / R : 0.0;
+    h->st.bound_face_max = R > 0.0 ? face_max / R : 0.0;
+    h->st.bound_mean = R > 0.0 && total > 0.0 ? sum / (3.0 * total * R) : 0.0;
+    h->st.target_met = h->st.bound_face_max <= h->p.eps;
+    h->st.time_solve_s += rad_sys_seconds() - t0;
+    return st;
+}
+
+/* The solves between refinement rounds only feed the oracle, whose decisions
+ * compare errors with eps (1e-3 and up in practice) times the mean reflected
+ * radiosity: a step change of 1e-5 leaves B within about 1e-5 / (1 - rho) of
+ * its fixed point, far below that.  The last solve goes to tol. */
+#define HIER_ROUND_TOL 1e-5
+
+rad_status rad_hier_solve(rad_hier *h)
+{
+    if (!h)
+        return RAD_ERROR(RAD_EINVAL, "hier: no handle");
+    double round_tol = fmax(h->p.tol, HIER_ROUND_TOL * (1.0 - h->rho_max));
+    rad_status st = hier_solve_links(h, round_tol);
+    for (int round = 0; st == RAD_OK; round++) {
+        if (h->p.progress)
+            h->p.progress(round, rad_hier_leaf_count(h), 2 * h->nln, h->p.progress_ctx);
+        if (round >= h->p.max_rounds)
+            break;
+        long long n = 0;
+        st = rad_hier_refine(h, &n);
+        if (st == RAD_OK && n == 0 && h->p.oracle == RAD_HIER_ORACLE_ERROR) {
+            /* nothing left above the thresholds: where the bound still exceeds
+               eps R, tighten them (refine.c) and go on */
+            if ((st = hier_error_estimate(h)) == RAD_OK && hier_tighten_failing(h) > 0)
+                st = rad_hier_refine(h, &n);
+        }
+        if (st != RAD_OK || n == 0)
+            break;
+        st = hier_solve_links(h, round_tol);
+    }
+    if (st == RAD_OK)
+        st = hier_solve_links(h, h->p.tol);
+    if (st == RAD_OK)
+        st = hier_error_estimate(h);
+    if (getenv("HIERDBG")) {
+        double gs = 0, area = 0, gadj = 0, gsum_dg = 0;
+        for (size_t e = 0; e < h->nroots; e++) area += h->el[e].area;
+        for (size_t k = 0; k < h->nln; k++) { if (h->ln[k].a < 0) continue; gs += 2 * h->ln[k].G; gsum_dg += 2*h->ln[k].dG; int m[3]; if (rad_ff_adjacency_detect(h->el[h->ln[k].a].p, h->el[h->ln[k].b].p, 1e-9, m) != RAD_FF_DISJOINT) gadj += 2 * h->ln[k].G; }
+        fprintf(stderr, "DBG sum G / area = %.8f (adjacent part %.6f, sum dG %.3e)\n", gs / area, gadj / area, gsum_dg/area);
+        double mT = 0, md = 0, mdr = 0, sT = 0, sd = 0, sdr = 0, A = 0, R = hier_reflected_scale(h);
+        for (size_t e = 0; e < h->nel; e++) { const hier_elem *x = &h->el[e]; if (x->first_child >= 0) continue;
+            mT = fmax(mT, x->T[0]); md = fmax(md, x->d[0]); mdr = fmax(mdr, x->dr[0]); sT += x->area*x->T[0]; sd += x->area*x->d[0]; sdr += x->area*x->dr[0]; A += x->area; }
+        fprintf(stderr, "DBG R %.4g  T max %.3e mean %.3e | d max %.3e mean %.3e | dr max %.3e mean %.3e\n", R, mT/R, sT/A/R, md/R, sd/A/R, mdr/R, sdr/A/R);
+    }
+    return st;
+}
