@@ -17,14 +17,22 @@ awk -F' = ' '/^# (faces|elements|rule|solver|pairs|pairs_not_facing|pairs_occlus
 echo "  image: $out/cornell.png   mesh: $out/cornell.ply   stats: $out/cornell.json"
 echo "  per-face radiosity: $out/cornell.tsv"
 echo
-echo "radkit demo 1b: the same box by hierarchical radiosity (--method hier --eps 0.003)"
-"$RADKIT" solve scenes/cornell/cornell.obj --method hier --eps 0.003 --png "$out/cornell_hier.png" \
+echo "radkit demo 1b: the same box by hierarchical radiosity (--method hier --eps 0.01)"
+"$RADKIT" solve scenes/cornell/cornell.obj --method hier --eps 0.01 --png "$out/cornell_hier.png" \
     --ply "$out/cornell_hier.ply" --stats "$out/cornell_hier.json" --out "$out/cornell_hier.tsv"
 "$RADKIT" solve scenes/cornell/cornell.obj --method hier --eps 0.1 --png "$out/cornell_hier_mesh.png" \
     --edges --quiet --out /dev/null
-awk -F' = ' '/^# (oracle|eps|elements|links|links_partial|links_blocked|rounds|iterations|rays|kernel_evals|time_[a-z]+_s) = /{
+awk -F' = ' '/^# (oracle|eps|elements|links|links_partial|links_blocked|rounds|iterations|error_estimate|error_estimate_l1|error_target_met|kernel_evals|time_[a-z]+_s) = /{
   printf "  %-24s %s\n", substr($1, 3), $2 }' "$out/cornell_hier.tsv"
 echo "  image: $out/cornell_hier.png   adaptive mesh (eps 0.1): $out/cornell_hier_mesh.png"
+echo
+echo "radkit demo 1c: both against the committed Monte Carlo reference (radkit compare;"
+echo "errors relative to the mean reflected radiosity: area-weighted L1 and worst face)"
+for run in cornell cornell_hier; do
+  "$RADKIT" compare scenes/cornell/cornell.obj "$out/$run.tsv" experiments/reference/data/cornell.tsv |
+    awk -F' = ' -v run="$run" '/^# error_l1 = /{ l1 = $2 } /^# error_worst = /{ w = $2 }
+      END { printf "  %-14s L1 %.3e   worst face %.3e\n", run, l1, w }'
+done
 echo
 echo "radkit demo 2: the 1D model problem y = f + K y (papers/galerkin-1d.md)"
 echo "exact Galerkin solutions (closed-form assembly) against the exact solution;"

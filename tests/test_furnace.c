@@ -144,11 +144,13 @@ static double compare_figure(const char *table, const char *key)
 
 /* The Cornell box against the committed Monte Carlo reference
  * (experiments/reference: area-weighted relative standard error 8e-5):
- * hierarchical radiosity with its defaults and at eps 0.05, and dense at
+ * hierarchical radiosity with its defaults and at eps 0.01, and dense at
  * refinement 2.  Each run's error (radkit compare) is checked against what
  * it reports of itself: the error estimate bounds the worst face and the
- * area-weighted L1 error; and the errors are held to the figures measured
- * with headroom (hier eps 0.05: L1 0.56%, worst face 4.2%). */
+ * area-weighted L1 error.  The hier eps 0.01 limits are issue 13's targets
+ * (L1 1%, worst face 5%; measured 0.25% and 3.0%); the others are the
+ * measured figures with headroom (defaults: 0.60%, 8.0%; dense refine 2:
+ * 1.28%, 18%). */
 TEST(cornell_against_the_monte_carlo_reference)
 {
     char dir[] = "/tmp/radkit-cornell-XXXXXX";
@@ -157,8 +159,8 @@ TEST(cornell_against_the_monte_carlo_reference)
         return;
     }
     struct { const char *name; const char *args[8]; double l1, worst; } runs[] = {
-        {"hier", {"--method", "hier", NULL}, 0.012, 0.09},
-        {"hier-eps0.05", {"--method", "hier", "--eps", "0.05", NULL}, 0.008, 0.05},
+        {"hier", {"--method", "hier", NULL}, 0.008, 0.1},
+        {"hier-eps0.01", {"--method", "hier", "--eps", "0.01", NULL}, 0.01, 0.05},
         {"dense-refine2", {"--refine", "2", NULL}, 0.016, 0.2},
     };
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {

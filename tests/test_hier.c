@@ -135,7 +135,9 @@ done:
  * bounds the error by 1e-12 rho/(1-rho) B): 1e-9 relative leaves a wide margin.
  * A tiny eps refines every link until both ends reach min_area (a quarter of
  * a face triangle: one level), so all links join leaves, where the rows sum
- * to 1 exactly in exact arithmetic. */
+ * to 1 exactly in exact arithmetic.  The plain P0 transport (source_slope 0),
+ * which no row normalization helps; then the default transport with the rows
+ * normalized (sealed), where the sources' slopes must vanish. */
 TEST(hier_furnace_cube_exact_under_refinement)
 {
     scene_arrays s;
@@ -144,32 +146,39 @@ TEST(hier_furnace_cube_exact_under_refinement)
     double areas[64];
     CHECK(s.n == 12);
     total_area(&s, areas);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
-    p.use_rule = 1; /* the rule for every pair */
-    p.far_ratio = 0.0;
-    p.eps = 1e-12;
-    p.min_area = areas[0] / 4.0 * (1.0 - 1e-9);
-    p.tol = 1e-12;
-    rad_hier *h = run(&s, NULL, &p);
-    if (h) {
-        rad_hier_stats st;
-        rad_hier_get_stats(h, &st);
-        CHECK(st.elements == 48); /* every triangle split once, and only once */
-        CHECK(st.refinements > 0 && st.rounds >= 1);
-        size_t n = rad_hier_leaf_count(h);
-        double *B = malloc(3 * n * sizeof *B);
-        rad_hier_leaves(h, NULL, NULL, NULL, B);
-        double want = 2.385 / (1.0 - 0.375), worst = 0.0;
-        for (size_t k = 0; k < 3 * n; k++)
-            worst = fmax(worst, fabs(B[k] - want));
-        CHECK_MSG(worst <= 1e-9 * want, "furnace: worst |B - 3.816| = %.3g", worst);
-        printf("# hier furnace (exact, 1 level): %zu leaves, %zu links, %lld steps, "
-               "max |B - E/(1-rho)| = %.2e\n", st.elements, st.links, st.iterations, worst);
-        free(B);
+    for (int variant = 0; variant < 2; variant++) {
+        rad_hier_params p;
+        rad_hier_params_default(&p);
+        CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
+        p.use_rule = 1; /* the rule for every pair */
+        p.far_ratio = 0.0;
+        p.eps = 1e-12;
+        p.min_area = areas[0] / 4.0 * (1.0 - 1e-9);
+        p.tol = 1e-12;
+        p.source_slope = variant;
+        p.sealed = variant;
+        rad_hier *h = run(&s, NULL, &p);
+        if (h) {
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            if (variant == 0) {
+                CHECK(st.elements == 48); /* every triangle split once, and only once */
+                CHECK(st.refinements > 0 && st.rounds >= 1);
+            }
+            size_t n = rad_hier_leaf_count(h);
+            double *B = malloc(3 * n * sizeof *B);
+            rad_hier_leaves(h, NULL, NULL, NULL, B);
+            double want = 2.385 / (1.0 - 0.375), worst = 0.0;
+            for (size_t k = 0; k < 3 * n; k++)
+                worst = fmax(worst, fabs(B[k] - want));
+            CHECK_MSG(worst <= 1e-9 * want, "furnace: worst |B - 3.816| = %.3g", worst);
+            printf("# hier furnace (exact, 1 level, %s): %zu leaves, %zu links, %lld steps, "
+                   "max |B - E/(1-rho)| = %.2e\n", variant ? "sealed, source slopes" : "plain P0",
+                   st.elements, st.links, st.iterations, worst);
+            free(B);
+        }
+        rad_hier_destroy(h);
     }
-    rad_hier_destroy(h);
     unload(&s);
 }
 
@@ -269,6 +278,7 @@ TEST(hier_agrees_with_dense_on_the_same_leaves)
     CHECK(rad_ff_rule_parse("ss:4", &p.rule) == RAD_OK);
     p.use_rule = 1; /* the rule for every pair */
     p.far_ratio = 0.0;
+    p.source_slope = 0; /* P0 transport: on leaf-level links, the dense system */
     p.tol = 1e-12;
     p.eps = 1e-12;
     p.min_area = A / 200.0;

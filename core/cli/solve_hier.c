@@ -227,11 +227,17 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
         goto done;
     rad_hier_stats hs;
     rad_hier_get_stats(h, &hs);
-    if (!hs.target_met && !o->quiet)
-        fprintf(stderr, "radkit: warning: the error bound %.3g of the mean reflected radiosity "
-                        "exceeds --eps %g: %lld links could not be refined further (--min-area "
-                        "or the depth limit binds)\n", hs.bound_leaf_max, hp.eps,
-                hs.links_bound);
+    if (!hs.target_met && !o->quiet) {
+        fprintf(stderr, "radkit: warning: the error estimate %.3g (worst input triangle, "
+                        "relative to the mean reflected radiosity) exceeds --eps %g", hs.bound_face_max,
+                hp.eps);
+        if (hs.links_bound > 0)
+            fprintf(stderr, ": %lld links could not be refined further (--min-area or the depth "
+                            "limit binds)\n", hs.links_bound);
+        else
+            fprintf(stderr, " after the oracle tightened its thresholds 64-fold (the estimate "
+                            "is conservative: see error_estimate_l1)\n");
+    }
     size_t n = rad_hier_leaf_count(h);
     leaf = malloc(n * 4 * sizeof *leaf);
     leaf_face = malloc(n * sizeof *leaf_face);

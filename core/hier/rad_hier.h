@@ -3,43 +3,43 @@
  * posteriori bound of its error that eps controls.
  *
  * Each input triangle is the root of a quadtree of elements (1 -> 4 midpoint
- * split).  Links join a receiver element r to a source element s at whatever
- * level their interaction deserves and carry the receiver's form factor
- * F_rs = (1/A_r) int_r int_s K V, visibility included.  The system solved is
+ * split).  A link joins two elements a and b at whatever level their
+ * interaction deserves and carries light both ways: G_ab = int_a int_b K V,
+ * F_ab = G / A_a, F_ba = G / A_b, visibility included.  The system solved is
  * the hierarchical form of B_i = E_i + rho_i sum_j F_ij B_j (DESIGN.md
  * conventions: per-channel arrays n x 3 column-major, B in W/m^2).
  *
- * A link's F comes from point values (link.c): the point-to-element form
- * factor F(x, s) at the nodes x of a symmetric rule on r, and F(y, r) at the
- * nodes y of the same rule on s, each in closed form over the part of the
+ * A link's G comes from point values (link.c): the point-to-element form
+ * factor F(x, b) at the nodes x of a symmetric rule on a, and F(y, a) at the
+ * nodes y of the same rule on b, each in closed form over the part of the
  * other element visible from the point (rad_vis_point_visible: exact
  * visibility, so that in a closed scene a point's form factors sum to 1).
- * G_rs is the mean of the two sides' estimates: reciprocity holds exactly.
- * From the same values each link gets
- *   dq = |G from r's nodes - G from s's nodes| / (2 A_r): the error of F;
- *   dF = the largest deviation of a point value from its side's mean: how far
- *        the constant F misrepresents the transport at points of r (or, for
- *        the source side, how much a varying B over s could matter).
+ * G is the mean of the two sides' estimates, so reciprocity holds exactly;
+ * touching elements take their unoccluded G from singular-aware rules.  From
+ * the same values each link gets its error dG (the sides' disagreement, the
+ * fits' residuals, or ss:5 - ss:4), each side's linear fit (the slope the
+ * gather pushes down, solve.c) and each side's variation as a source.
+ *
+ * The solve (solve.c) gathers at every element a linear function of
+ * irradiance, corrected for the slope of each source's B, and pushes it down
+ * to the leaves (a leaf's B is the function's mean).  Rows are capped so the
+ * step contracts; in a sealed scene every leaf's row is scaled to exactly 1.
  *
  * The error bound (solve.c).  With R the area-weighted mean reflected
- * radiosity (B - E, channels averaged), per leaf l and channel c:
- *   q_l = rho_l sum over the links at l and its ancestors of dq B_s,
- *   d_l = rho_l sum of dF B_s over the same links,
- *   bound_l = T(q)_l + d_l / (1 - rho_max / 2),
- * T(q) = (I - rho K_h)^-1 q the conservation error carried through every
- * bounce (energy gained or lost per bounce is amplified up to 1 / (1 - rho)),
- * while the distribution error d, zero on the receiver's average, is damped
- * by the transport (1 / (1 - rho_max / 2) assumes the scene's second
- * eigenvalue below 1/2; the tests check the bound against exact and Monte
- * Carlo answers).  eps is the target: every leaf's bound_l <= eps R.
+ * radiosity (B - E, channels averaged), per leaf and channel: the error of
+ * the links' G carried through every bounce, T = (I - rho K_h)^-1 q (up to
+ * 1 / (1 - rho) times the local error q), plus the sources' unresolved
+ * variation and the linear fits' residuals, damped by 1 / (1 - rho_max / 2).
+ * Reported per input triangle (the area-weighted mean of its leaves': the
+ * error of a row of the answer, bound_face_max) and per leaf.  eps is the
+ * target for every input triangle's bound: bound_face_max <= eps R.
  *
- * Refinement oracles.
- *  - ERROR (default): after each solve the bounds are computed; for every leaf
- *    above eps R, the links over it whose contribution rho (dq + dF) B_s
- *    exceeds a quarter of the share it may keep are refined (the side with
- *    the larger variation is split), the new links examined in the same
- *    pass; rounds repeat until every leaf meets eps R or nothing more can be
- *    split (min_area or max_depth: the stats say so).
+ * Refinement oracles (refine.c).
+ *  - ERROR (default): a link is refined when its share of an input
+ *    triangle's bound exceeds link_share x eps R; when nothing is above,
+ *    the thresholds of the triangles still above eps R are tightened and
+ *    refinement goes on, until every triangle meets eps R or nothing more
+ *    can be split (min_area or max_depth: links_bound says so).
  *  - BF (HSA 1991): a link is refined when the radiosity it brings,
  *    rho F B_s, exceeds eps R (the larger element is split).  eps is then a
  *    per-link threshold; the bound is still computed and reported.
@@ -100,6 +100,10 @@ typedef struct rad_hier_params {
     int use_rule;
     rad_ff_rule rule;
     rad_ff_params ff;
+    int source_slope;     /* 1 (default): the gather corrects each source's mean B for
+                             its slope against the form factor's (solve.c); 0: plain
+                             P0 transport, which on leaf-level links is the dense
+                             Galerkin system */
     double far_ratio;     /* pairs that nothing can block and whose centroids lie more
                              than far_ratio times the longer element's longest edge
                              apart take their point values from the kernel at the

@@ -4,12 +4,18 @@
  * elements are its terms of solve.c's bound (the error of F, the source's
  * variation, and, for an inner element, the linear fit's residual).
  *
- * ERROR (default).  A link is refined when a contribution exceeds
- * link_share x eps R x the scale of the receiving input triangle; the scale
- * starts at 1, and when a pass refines nothing, rad_hier_solve computes the
- * bound and quarters the scale of every input triangle whose bound still
- * exceeds eps R (at most HIER_MAX_TIGHTEN times): refinement goes where the
- * error is largest, and stops where the minimum area or depth binds.
+ * ERROR (default).  eps targets the error of each input triangle's mean B
+ * (a row of the answer), relative to the mean reflected radiosity R.  A
+ * link's contribution to that is its contribution to the bounds of the
+ * leaves below its receiver times the receiver's share of its input
+ * triangle's area; the link is refined when that exceeds link_share x eps R
+ * x the triangle's scale.  The scale starts at 1; when a pass refines
+ * nothing, rad_hier_solve computes the bound and quarters the scale of every
+ * input triangle whose bound still exceeds eps R (at most HIER_MAX_TIGHTEN
+ * times): refinement goes where the error is largest, and stops where the
+ * minimum area or depth binds.  (A pointwise target, the same for every
+ * element, would link each small element to all the small elements around
+ * it: links would grow like leaves^2.)
  * BF (HSA 1991).  A link is refined when the radiosity it brings either way,
  * rho F B, exceeds eps R.
  *
@@ -121,6 +127,9 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
             contributions(h, &l, &ca, &cb, &sa, &sb);
             double la = target, lb = target;
             if (error_oracle) {
+                /* the share of its input triangle's mean error */
+                ca *= ea->area / h->el[ea->face].area;
+                cb *= eb->area / h->el[eb->face].area;
                 la *= h->p.link_share * h->face_scale[ea->face];
                 lb *= h->p.link_share * h->face_scale[eb->face];
             }

@@ -2,7 +2,12 @@
  *
  * 1. Step (Jacobi): gather at every element the irradiance its links bring,
  *    as a linear function over it (value F_ab B_b at its centroid, gradient
- *    g_a B_b; all levels, old B); push-pull from each root: the linear
+ *    g_a B_b; all levels, old B), the mean value corrected for the slope of
+ *    the source's B (gB_b) against the slope of the form factor over b
+ *    (g_b): int_b (g_b . (y - c_b)) (gB_b . (y - c_b)) dy / A_a.  Without it
+ *    the transport of a source's mean misses where B and the kernel rise
+ *    together, towards a shared edge or a contact, and every face near one
+ *    comes out dark.  Push-pull from each root: the linear
  *    functions are summed down the tree, a leaf takes
  *    B = E + rho cap (value at its centroid), which is the linear function's
  *    mean over the leaf, and an inner element the area-weighted mean of its
@@ -67,7 +72,12 @@ static void push_pull(rad_hier *h, int e, const double down0[3], const rad_vec3 
             *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
             *bmax = rad_dmax(*bmax, fabs(b));
             x->B[c] = b;
-            x->gB[c] = rad_vec3_scale(totg[c], r);
+            /* sealed, the row is normalized pointwise: B's slope is that of
+               the irradiance over the row sum (0 in a furnace) */
+            rad_vec3 g = totg[c];
+            if (h->p.sealed && x->row0 > 0.0)
+                g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
+            x->gB[c] = rad_vec3_scale(g, r * x->cap);
             double v = 0.0;
             for (int i = 0; i < 3; i++)
                 v = rad_dmax(v, fabs(rad_vec3_dot(x->gB[c], rad_vec3_sub(x->p[i], x->c))));
@@ -104,6 +114,8 @@ static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg)
            which keeps the step a contraction and leaves ordinary rows alone */
         double top = h->p.sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(h->rho_max, 0.5));
         x->cap = tot0 > top || (h->p.sealed && tot0 > 0.0) ? top / tot0 : 1.0;
+        x->row0 = tot0;
+        x->rowg = totg;
         return;
     }
     for (int k = 0; k < 4; k++) {
@@ -133,11 +145,29 @@ void hier_row_caps(rad_hier *h)
         push_rows(h, (int)t, 0.0, zero_v);
 }
 
+static void pull_gradient(rad_hier *h, int e);
+
+/* int_x (g1 . (y - c)) (g2 . (y - c)) dy over triangle x (its second moment
+ * about the centroid is A / 12 sum_i d_i d_i^T, d_i = p_i - c): the flux a
+ * linear variation g2 of the source's B carries to the receiver through the
+ * linear variation g1 of the form factor towards it. */
+static double moment(const hier_elem *x, rad_vec3 g1, rad_vec3 g2)
+{
+    double s = 0.0;
+    for (int i = 0; i < 3; i++) {
+        rad_vec3 d = rad_vec3_sub(x->p[i], x->c);
+        s += rad_vec3_dot(g1, d) * rad_vec3_dot(g2, d);
+    }
+    return x->area / 12.0 * s;
+}
+
 rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+    for (size_t t = 0; t < h->nroots; t++)
+        pull_gradient(h, (int)t);
     for (size_t e = 0; e < h->nel; e++)
         for (int c = 0; c < 3; c++) {
             h->el[e].Bg[c] = 0.0;
@@ -152,6 +182,10 @@ rad_status rad_hier_step(rad_hier *h)
         for (int c = 0; c < 3; c++) {
             a->Bg[c] += Fab * b->B[c];
             a->Gg[c] = rad_vec3_add(a->Gg[c], rad_vec3_scale(l->ga, b->B[c]));
+            if (h->p.source_slope) {
+                a->Bg[c] += moment(b, l->gb, b->gB[c]) / a->area;
+                b->Bg[c] += moment(a, l->ga, a->gB[c]) / b->area;
+            }
             b->Bg[c] += Fba * a->B[c];
             b->Gg[c] = rad_vec3_add(b->Gg[c], rad_vec3_scale(l->gb, a->B[c]));
         }
@@ -288,8 +322,7 @@ static void spread(rad_hier *h, int e, double lo[3], double hi[3])
 }
 
 /* An inner element's gB: the least-squares linear fit of its children's B
- * at their centroids (the constant is its own B, their area-weighted mean),
- * plus their mean gradient. */
+ * at their centroids (the constant is its own B, their area-weighted mean). */
 static void pull_gradient(rad_hier *h, int e)
 {
     hier_elem *x = &h->el[e];
@@ -302,7 +335,6 @@ static void pull_gradient(rad_hier *h, int e)
     u = rad_vec3_scale(u, 1.0 / rad_vec3_norm(u));
     rad_vec3 v = rad_vec3_cross(h->normal[x->face], u);
     double saa = 0.0, sab = 0.0, sbb = 0.0, saf[3] = {0, 0, 0}, sbf[3] = {0, 0, 0};
-    rad_vec3 mean[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (int k = 0; k < 4; k++) {
         const hier_elem *y = &h->el[x->first_child + k];
         rad_vec3 d = rad_vec3_sub(y->c, x->c);
@@ -313,7 +345,6 @@ static void pull_gradient(rad_hier *h, int e)
         for (int c = 0; c < 3; c++) {
             saf[c] += w * a * (y->B[c] - x->B[c]);
             sbf[c] += w * b * (y->B[c] - x->B[c]);
-            mean[c] = rad_vec3_add(mean[c], rad_vec3_scale(y->gB[c], w / x->area));
         }
     }
     double det = saa * sbb - sab * sab;
@@ -323,7 +354,7 @@ static void pull_gradient(rad_hier *h, int e)
             al = (saf[c] * sbb - sbf[c] * sab) / det;
             be = (sbf[c] * saa - saf[c] * sab) / det;
         }
-        x->gB[c] = rad_vec3_add(mean[c], rad_vec3_add(rad_vec3_scale(u, al), rad_vec3_scale(v, be)));
+        x->gB[c] = rad_vec3_add(rad_vec3_scale(u, al), rad_vec3_scale(v, be));
     }
 }
 
@@ -468,9 +499,6 @@ rad_status hier_error_estimate(rad_hier *h)
         for (int c = 0; c < 3; c++)
             if (face_area[f] > 0.0)
                 face_max = rad_dmax(face_max, face_sum[3 * f + (size_t)c] / face_area[f]);
-    if (getenv("HIERFACE") && face_sum)
-        for (size_t f = 0; f < n; f++)
-            fprintf(stderr, "FACE %zu %.4e %.4e %.4e\n", f, face_sum[3*f]/face_area[f]/R, face_sum[3*f+1]/face_area[f]/R, face_sum[3*f+2]/face_area[f]/R);
     free(face_area);
     h->st.reflected = R;
     h->st.bound_leaf_max = R > 0.0 ? leaf_max / R : 0.0;
@@ -514,15 +542,5 @@ rad_status rad_hier_solve(rad_hier *h)
         st = hier_solve_links(h, h->p.tol);
     if (st == RAD_OK)
         st = hier_error_estimate(h);
-    if (getenv("HIERDBG")) {
-        double gs = 0, area = 0, gadj = 0, gsum_dg = 0;
-        for (size_t e = 0; e < h->nroots; e++) area += h->el[e].area;
-        for (size_t k = 0; k < h->nln; k++) { if (h->ln[k].a < 0) continue; gs += 2 * h->ln[k].G; gsum_dg += 2*h->ln[k].dG; int m[3]; if (rad_ff_adjacency_detect(h->el[h->ln[k].a].p, h->el[h->ln[k].b].p, 1e-9, m) != RAD_FF_DISJOINT) gadj += 2 * h->ln[k].G; }
-        fprintf(stderr, "DBG sum G / area = %.8f (adjacent part %.6f, sum dG %.3e)\n", gs / area, gadj / area, gsum_dg/area);
-        double mT = 0, md = 0, mdr = 0, sT = 0, sd = 0, sdr = 0, A = 0, R = hier_reflected_scale(h);
-        for (size_t e = 0; e < h->nel; e++) { const hier_elem *x = &h->el[e]; if (x->first_child >= 0) continue;
-            mT = fmax(mT, x->T[0]); md = fmax(md, x->d[0]); mdr = fmax(mdr, x->dr[0]); sT += x->area*x->T[0]; sd += x->area*x->d[0]; sdr += x->area*x->dr[0]; A += x->area; }
-        fprintf(stderr, "DBG R %.4g  T max %.3e mean %.3e | d max %.3e mean %.3e | dr max %.3e mean %.3e\n", R, mT/R, sT/A/R, md/R, sd/A/R, mdr/R, sdr/A/R);
-    }
     return st;
 }

@@ -48,6 +48,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->ff = rad_ff_defaults();
     params->link_share = 0.5;
     params->far_ratio = 3.0;
+    params->source_slope = 1;
     params->tol = 1e-10;
     params->bound_tol = 1e-3;
     params->max_iterations = 100000;
