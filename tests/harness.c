@@ -76,6 +76,16 @@ static char *slurp(int fd)
     return buf;
 }
 
+char *harness_read_file(const char *path)
+{
+    int fd = open(path, O_RDONLY);
+    if (fd < 0)
+        return NULL;
+    char *text = slurp(fd);
+    close(fd);
+    return text;
+}
+
 int harness_run(const char *const argv[], char **out, char **err)
 {
     char out_name[] = "/tmp/radkit-test-out-XXXXXX", err_name[] = "/tmp/radkit-test-err-XXXXXX";

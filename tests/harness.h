@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 
 typedef void (*harness_fn)(void);
 void harness_register(const char *name, const char *file, harness_fn fn);
@@ -88,6 +89,17 @@ double harness_howell_c14(double l, double w, double h);
 /* The independent reference for scenes/occluder: Monte Carlo estimate of the
  * blocked form factor between the unit plates (fixed seed; see harness.c). */
 double harness_occluder_form_factor_mc(long samples);
+
+/* The whole of a file, NUL-terminated (free it), or NULL. */
+char *harness_read_file(const char *path);
+
+/* An independent light tracer (harness_light.c, no code shared with core/):
+ * per triangle and channel (n x 3 column-major, as rho and E) the
+ * area-average B and its standard error over `batches` batches.  0, or -1
+ * on bad arguments or no emission. */
+int harness_light_trace(const double *xyz, const int *tri, int n, const double *rho,
+                        const double *E, long photons, int batches, uint64_t seed, double *B,
+                        double *se);
 
 /* Number of lines in a string (a final line without '\n' counts). */
 int harness_count_lines(const char *s);
