@@ -175,7 +175,13 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
     /* dG: the two sides' disagreement, and no less than what the better side's
        residual says of its rule (linear functions it integrates exactly; a
        shadow or a peak that both sides miss alike shows in the residuals) */
-    double G = 0.5 * (Ga + Gb);
+    /* G: the two sides' estimates, the smaller element's weighted up (a
+       rule's error grows like a power of its element's size over the scale
+       on which the other element's form factor varies: a small element near
+       a large one sees all of it alike, while the large one's few nodes
+       miss the small one's narrow peak) */
+    double ra2 = ea->area / eb->area, wb = ra2 * ra2 * ra2 * ra2;
+    double G = isfinite(wb) ? (Ga + wb * Gb) / (1.0 + wb) : Ga;
     double dG = rad_dmax(0.5 * fabs(Ga - Gb), 0.25 * rad_dmin(ra * ea->area, rb * eb->area));
     unsigned char vis = 0;
     if (blocked) {
