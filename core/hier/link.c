@@ -11,8 +11,9 @@
  *    over the part visible from the point (rad_vis_point_visible), or, for a
  *    far pair nothing can block, from the kernel at the degree-2 nodes of the
  *    other element (the kernel is smooth there).
- * 4. G_a = A_a sum w_k F(x_k, b), G_b = A_b sum w_k F(y_k, a); G is their mean
- *    (reciprocity exact) and dG = |G_a - G_b| / 2 its error.  Each side's
+ * 4. G_a = A_a sum w_k F(x_k, b), G_b = A_b sum w_k F(y_k, a); G is their
+ *    mean weighted towards the smaller element (one G for both directions:
+ *    reciprocity exact), and dG = |G_a - G_b| / 2 its error.  Each side's
  *    values get a weighted least-squares linear fit over its element (the
  *    gradient the gather pushes down, solve.c, and, over the same element as
  *    a source, the kernel's variation) with its largest residual.  With an explicit rule the unoccluded G

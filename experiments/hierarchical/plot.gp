@@ -19,14 +19,13 @@ do for [fmt in "png pdf"] {
        sel("dense-gauss2") using 6:5 with linespoints pt 6 title "dense, gauss:2 (refine 0..3)", \
        sel("hier-bf") using 6:5 with linespoints pt 5 title "hier, BF oracle", \
        sel("hier-error") using 6:5 with linespoints pt 9 title "hier, error oracle", \
-       sel("hier-error-coarse") using 6:5 with linespoints pt 11 title "hier, error, min area A/1280", \
        0.01 with lines dashtype 2 lc "black" title "1%", \
+       0.005 with lines dashtype 4 lc "black" title "0.5%", \
        refse with lines dashtype 3 lc "gray" title "reference standard error"
   set xlabel "links (dense: facing ordered pairs)"
   plot sel("dense-auto") using 4:5 with linespoints pt 7 title "dense", \
        sel("hier-bf") using 4:5 with linespoints pt 5 title "hier, BF", \
-       sel("hier-error") using 4:5 with linespoints pt 9 title "hier, error", \
-       sel("hier-error-coarse") using 4:5 with linespoints pt 11 title "hier, error, A/1280"
+       sel("hier-error") using 4:5 with linespoints pt 9 title "hier, error"
   set xlabel "elements (leaves)"
   set ylabel "links"
   set format y "10^{%L}"

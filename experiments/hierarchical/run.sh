@@ -1,30 +1,30 @@
 #!/bin/sh
-# Hierarchical against dense radiosity on the Cornell box (papers/hierarchical.md).
+# Hierarchical against dense radiosity on the Cornell box (papers/hierarchical.md,
+# papers/accuracy.md).
 #
 # Error of the per-input-face radiosity against the Monte Carlo reference of
 # experiments/reference (made if missing), by `radkit compare`: error_l1, the
 # area-weighted mean |B - B_ref| over the mean reflected radiosity, and
 # error_worst, the worst face and channel on that scale, for
-#  - hier with each oracle (bf, error) at several eps,
+#  - hier with the error oracle at EPS_ERROR and the BF oracle at EPS_BF (each
+#    with its default minimum area, which follows eps), with the error estimate
+#    each run reports of itself (error_estimate: worst face; _l1),
 #  - dense at refinements 0..MAX_REFINE with auto at 1e-3 and with gauss:2 (the
 #    fastest rule of experiments/accuracy_time), its default solver,
-#  - hier with the error oracle and a coarser minimum area (total / 1280, about
-#    the element size of dense at refinement 2 or 3; "hier-error-coarse"): the
-#    default total / 10^4 resolves shadows finely for pictures, while a face
-#    table at 1% needs fewer leaves,
 # with wall time (the median of REPEAT runs: single runs of a tenth of a second
 # vary by 20% on a shared machine), elements and links (dense: facing pairs).
-# Then links against elements with the fitted slope per oracle, and pictures
-# of the adaptive mesh.
+# Then links against leaves with the fitted slope per oracle (eps 0.1 to
+# 0.003), the time each method needs for 1%, 0.5% and 0.1%, and pictures of
+# the adaptive mesh.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac # we cd below
-EPS=${EPS:-"1 0.3 0.1 0.03 0.01 0.006 0.004 0.003 0.002 0.001"}
-COARSE_EPS=${COARSE_EPS:-"0.03 0.01 0.006 0.005 0.004 0.003 0.002 0.001"}
+EPS_ERROR=${EPS_ERROR:-"0.3 0.2 0.1 0.05 0.03 0.02 0.01 0.005 0.003 0.002 0.001"}
+EPS_BF=${EPS_BF:-"1 0.3 0.1 0.05 0.03"}
 REPEAT=${REPEAT:-3}
-ORACLES=${ORACLES:-"bf error"}
+ORACLES="bf error"
 MAX_REFINE=${MAX_REFINE:-3}
 scene=scenes/cornell/cornell.obj
 ref=experiments/reference/data/cornell.tsv
@@ -51,8 +51,6 @@ solve() {
     i=$((i + 1))
   done | sort -g | awk '{ t[NR] = $1 } END { print t[int((NR + 1) / 2)] }'
 }
-total_area=$(cd "$root" && "$RADKIT" info "$scene" | sed -n 's/^# total_area = //p')
-coarse_area=$(awk -v a="$total_area" 'BEGIN { printf "%.6g", a / 1280 }')
 dat=data/runs.dat
 {
   echo "# experiment = hierarchical: hier (bf, error oracles) and dense on the Cornell box"
@@ -60,25 +58,23 @@ dat=data/runs.dat
   echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
   echo "# reference_se_l1 = $(compare "$ref" reference_se_l1)"
   echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"
-  printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\tworst\n'
+  echo "# estimate, estimate_l1: the run's own error_estimate (worst face) and error_estimate_l1 (hier only)"
+  printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\tworst\testimate\testimate_l1\n'
 } > "$dat"
+rm -f data/hier_*.tsv data/dense-*.tsv
 row() { # method param table time
-  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$(hdr $3 elements)" \
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$(hdr $3 elements)" \
     "$(hdr $3 links)" "$(compare $3 error_l1)" "$4" "$(hdr $3 rays)" \
-    "$(hdr $3 kernel_evals)" "$(hdr $3 links_partial)" "$(compare $3 error_worst)" >> "$dat"
+    "$(hdr $3 kernel_evals)" "$(hdr $3 links_partial)" "$(compare $3 error_worst)" \
+    "$(hdr $3 error_estimate)" "$(hdr $3 error_estimate_l1)" >> "$dat"
 }
 for o in $ORACLES; do
-  for e in $EPS; do
+  if [ "$o" = bf ]; then list=$EPS_BF; else list=$EPS_ERROR; fi
+  for e in $list; do
     t=data/hier_${o}_$e.tsv
     echo "hierarchical: hier --oracle $o --eps $e" >&2
     row "hier-$o" "$e" "$t" "$(solve "$t" --method hier --oracle "$o" --eps "$e")"
   done
-done
-for e in $COARSE_EPS; do
-  t=data/hier_error_coarse_$e.tsv
-  echo "hierarchical: hier --oracle error --eps $e --min-area $coarse_area" >&2
-  row "hier-error-coarse" "$e" "$t" \
-    "$(solve "$t" --method hier --oracle error --eps "$e" --min-area "$coarse_area")"
 done
 for rule in auto gauss:2; do
   k=0
@@ -88,46 +84,47 @@ for rule in auto gauss:2; do
     echo "hierarchical: dense --refine $k --rule $rule" >&2
     time_s=$(solve "$t" --refine "$k" --rule "$rule" --tol 1e-3)
     links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$k" "$(hdr $t elements)" "$links" \
-      "$(compare $t error_l1)" "$time_s" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" \
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t-\t-\n' "$name" "$k" "$(hdr $t elements)" \
+      "$links" "$(compare $t error_l1)" "$time_s" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" \
       "$(compare $t error_worst)" >> "$dat"
     k=$((k + 1))
   done
 done
 
-# links ~ elements^slope per oracle: least squares in log-log over the runs
-# with eps >= SLOPE_MIN_EPS.  Below it the leaves saturate at the minimum
-# area (total / 10^4 by default: about 4500 on the Cornell box) while links
-# keep growing, and a fit there measures min_area, not the oracle; the slope
-# over all runs is written beside it.
-SLOPE_MIN_EPS=${SLOPE_MIN_EPS:-0.01}
+# links ~ leaves^slope per oracle: least squares in log-log over the runs with
+# eps in [SLOPE_MIN_EPS, SLOPE_MAX_EPS] (issue 13 measures 0.1 .. 0.003); the
+# slope over all runs beside it.
+SLOPE_MIN_EPS=${SLOPE_MIN_EPS:-0.003}
+SLOPE_MAX_EPS=${SLOPE_MAX_EPS:-0.1}
 slopes=data/slopes.dat
-printf 'oracle\tslope_eps_ge_%s\tslope_all\n' "$SLOPE_MIN_EPS" > "$slopes"
+printf 'oracle\tslope_eps_%s_to_%s\tslope_all\n' "$SLOPE_MAX_EPS" "$SLOPE_MIN_EPS" > "$slopes"
 for o in $ORACLES; do
-  awk -F'\t' -v m="hier-$o" -v lo="$SLOPE_MIN_EPS" '
-    function fit(a, b, c, d, e) { return (e*d - a*b) / (e*c - a*a) }
+  awk -F'\t' -v m="hier-$o" -v lo="$SLOPE_MIN_EPS" -v hi="$SLOPE_MAX_EPS" '
+    function fit(a, b, c, d, e) { return e < 2 ? "-" : sprintf("%.3f", (e*d - a*b) / (e*c - a*a)) }
     $1 == m { x = log($3); y = log($4)
       N++; SX += x; SY += y; SXX += x*x; SXY += x*y
-      if ($2 + 0 >= lo + 0) { n++; sx += x; sy += y; sxx += x*x; sxy += x*y } }
-    END { printf "%s\t%.3f\t%.3f\n", m, fit(sx, sy, sxx, sxy, n), fit(SX, SY, SXX, SXY, N) }' "$dat" >> "$slopes"
+      if ($2 + 0 >= lo + 0 && $2 + 0 <= hi + 0) { n++; sx += x; sy += y; sxx += x*x; sxy += x*y } }
+    END { printf "%s\t%s\t%s\n", m, fit(sx, sy, sxx, sxy, n), fit(SX, SY, SXX, SXY, N) }' "$dat" >> "$slopes"
 done
 
-# 10x target: time each method needs for 1%: log-log interpolation between
-# the two runs that bracket it (as if the method could be run at any setting
-# in between), and the time of its fastest run that reaches 1% (what a user of
-# the settings run here pays: dense can only refine 1 -> 4)
+# Targets: the time each method needs for 1%, 0.5% and 0.1% L1 (log-log
+# interpolation between the two runs that bracket it, as if the method could
+# be run at any setting in between; "none" when no run reaches it), the time
+# of its fastest run that reaches it, and that run's links.
 target=data/target.dat
-printf 'method\ttime_to_1pct_s\tfirst_run_under_1pct_s\n' > "$target"
-for m in dense-auto dense-gauss2 $(for o in $ORACLES; do printf 'hier-%s ' "$o"; done) hier-error-coarse; do
-  awk -F'\t' -v m="$m" '$1 == m { e[n + 0] = $5; t[n + 0] = $6; n++ }
-    END { best = "none"; first = "none"
-      for (i = 0; i < n; i++) {
-        if (e[i] <= 0.01 && (first == "none" || t[i] < first)) first = t[i]
-        for (j = 0; j < n; j++)
-          if (e[i] > 0.01 && e[j] <= 0.01 && t[j] >= t[i]) {
-            f = log(e[i] / 0.01) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
-            if (best == "none" || v < best) best = v } }
-      printf "%s\t%s\t%s\n", m, best, first }' "$dat" >> "$target"
+printf 'method\ttarget\ttime_s\tfirst_run_s\tfirst_run_links\n' > "$target"
+for m in dense-auto dense-gauss2 hier-bf hier-error; do
+  for goal in 0.01 0.005 0.001; do
+    awk -F'\t' -v m="$m" -v g="$goal" '$1 == m { e[n + 0] = $5; t[n + 0] = $6; l[n + 0] = $4; n++ }
+      END { best = "none"; first = "none"; links = "-"
+        for (i = 0; i < n; i++) {
+          if (e[i] <= g && (first == "none" || t[i] < first)) { first = t[i]; links = l[i] }
+          for (j = 0; j < n; j++)
+            if (e[i] > g && e[j] <= g && t[j] >= t[i]) {
+              f = log(e[i] / g) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
+              if (best == "none" || v < best) best = v } }
+        printf "%s\t%s\t%s\t%s\t%s\n", m, g, best, first, links }' "$dat" >> "$target"
+  done
 done
 
 # pictures of the adaptive mesh (leaf edges drawn)
@@ -135,7 +132,7 @@ for o in $ORACLES; do
   (cd "$root" && "$RADKIT" solve "$scene" --method hier --oracle "$o" --eps 0.1 --quiet \
      --out /dev/null --png "$here/figures/mesh_$o.png" --edges --image-size 512x512)
 done
-(cd "$root" && "$RADKIT" solve "$scene" --method hier --oracle error --eps 0.003 --quiet \
+(cd "$root" && "$RADKIT" solve "$scene" --method hier --oracle error --eps 0.01 --quiet \
    --out /dev/null --png "$here/figures/cornell_hier.png" --ply "$here/data/cornell_hier.ply" \
    --image-size 512x512)
 
