@@ -78,6 +78,9 @@ struct rad_hier {
     rad_hier_stats st;
     int stepped;
     double last_change;       /* relative */
+    double last_bmax;         /* the largest leaf B of the last step */
+    double iter_err;          /* what the last step's change leaves of the fixed point
+                                 (absolute; solve.c) */
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;

@@ -129,7 +129,9 @@ void rad_hier_params_default(rad_hier_params *params);
 typedef struct rad_hier_stats {
     size_t elements;      /* leaves */
     size_t nodes;         /* elements at every level */
-    size_t links;         /* live links */
+    size_t links;         /* live links: pairs, each carrying light both ways (DESIGN.md's
+                             stats `links`, pairs coupled, as dense counts them; an
+                             implementation with one-way links needs two for each) */
     /* live links by visibility: nothing can block the pair; blockers but every
      * point value sees all of the other element; partly hidden; hidden at
      * every point value; and links whose point values are all 0 although

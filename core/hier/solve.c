@@ -198,6 +198,7 @@ rad_status rad_hier_step(rad_hier *h)
         return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
                          h->st.iterations + 1);
     h->last_change = bmax > 0.0 ? change / bmax : change;
+    h->last_bmax = bmax;
     h->st.residual = h->last_change;
     h->st.iterations++;
     h->stepped = 1;
@@ -261,13 +262,22 @@ double hier_weight(const rad_hier *h, const hier_elem *r, const hier_elem *s, in
 double hier_leaf_bound(const rad_hier *h, const hier_elem *x, int c)
 {
     double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
-    return (h->p.sealed ? damp : 1.0) * x->T[c] + (sqrt(x->d[c]) + x->dr[c]) * damp;
+    return (h->p.sealed ? damp : 1.0) * x->T[c] + (sqrt(x->d[c]) + x->dr[c]) * damp + h->iter_err;
 }
 
 double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
 {
     double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
-    return (h->p.sealed ? damp : 1.0) * x->T[c] + sqrt(x->d[c]) * damp;
+    return (h->p.sealed ? damp : 1.0) * x->T[c] + sqrt(x->d[c]) * damp + h->iter_err;
+}
+
+/* The iteration stopped at a step change delta (absolute): a step contracts
+ * the error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2 (rows
+ * capped there), so the fixed point lies within delta q / (1 - q). */
+static double iteration_error(const rad_hier *h)
+{
+    double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    return h->stepped && q < 1.0 ? h->last_change * h->last_bmax * q / (1.0 - q) : 0.0;
 }
 
 /* Push the local errors down: a leaf's q and d become the sums over the
@@ -401,6 +411,7 @@ rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
     size_t n = h->nroots;
+    h->iter_err = iteration_error(h);
     for (size_t t = 0; t < n; t++) {
         double lo[3], hi[3];
         pull_gradient(h, (int)t);
@@ -523,7 +534,7 @@ rad_status rad_hier_solve(rad_hier *h)
     rad_status st = hier_solve_links(h, round_tol);
     for (int round = 0; st == RAD_OK; round++) {
         if (h->p.progress)
-            h->p.progress(round, rad_hier_leaf_count(h), 2 * h->nln, h->p.progress_ctx);
+            h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
         if (round >= h->p.max_rounds)
             break;
         long long n = 0;

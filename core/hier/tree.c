@@ -354,14 +354,6 @@ void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats)
             stats->links_blocked++;
         stats->links_leaf += h->el[l->a].first_child < 0 && h->el[l->b].first_child < 0;
     }
-    /* directed links: every pair transports both ways */
-    stats->links *= 2;
-    stats->links_clear *= 2;
-    stats->links_visible *= 2;
-    stats->links_partial *= 2;
-    stats->links_blocked *= 2;
-    stats->links_unknown *= 2;
-    stats->links_leaf *= 2;
     stats->max_depth = 0;
     for (size_t e = 0; e < h->nel; e++)
         if (h->el[e].first_child < 0 && h->el[e].depth > stats->max_depth)

@@ -83,7 +83,7 @@ for rule in auto gauss:2; do
     t=data/${name}_$k.tsv
     echo "hierarchical: dense --refine $k --rule $rule" >&2
     time_s=$(solve "$t" --refine "$k" --rule "$rule" --tol 1e-3)
-    links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print 2*(p-n)}' "$t")
+    links=$(awk '/^# pairs = /{p=$4} /^# pairs_not_facing = /{n=$4} END{print p-n}' "$t")
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t-\t-\n' "$name" "$k" "$(hdr $t elements)" \
       "$links" "$(compare $t error_l1)" "$time_s" "$(hdr $t rays)" "$(hdr $t kernel_evals)" "-" \
       "$(compare $t error_worst)" >> "$dat"
