@@ -24,6 +24,12 @@ struct rad_scene {
 /* Growth helpers: RAD_ENOMEM on failure. */
 rad_status scene_add_vertex(rad_scene *s, double x, double y, double z);
 rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int face, int line);
+/* Triangulate the polygon idx[0..n-1] (existing vertices) into triangles that
+ * keep `face` and `line`: the fan (0,1,2), (0,2,3), ... when it does not fold
+ * (every convex polygon), else ear clipping in the polygon's plane.  RAD_EINPUT
+ * naming the face for n < 3, an index out of range or a self-intersecting
+ * polygon (polygon.c). */
+rad_status scene_add_polygon(rad_scene *s, const int *idx, int n, int mat, int face, int line);
 rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
                               const double emission[3]);
 rad_status scene_warn(rad_scene *s, const char *fmt, ...)
