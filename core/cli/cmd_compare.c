@@ -129,8 +129,8 @@ int cli_compare(int argc, char **argv)
     for (size_t i = 0; i < n; i++)
         printf("%zu\t%.17g\t%.6e\t%.6e\t%.6e\n", i, t[1].area[i], t[0].B[i] - t[1].B[i],
                t[0].B[i + n] - t[1].B[i + n], t[0].B[i + 2 * n] - t[1].B[i + 2 * n]);
-    if (fflush(stdout) != 0 || ferror(stdout))
-        st = RAD_ERROR(RAD_EIO, "compare: error writing the standard output");
+    rad_io_output std_out = {stdout, "-", NULL, NULL, 1};
+    st = rad_io_output_commit(&std_out); /* a full disk or closed pipe: exit 1 */
 done:
     free(E);
     rad_io_faces_free(&t[0]);

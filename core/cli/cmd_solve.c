@@ -116,6 +116,13 @@ static const char help_tail[] =
     "triangle, 0-based, in input order), area, B_r, B_g, B_b.  With --refine the\n"
     "value of a face is the area average over its elements.\n"
     "\n"
+    "Files (--out, --ply, --png, --stats; '-' is standard output) are checked\n"
+    "before any work: an empty path, a directory, a missing directory, two\n"
+    "outputs naming one file or an output naming the scene is a usage error\n"
+    "(exit 2).  Each is written to a temporary file beside it and renamed onto\n"
+    "it once complete: a failed write (exit 1) leaves the old file, or none.\n"
+    "Devices and pipes (/dev/null) are written in place and never removed.\n"
+    "\n"
     "example: radkit solve scenes/cornell/cornell.obj --refine 1 --out cornell.tsv\n";
 
 static void solver_progress(int channel, int iteration, double residual, void *ctx)
@@ -223,6 +230,9 @@ int cli_solve(int argc, char **argv)
     }
     if (!o.scene)
         return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: no scene given (see 'radkit solve --help')"));
+    /* every output path now, before the work: a typo must not cost a solve */
+    if ((st = solve_check_outputs(&o)) != RAD_OK)
+        return cli_fail(st);
 
     /* ---- parameters ---- */
     rad_scene_params sp;
@@ -288,7 +298,7 @@ int cli_solve(int argc, char **argv)
     rad_vis *vis = NULL;
     double *G = NULL, *work = NULL;
     int *element_material = NULL;
-    FILE *out = stdout;
+    rad_io_output table_out = {0};
     if ((st = rad_scene_load(o.scene, &sp, &scene)) != RAD_OK)
         return cli_fail(st);
     int faces = rad_scene_triangle_count(scene);
@@ -405,11 +415,11 @@ int cli_solve(int argc, char **argv)
         goto done;
     }
 
-    if (o.out && !(out = fopen(o.out, "w"))) {
+    if ((st = rad_io_output_open(o.out ? o.out : "-", 0, &table_out)) != RAD_OK) {
         free(face_area);
-        st = RAD_ERROR(RAD_EIO, "solve: cannot write '%s'", o.out);
         goto done;
     }
+    FILE *out = table_out.f;
     char rule_text[64];
     rad_ff_rule_format(ap.rule, rule_text, sizeof rule_text);
     fprintf(out, "# radkit %s solve\n# scene = %s\n# method = dense\n", RAD_VERSION, o.scene);
@@ -434,9 +444,7 @@ int cli_solve(int argc, char **argv)
             rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
     rad_io_print_faces(out, (size_t)faces, face_area, face_B);
     free(face_area);
-    if (out != stdout && fclose(out) != 0)
-        st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o.out);
-    out = stdout;
+    st = rad_io_output_commit(&table_out);
     if (st == RAD_OK)
         st = write_outputs(&o, scene, mesh, element_material, E, B, &plan, &as, &report, n, faces,
                            t_start,
@@ -444,8 +452,7 @@ int cli_solve(int argc, char **argv)
                                        t_solved - t_assembled});
 
 done:
-    if (out != stdout)
-        fclose(out);
+    rad_io_output_discard(&table_out);
     free(G);
     free(work);
     free(element_material);

@@ -1,4 +1,6 @@
-/* radkit: the command-line program.  Dispatches to one subcommand. */
+/* radkit: the command-line program.  Dispatches to one subcommand, then
+ * checks that its standard output was written (exit 1 if not). */
+#include <errno.h>
 #include <malloc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,9 +28,36 @@ static const char usage[] =
     "  --version       print the version\n"
     "\n"
     "Output is TSV: '#' lines (parameters, figures), a header row, data rows.\n"
-    "Exit status: 0 success, 1 the computation failed, 2 bad usage or input.\n";
+    "Exit status: 0 success, 1 the computation or writing an output failed (a\n"
+    "full disk), 2 bad usage or input (including an output path that cannot be\n"
+    "written).  Output files appear whole or not at all: each is written beside\n"
+    "its target and renamed onto it once complete.\n";
 
-int main(int argc, char **argv)
+/* Standard output is buffered: a full disk or a closed pipe shows up only
+ * when it is flushed, after the command has returned.  A command that
+ * succeeded but whose output was lost has failed (exit 1); one that failed
+ * has already said why. */
+static int finish_stdout(int code)
+{
+    int err = errno, bad = 0;
+    if (fflush(stdout) != 0) {
+        bad = 1;
+        err = errno;
+    } else if (ferror(stdout)) {
+        bad = 1;
+    }
+    if (fclose(stdout) != 0 && !bad) {
+        bad = 1;
+        err = errno;
+    }
+    if (bad && code == 0) {
+        fprintf(stderr, "radkit: error writing standard output: %s\n", strerror(err ? err : EIO));
+        return 1;
+    }
+    return code;
+}
+
+static int run(int argc, char **argv)
 {
     rad_dense_blas_idle(); /* OpenBLAS's workers would spin beside our OpenMP threads */
     /* Keep freed memory for reuse instead of handing it back to the kernel:
@@ -62,4 +91,10 @@ int main(int argc, char **argv)
         return cli_compare(argc, argv);
     fprintf(stderr, "radkit: unknown command '%s' (see 'radkit --help')\n", cmd);
     return 2;
+}
+
+int main(int argc, char **argv)
+{
+    errno = 0;
+    return finish_stdout(run(argc, argv));
 }

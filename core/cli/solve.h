@@ -1,6 +1,8 @@
 /* Internal to `radkit solve`: what its methods (cmd_solve.c: dense,
- * solve_hier.c: hierarchical, solve_mc.c: Monte Carlo) share — the parsed options and the outputs made
- * from a solution on a display mesh (PLY, PNG) and the table's effect lines. */
+ * solve_hier.c: hierarchical, solve_mc.c: Monte Carlo) share — the parsed
+ * options, the check of the output paths, the outputs made from a solution on
+ * a display mesh (PLY, PNG) and the table's effect lines.  Every output goes
+ * through rad_io_output (whole file or none). */
 #ifndef RAD_CLI_SOLVE_H
 #define RAD_CLI_SOLVE_H
 
@@ -21,6 +23,12 @@ typedef struct solve_options {
 
 /* A number > lo; RAD_EINVAL naming the option otherwise. */
 rad_status solve_parse_double(const char *option, const char *text, double lo, double *out);
+
+/* The output paths (--out, --ply, --png, --stats), checked before any work:
+ * each one writable (rad_io_output_check), no two naming the same file
+ * (rad_io_output_same), none naming the scene.  RAD_EINVAL naming the
+ * options and paths. */
+rad_status solve_check_outputs(const solve_options *o);
 
 /* --image-size and --exposure (0 when not given: automatic). */
 rad_status solve_parse_image(const solve_options *o, int *width, int *height, double *exposure);

@@ -1,6 +1,8 @@
-/* radkit solve: the outputs both methods make from a solution on a display
- * mesh (solve.h): PLY with vertex colours, the PNG, the effects lines. */
+/* radkit solve: what every method shares (solve.h): the check of the output
+ * paths before any work, the outputs made from a solution on a display mesh
+ * (PLY with vertex colours, the PNG) and the effects lines. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,6 +18,30 @@ rad_status solve_parse_double(const char *option, const char *text, double lo, d
     if (end == text || *end != '\0' || !isfinite(v) || !(v > lo))
         return RAD_ERROR(RAD_EINVAL, "solve: %s must be a number > %g, got '%s'", option, lo, text);
     *out = v;
+    return RAD_OK;
+}
+
+rad_status solve_check_outputs(const solve_options *o)
+{
+    const char *names[4] = {"--out", "--ply", "--png", "--stats"};
+    const char *paths[4] = {o->out, o->ply, o->png, o->stats};
+    for (int k = 0; k < 4; k++) {
+        if (!paths[k])
+            continue;
+        if (rad_io_output_check(paths[k]) != RAD_OK) {
+            char why[512];
+            snprintf(why, sizeof why, "%s", rad_error_message());
+            return RAD_ERROR(RAD_EINVAL, "solve: %s: %s", names[k], why);
+        }
+        if (o->scene && rad_io_output_same(paths[k], o->scene))
+            return RAD_ERROR(RAD_EINVAL, "solve: %s '%s' is the scene file, which it would "
+                                         "overwrite", names[k], paths[k]);
+        for (int j = 0; j < k; j++)
+            if (paths[j] && rad_io_output_same(paths[j], paths[k]))
+                return RAD_ERROR(RAD_EINVAL, "solve: %s '%s' and %s '%s' are the same file; "
+                                             "give each output its own path", names[j], paths[j],
+                                 names[k], paths[k]);
+    }
     return RAD_OK;
 }
 

@@ -162,7 +162,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     int *leaf_face = NULL;
     hier_display_arrays disp_arrays;
     memset(&disp_arrays, 0, sizeof disp_arrays);
-    FILE *out = stdout;
+    rad_io_output table = {0};
     if ((st = rad_scene_load(o->scene, sp, &scene)) != RAD_OK)
         return cli_fail(st);
     if (!o->quiet)
@@ -251,10 +251,9 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     if ((st = rad_io_face_averages(n, leaf_face, area, B, (size_t)faces, face_area, face_B)) !=
         RAD_OK)
         goto done;
-    if (o->out && !(out = fopen(o->out, "w"))) {
-        st = RAD_ERROR(RAD_EIO, "solve: cannot write '%s'", o->out);
+    if ((st = rad_io_output_open(o->out ? o->out : "-", 0, &table)) != RAD_OK)
         goto done;
-    }
+    FILE *out = table.f;
     char rule_text[64];
     rad_ff_rule_format(hp.rule, rule_text, sizeof rule_text);
     fprintf(out, "# radkit %s solve\n# scene = %s\n# method = hier\n# oracle = %s\n",
@@ -284,10 +283,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
             t_setup - t_start, t_vis - t_setup, hs.time_link_s, hs.time_refine_s,
             hs.time_solve_s, rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
     rad_io_print_faces(out, (size_t)faces, face_area, face_B);
-    if (out != stdout && fclose(out) != 0)
-        st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o->out);
-    out = stdout;
-    if (st != RAD_OK)
+    if ((st = rad_io_output_commit(&table)) != RAD_OK)
         goto done;
 
     double t_render = 0.0;
@@ -333,8 +329,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
         st = rad_io_write_stats_json(o->stats, &js);
     }
 done:
-    if (out != stdout)
-        fclose(out);
+    rad_io_output_discard(&table);
     hier_display_free(&disp_arrays);
     free(work);
     free(leaf);

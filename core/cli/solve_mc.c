@@ -117,7 +117,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
     rad_mesh *mesh = NULL;
     rad_vis *vis = NULL;
     double *work = NULL, *corners = NULL;
-    FILE *out = stdout;
+    rad_io_output table = {0};
     if ((st = rad_scene_load(o->scene, sp, &scene)) != RAD_OK)
         return cli_fail(st);
     if (!o->quiet)
@@ -181,10 +181,9 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
     double se_l1 = 0.0, se_worst = 0.0;
     relative_errors(n, area, B, E, se, &se_l1, &se_worst);
 
-    if (o->out && !(out = fopen(o->out, "w"))) {
-        st = RAD_ERROR(RAD_EIO, "solve: cannot write '%s'", o->out);
+    if ((st = rad_io_output_open(o->out ? o->out : "-", 0, &table)) != RAD_OK)
         goto done;
-    }
+    FILE *out = table.f;
     fprintf(out, "# radkit %s solve\n# scene = %s\n# method = mc\n", RAD_VERSION, o->scene);
     fprintf(out, "# samples = %lld\n# seed = %llu\n# batches = %d\n# faces = %d\n# elements = %d\n",
             ms.samples_per_face, mp.seed, ms.batches, faces, faces);
@@ -200,10 +199,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
             t_paths > t_vis ? (double)ms.paths / (t_paths - t_vis) : 0.0,
             rad_sys_peak_rss_bytes());
     rad_io_print_faces_se(out, n, area, B, se);
-    if (out != stdout && fclose(out) != 0)
-        st = RAD_ERROR(RAD_EIO, "solve: error writing '%s'", o->out);
-    out = stdout;
-    if (st != RAD_OK)
+    if ((st = rad_io_output_commit(&table)) != RAD_OK)
         goto done;
 
     double t_render = 0.0;
@@ -247,8 +243,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
         st = rad_io_write_stats_json(o->stats, &js);
     }
 done:
-    if (out != stdout)
-        fclose(out);
+    rad_io_output_discard(&table);
     free(work);
     free(corners);
     rad_vis_destroy(vis);

@@ -1,7 +1,8 @@
 /* A small JSON emitter and the stats file of `solve --stats`.
  * Strings are escaped per RFC 8259 (quote, backslash, control characters as
  * \uXXXX); numbers use %.17g and must be finite (JSON has no NaN or Inf):
- * a non-finite number is an error naming its key, never a silent null. */
+ * a non-finite number is an error naming its key, never a silent null.
+ * The stats file is written through rad_io_output: whole or not at all. */
 #include "rad_io.h"
 
 #include <errno.h>
@@ -127,10 +128,11 @@ rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *s)
 {
     if (!path || !s)
         return RAD_ERROR(RAD_EINVAL, "stats JSON: NULL argument");
-    int to_stdout = strcmp(path, "-") == 0;
-    FILE *f = to_stdout ? stdout : fopen(path, "w");
-    if (!f)
-        return RAD_ERROR(RAD_EIO, "%s: cannot open for writing: %s", path, strerror(errno));
+    rad_io_output o;
+    rad_status status = rad_io_output_open(path, 0, &o);
+    if (status != RAD_OK)
+        return status;
+    FILE *f = o.f;
     rad_io_json j;
     rad_io_json_start(&j, f);
     rad_io_json_string(&j, "method", s->method);
@@ -164,15 +166,10 @@ rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *s)
             rad_io_json_number(&j, s->details[k].name, s->details[k].value);
         rad_io_json_end(&j);
     }
-    rad_status status = rad_io_json_finish(&j);
-    int bad = ferror(f);
-    if (!to_stdout && fclose(f) != 0)
-        bad = 1;
-    if (to_stdout)
-        fflush(f);
-    if (status == RAD_OK && bad)
-        status = RAD_ERROR(RAD_EIO, "%s: write failed", path);
-    if (status != RAD_OK && !to_stdout)
-        remove(path); /* no half-written JSON left behind */
-    return status;
+    status = rad_io_json_finish(&j);
+    if (status != RAD_OK) {
+        rad_io_output_discard(&o); /* no half-written JSON: the target stays as it was */
+        return status;
+    }
+    return rad_io_output_commit(&o);
 }

@@ -11,7 +11,13 @@
  * Per-face arrays of three channels are n x 3 column-major (channel c of face i
  * is B[i + c n]), as in rad_dense_solve.h.  Numbers are written with %.17g, so
  * a double reads back exactly.  A path of "-" means standard output.
- * Errors: RAD_EIO naming the path and the system's reason. */
+ * Every file is written through rad_io_output (output.c): to a temporary
+ * file beside the target, renamed onto it only when every write and the
+ * close succeeded, so a failed write leaves no partial file and nothing
+ * radkit did not create is ever removed.
+ * Errors: RAD_EINVAL for a path that cannot be written (empty, a directory,
+ * a missing directory), RAD_EIO for a failed write, naming the path and the
+ * system's reason. */
 #ifndef RAD_IO_H
 #define RAD_IO_H
 
@@ -52,6 +58,42 @@ double rad_io_tonemap_auto_exposure(size_t n, const double *values, double perce
  * B is ntris x 3 column-major; areas are computed from xyz. */
 rad_status rad_io_vertex_values(size_t nverts, const double *xyz, size_t ntris, const int *tri,
                                 const double *B, double *vb);
+
+/* ---- output files ------------------------------------------------------------
+ * A file that appears whole or not at all.  A regular file (or a new one) is
+ * written to "<target>.tmp.XXXXXX" in the target's directory and renamed onto
+ * the target by rad_io_output_commit, keeping the old file's permissions (a
+ * new one gets 0666 less the umask); a symbolic link is followed and stays.
+ * A target that exists and is not a regular file (a device, a pipe) and
+ * standard output ("-") are written in place and never renamed or removed.
+ * Not thread-safe for one object; different objects are independent. */
+typedef struct rad_io_output {
+    FILE *f;          /* write here */
+    const char *path; /* as given (borrowed: must outlive the object) */
+    char *target;     /* the file the rename replaces (owned), NULL in place */
+    char *tmp;        /* the temporary file (in target's allocation), NULL in place */
+    int in_place;     /* standard output, a device or a pipe */
+} rad_io_output;
+
+/* Whether path can be written, without touching it: RAD_EINVAL naming the
+ * path and the problem for an empty path, a directory, a directory that does
+ * not exist or is not one, or one where files cannot be created.  "-" (standard
+ * output) is fine.  Callers check before long work so a typo fails at once. */
+rad_status rad_io_output_check(const char *path);
+/* rad_io_output_check, then open (binary: "wb").  On failure *out is empty. */
+rad_status rad_io_output_open(const char *path, int binary, rad_io_output *out);
+/* Flush, check for any failed write, close and rename onto the target.
+ * RAD_EIO naming the path and the system's reason ("error writing standard
+ * output: ..." for "-"); on failure only the temporary file is removed.  The
+ * object is released either way. */
+rad_status rad_io_output_commit(rad_io_output *out);
+/* Give up: close and remove the temporary file (never the target).  Accepts
+ * an empty or already committed object. */
+void rad_io_output_discard(rad_io_output *out);
+/* 1 when two output paths name the same file: the same text, the same
+ * existing file (device and inode: hard or symbolic links), or the same name
+ * in the same directory once the directories are resolved. */
+int rad_io_output_same(const char *a, const char *b);
 
 /* ---- writers --------------------------------------------------------------- */
 

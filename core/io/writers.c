@@ -1,6 +1,8 @@
 /* The file writers: per-face TSV, PLY with vertex colours, experiment .dat.
- * Every writer opens its file, writes, and reports a failed write or close as
- * RAD_EIO with the path and strerror (a full disk shows up at fclose). */
+ * Every writer writes through rad_io_output (output.c): a temporary file
+ * renamed onto the target only when every write and the close succeeded, so
+ * a failed write (a full disk shows up at the flush) is RAD_EIO with the path
+ * and strerror, and leaves the target as it was. */
 #include "rad_io.h"
 
 #include <errno.h>
@@ -9,38 +11,6 @@
 #include <string.h>
 
 #include "rad_version.h"
-
-static rad_status open_out(const char *path, const char *mode, FILE **f)
-{
-    if (!path)
-        return RAD_ERROR(RAD_EINVAL, "output: NULL path");
-    if (strcmp(path, "-") == 0) {
-        *f = stdout;
-        return RAD_OK;
-    }
-    *f = fopen(path, mode);
-    if (!*f)
-        return RAD_ERROR(RAD_EIO, "%s: cannot open for writing: %s", path, strerror(errno));
-    return RAD_OK;
-}
-
-static rad_status close_out(const char *path, FILE *f)
-{
-    int bad = ferror(f);
-    int err = bad ? errno : 0;
-    if (f == stdout) {
-        if (fflush(f) != 0 || bad)
-            return RAD_ERROR(RAD_EIO, "standard output: write failed");
-        return RAD_OK;
-    }
-    if (fclose(f) != 0 && !bad) {
-        bad = 1;
-        err = errno;
-    }
-    if (bad)
-        return RAD_ERROR(RAD_EIO, "%s: write failed: %s", path, strerror(err));
-    return RAD_OK;
-}
 
 static void write_header(FILE *f, const rad_io_kv *header, size_t nheader)
 {
@@ -54,14 +24,14 @@ rad_status rad_io_write_faces_tsv(const char *path, size_t n, const double *area
 {
     if (n && (!area || !B))
         return RAD_ERROR(RAD_EINVAL, "faces TSV: NULL argument");
-    FILE *f = NULL;
-    rad_status status = open_out(path, "w", &f);
+    rad_io_output o;
+    rad_status status = rad_io_output_open(path, 0, &o);
     if (status != RAD_OK)
         return status;
-    fprintf(f, "# radkit %s per-face radiosity (W/m^2)\n", RAD_VERSION);
-    write_header(f, header, nheader);
-    rad_io_print_faces(f, n, area, B);
-    return close_out(path, f);
+    fprintf(o.f, "# radkit %s per-face radiosity (W/m^2)\n", RAD_VERSION);
+    write_header(o.f, header, nheader);
+    rad_io_print_faces(o.f, n, area, B);
+    return rad_io_output_commit(&o);
 }
 
 void rad_io_print_faces(FILE *f, size_t n, const double *area, const double *B)
@@ -130,13 +100,14 @@ rad_status rad_io_write_ply(const char *path, size_t nverts, const double *xyz, 
     if (!vb)
         return RAD_ERROR(RAD_ENOMEM, "PLY: no memory for %zu vertex colours", nverts);
     rad_status status = rad_io_vertex_values(nverts, xyz, ntris, tri, B, vb);
-    FILE *f = NULL;
+    rad_io_output o;
     if (status == RAD_OK)
-        status = open_out(path, binary ? "wb" : "w", &f);
+        status = rad_io_output_open(path, binary, &o);
     if (status != RAD_OK) {
         free(vb);
         return status;
     }
+    FILE *f = o.f;
     fprintf(f, "ply\nformat %s 1.0\n", binary ? "binary_little_endian" : "ascii");
     fprintf(f, "comment radkit %s: vertex colour = tone-mapped area-weighted average of the "
             "adjacent faces' radiosity (exposure %.9g, gamma %.9g)\n", RAD_VERSION, tm->exposure,
@@ -167,7 +138,7 @@ rad_status rad_io_write_ply(const char *path, size_t nverts, const double *xyz, 
         }
     }
     free(vb);
-    return close_out(path, f);
+    return rad_io_output_commit(&o);
 }
 
 rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv *header,
@@ -176,10 +147,11 @@ rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv
 {
     if (ncols == 0 || !columns || (nrows && !data))
         return RAD_ERROR(RAD_EINVAL, ".dat: no columns or NULL data");
-    FILE *f = NULL;
-    rad_status status = open_out(path, "w", &f);
+    rad_io_output o;
+    rad_status status = rad_io_output_open(path, 0, &o);
     if (status != RAD_OK)
         return status;
+    FILE *f = o.f;
     fprintf(f, "# %s\n# version = radkit %s\n", title ? title : "radkit data", RAD_VERSION);
     write_header(f, header, nheader);
     fprintf(f, "#");
@@ -189,5 +161,5 @@ rad_status rad_io_write_dat(const char *path, const char *title, const rad_io_kv
     for (size_t r = 0; r < nrows; r++)
         for (size_t c = 0; c < ncols; c++)
             fprintf(f, "%.17g%c", data[r * ncols + c], c + 1 < ncols ? '\t' : '\n');
-    return close_out(path, f);
+    return rad_io_output_commit(&o);
 }

@@ -12,10 +12,12 @@
  *    (one pixel's size at that distance, across the ray), the pixel takes the
  *    line colour.  For P inside the (convex) element the nearest edge line is
  *    the distance to its boundary, so lines and segments agree.
- * 5. PNG: libpng's simplified write API (png_image_write_to_file), 8-bit RGB.
+ * 5. PNG: libpng's simplified write API (png_image_write_to_stdio), 8-bit RGB,
+ *    through rad_io_output (a temporary file renamed onto the target).
  * \cite{pharr2016pbrt} (camera model), \cite{gouraud1971continuous} (shading). */
 #include "rad_render.h"
 
+#include <errno.h>
 #include <math.h>
 #include <png.h>
 #include <stdlib.h>
@@ -197,10 +199,19 @@ rad_status rad_render_write_png(const char *path, int width, int height, const u
     image.width = (png_uint_32)width;
     image.height = (png_uint_32)height;
     image.format = PNG_FORMAT_RGB;
-    if (!png_image_write_to_file(&image, path, 0, rgb, (png_int_32)width * 3, NULL)) {
-        rad_status st = RAD_ERROR(RAD_EIO, "%s: cannot write PNG: %s", path, image.message);
+    /* Through rad_io_output, not png_image_write_to_file: that one removes
+       the path when a write fails, whatever the path was. */
+    rad_io_output o;
+    rad_status st = rad_io_output_open(path, 1, &o);
+    if (st != RAD_OK)
+        return st;
+    if (!png_image_write_to_stdio(&image, o.f, 0, rgb, (png_int_32)width * 3, NULL)) {
+        int err = errno;
+        st = RAD_ERROR(RAD_EIO, "%s: cannot write PNG: %s (%s)", path, image.message,
+                       strerror(err ? err : EIO));
         png_image_free(&image);
+        rad_io_output_discard(&o);
         return st;
     }
-    return RAD_OK;
+    return rad_io_output_commit(&o);
 }
