@@ -31,15 +31,15 @@ int cli_fail(rad_status st);
 /* Parse a whole positive integer in [1, max]; RAD_EINVAL names the option. */
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 
-/* The options every scene-reading command shares: --scale, --drop-degenerate,
- * --rho, --emission and the six effect overrides.  cli_scene_options_add
+/* The options every scene-reading command shares: --scale, --strict,
+ * --drop-degenerate, --rho, --emission and the six effect overrides.  cli_scene_options_add
  * appends their entries to a table (room for CLI_SCENE_OPTION_COUNT);
  * cli_scene_options_apply turns the parsed text into parameters. */
-#define CLI_SCENE_OPTION_COUNT 10
+#define CLI_SCENE_OPTION_COUNT 11
 typedef struct cli_scene_options {
     const char *scale, *rho, *emission;
     const char *mode[6]; /* occlusion, colour, facing-away, singular, clustering, reflectance */
-    int drop_degenerate;
+    int strict, drop_degenerate;
 } cli_scene_options;
 
 struct rad_scene_params;

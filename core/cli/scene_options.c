@@ -9,7 +9,16 @@
 
 const char cli_scene_options_help[] =
     "  --scale S          multiply every coordinate by S > 0 (e.g. 0.001 for mm -> m)\n"
-    "  --drop-degenerate  drop zero-area triangles (counted) instead of failing\n"
+    "  --strict           refuse what otherwise loads with a counted warning: MTL\n"
+    "                     Kd = 1 (else taken as 0.999, the largest reflectance\n"
+    "                     radkit gives a surface), a missing material library or\n"
+    "                     material (else the default material of --rho and\n"
+    "                     --emission), degenerate (zero-area) triangles (else\n"
+    "                     dropped), unknown OBJ/MTL statements and free-form\n"
+    "                     geometry (else ignored).  Texture, glossy, transmission\n"
+    "                     and display statements are ignored with a warning even\n"
+    "                     then: radkit's surfaces are opaque and diffuse\n"
+    "  --drop-degenerate  accepted for compatibility; dropping is the default\n"
     "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
     "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
     "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
@@ -25,13 +34,14 @@ void cli_scene_options_init(cli_scene_options *o)
     o->scale = o->rho = o->emission = NULL;
     for (int k = 0; k < RAD_EFFECT_COUNT; k++)
         o->mode[k] = "auto";
-    o->drop_degenerate = 0;
+    o->strict = o->drop_degenerate = 0;
 }
 
 int cli_scene_options_add(cli_scene_options *o, cli_option *t)
 {
     int n = 0;
     t[n++] = (cli_option){"--scale", &o->scale, NULL, NULL};
+    t[n++] = (cli_option){"--strict", NULL, &o->strict, NULL};
     t[n++] = (cli_option){"--drop-degenerate", NULL, &o->drop_degenerate, NULL};
     t[n++] = (cli_option){"--rho", &o->rho, NULL, NULL};
     t[n++] = (cli_option){"--emission", &o->emission, NULL, NULL};
@@ -82,6 +92,7 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
             return RAD_ERROR(RAD_EINVAL, "%s: --scale must be a number > 0, got '%s'", command, o->scale);
         sp->scale = s;
     }
+    sp->strict = o->strict;
     sp->drop_degenerate = o->drop_degenerate;
     if (o->rho) {
         if ((st = parse_rgb(command, "--rho", o->rho, 1, sp->rho)) != RAD_OK)

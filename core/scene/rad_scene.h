@@ -22,10 +22,26 @@
  * triangles share a vertex index exactly when they share a corner point.
  *
  * Validation (errors, RAD_EINPUT or RAD_EIO, with the place in the message):
- * missing or unreadable files, malformed content, NaN/Inf coordinates, face
- * indices out of range, degenerate (zero-area) triangles, reflectance outside
- * [0,1), negative emission, an empty scene.  Warnings (kept, not errors): no
- * emitter, duplicate coincident faces, unused vertices, ignored statements. */
+ * missing or unreadable files, files that are not regular (directories,
+ * devices, FIFOs), larger than max_file_bytes or (OBJ/MTL) with a line longer
+ * than max_line_bytes or a NUL byte, malformed content, NaN/Inf coordinates or
+ * coordinates beyond RAD_GEOM_MAX_COORD (after the scale), face indices out of
+ * range, reflectance outside [0, 1] (MTL Kd) or [0, 1) (elsewhere), negative
+ * emission, an empty scene or one whose every triangle is degenerate.
+ * Loaded with a counted warning, naming the first place (all of them refused
+ * when params.strict is set):
+ *   - MTL Kd = 1 (white), taken as rho_white (0.999), the largest reflectance
+ *     radkit gives a surface;
+ *   - a material library that does not exist, a usemtl naming a material no
+ *     library defines: those faces take the default material (default_rho,
+ *     no emission; the overrides apply as to every material);
+ *   - degenerate (zero-area) triangles: dropped (rad_scene_dropped_count);
+ *   - OBJ/MTL statements radkit does not use, one warning per keyword (strict
+ *     mode refuses only the unknown ones and those that describe geometry
+ *     radkit does not load: free-form curves and surfaces, call; texture,
+ *     specular, transmission and display statements still only warn, since
+ *     radkit's surfaces are opaque and diffuse by definition).
+ * Other warnings: no emitter, duplicate coincident faces, unused vertices. */
 #ifndef RAD_SCENE_H
 #define RAD_SCENE_H
 
@@ -58,7 +74,9 @@ typedef struct rad_camera {
 
 typedef struct rad_scene_params {
     double scale;              /* every coordinate is multiplied by it (units -> metres); > 0 */
-    int drop_degenerate;       /* 1: drop degenerate triangles (counted) instead of failing */
+    int strict;                /* 1: refuse what otherwise loads with a warning (above) */
+    int drop_degenerate;       /* unused: degenerate triangles are dropped unless strict
+                                  (kept so that callers setting it still compile) */
     double degenerate_rel_tol; /* rad_geom_triangle_is_degenerate tolerance */
     int has_rho;               /* 1: rho below replaces every material's reflectance */
     double rho[3];
@@ -66,14 +84,21 @@ typedef struct rad_scene_params {
     double emission[3];
     double default_rho[3];     /* reflectance of faces that have no material (PLY, OFF, STL) */
     size_t max_triangles;      /* refuse bigger scenes with RAD_ETOOBIG */
+    double rho_white;          /* the reflectance an MTL's Kd = 1 stands for, < 1 */
+    size_t max_file_bytes;     /* refuse scene files (and material libraries) above it */
+    size_t max_line_bytes;     /* refuse OBJ/MTL lines longer than this (line break not
+                                  counted): memory stays bounded on any input */
     int no_cross_check;        /* 1: do not re-read an OBJ with Assimp to cross-check
                                   radkit's reader (Debian's Assimp 5.2 OBJ importer
                                   spends ~50 ms clearing a buffer on every file, a
                                   fifth of a hierarchical solve of the Cornell box) */
 } rad_scene_params;
 
-/* scale 1, fail on degenerate faces, tolerance 1e-12, no overrides,
- * default reflectance 0.5 grey, at most 50 million triangles. */
+/* scale 1, not strict, tolerance 1e-12, no overrides, default reflectance
+ * 0.5 grey, at most 50 million triangles, Kd = 1 taken as 0.999 (errors are
+ * then amplified at most 1000 times, well inside the effects plan's limit of
+ * 10^6: white walls stay solvable at modest cost), files up to 2 GiB, lines
+ * up to 64 KiB. */
 void rad_scene_params_default(rad_scene_params *params);
 
 /* Import a scene file (format by extension, see above) and validate it.
@@ -103,7 +128,7 @@ const int *rad_scene_triangle_faces(const rad_scene *scene);
 const rad_material *rad_scene_materials(const rad_scene *scene);
 const rad_camera *rad_scene_camera(const rad_scene *scene);
 const char *rad_scene_source(const rad_scene *scene);
-/* Triangles dropped as degenerate (only with drop_degenerate). */
+/* Triangles dropped as degenerate (none in strict mode, which refuses them). */
 int rad_scene_dropped_count(const rad_scene *scene);
 int rad_scene_warning_count(const rad_scene *scene);
 const char *rad_scene_warning(const rad_scene *scene, int i);

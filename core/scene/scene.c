@@ -5,10 +5,15 @@
  *  2. Check every material: 0 <= rho < 1 and E >= 0, finite (the place is the
  *     material's name; OBJ's MTL reader has already named the line).
  *  3. Refuse an empty scene; scale the coordinates (and the camera).
- *  4. Check every coordinate is finite and every triangle non-degenerate
- *     (rad_geom_triangle_is_degenerate); a degenerate triangle is an error
- *     naming its line (OBJ) or face, or is dropped and counted.  A polygon
- *     whose fan triangulation folds (non-convex) is an error.
+ *  4. Check every coordinate is finite and within RAD_GEOM_MAX_COORD (the
+ *     OBJ reader has already checked its vertices at their lines).  Drop
+ *     degenerate triangles (rad_geom_triangle_is_degenerate), counted, with
+ *     one warning naming the first (its line for OBJ, else its face): an
+ *     exporter's sliver says nothing about the rest of the scene.  In strict
+ *     mode the first is an error instead.  A scene with no triangle left is
+ *     an error.  A polygon whose triangles fold against its area vector (a
+ *     fan of a non-convex polygon, from an importer that does not use
+ *     scene_add_polygon) is an error.
  *  5. Count unused vertices (a warning), then merge vertices at bit-identical
  *     positions and drop unused ones, so shared corners share an index.
  *  6. Warn about duplicate coincident faces (the same three corners, in either
@@ -24,6 +29,7 @@
 
 #include "rad_geom.h"
 #include "scene_internal.h"
+#include "text_file.h"
 
 void rad_scene_params_default(rad_scene_params *p)
 {
@@ -33,6 +39,9 @@ void rad_scene_params_default(rad_scene_params *p)
     for (int k = 0; k < 3; k++)
         p->default_rho[k] = 0.5;
     p->max_triangles = 50000000;
+    p->rho_white = 0.999;
+    p->max_file_bytes = (size_t)1 << 31;
+    p->max_line_bytes = 65536;
 }
 
 rad_scene *scene_new(const char *source)
@@ -409,8 +418,8 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
             s->camera.look_at[k] *= p->scale;
         }
 
-    /* Degenerate triangles: an error at the first, or dropped. */
-    int kept = 0;
+    /* Degenerate triangles: dropped and counted, or an error in strict mode. */
+    int kept = 0, first_line = 0, first_face = -1;
     char *used = calloc((size_t)s->nv + 1, 1);
     if (!used)
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory", s->source);
@@ -426,18 +435,18 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
         rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
         rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
         if (rad_geom_triangle_is_degenerate(a, b, c, p->degenerate_rel_tol)) {
-            if (!p->drop_degenerate) {
+            if (p->strict) {
                 if (s->tri_line[t] > 0)
-                    return RAD_ERROR(RAD_EINPUT,
-                                     "%s:%d: degenerate (zero-area) triangle in face %d "
-                                     "(use --drop-degenerate to drop such faces)",
-                                     s->source, s->tri_line[t], s->tri_face[t]);
-                return RAD_ERROR(RAD_EINPUT,
-                                 "%s: face %d: degenerate (zero-area) triangle "
-                                 "(use --drop-degenerate to drop such faces)",
-                                 s->source, s->tri_face[t]);
+                    return RAD_ERROR(RAD_EINPUT, "%s:%d: degenerate (zero-area) triangle in face %d "
+                                     "(refused in strict mode)", s->source, s->tri_line[t],
+                                     s->tri_face[t]);
+                return RAD_ERROR(RAD_EINPUT, "%s: face %d: degenerate (zero-area) triangle "
+                                 "(refused in strict mode)", s->source, s->tri_face[t]);
             }
-            s->dropped++;
+            if (s->dropped++ == 0) {
+                first_line = s->tri_line[t];
+                first_face = s->tri_face[t];
+            }
             continue;
         }
         if (kept != t) {
@@ -452,11 +461,17 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
     if ((st = check_fans(s)) != RAD_OK)
         return st;
     if (s->nt == 0)
-        return RAD_ERROR(RAD_EINPUT, "%s: no faces left after dropping %d degenerate triangle(s)",
-                         s->source, s->dropped);
-    if (s->dropped > 0 && (st = scene_warn(s, "dropped %d degenerate (zero-area) triangle(s)",
-                                           s->dropped)) != RAD_OK)
-        return st;
+        return RAD_ERROR(RAD_EINPUT, "%s: no faces left after dropping %d degenerate (zero-area) "
+                         "triangle(s)", s->source, s->dropped);
+    if (s->dropped > 0) {
+        st = first_line > 0
+                 ? scene_warn(s, "dropped %d degenerate (zero-area) triangle(s) (first at %s:%d, "
+                              "face %d)", s->dropped, s->source, first_line, first_face)
+                 : scene_warn(s, "dropped %d degenerate (zero-area) triangle(s) (first: face %d)",
+                              s->dropped, first_face);
+        if (st != RAD_OK)
+            return st;
+    }
     if (unused > 0 &&
         (st = scene_warn(s, "%d unused vertices (not referenced by any face)", unused)) != RAD_OK)
         return st;
@@ -495,21 +510,21 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
     if (!out || !path || !*path)
         return RAD_ERROR(RAD_EINVAL, "rad_scene_load: no file name");
     *out = NULL;
-    FILE *probe = fopen(path, "rb");
-    if (!probe)
-        return RAD_ERROR(RAD_EINPUT, "%s: cannot open: %s", path, strerror(errno));
-    int c = fgetc(probe);
-    int read_error = ferror(probe) ? errno : 0;
+    /* Every format: a regular file within the size limit, so that no
+     * importer meets a FIFO, a device or a directory. */
+    FILE *probe = NULL;
+    long long size = 0;
+    rad_status st = scene_open_regular(path, params->max_file_bytes, &probe, &size, NULL);
+    if (st != RAD_OK)
+        return st;
     fclose(probe);
-    if (read_error)
-        return RAD_ERROR(RAD_EINPUT, "%s: cannot read: %s", path, strerror(read_error));
-    if (c == EOF)
+    if (size == 0)
         return RAD_ERROR(RAD_EINPUT, "%s: the file is empty (empty scene)", path);
     rad_scene *s = scene_new(path);
     if (!s)
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory", path);
-    rad_status st = has_extension(path, ".obj") ? scene_import_obj(s, path, params)
-                                                : scene_import_assimp(s, path, params);
+    st = has_extension(path, ".obj") ? scene_import_obj(s, path, params)
+                                     : scene_import_assimp(s, path, params);
     if (st == RAD_OK)
         st = scene_finish(s, params);
     if (st != RAD_OK) {
