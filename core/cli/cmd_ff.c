@@ -1,4 +1,6 @@
-/* radkit ff: the form factor between two triangles by one rule. */
+/* radkit ff: the form factor between two triangles by one rule.  A coincident
+ * pair (rad_ff: one plane within rounding, opposite normals, overlapping) is
+ * refused: its form factor has no single value. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -18,6 +20,13 @@ static const char help[] =
     "Triangle 1 is the first --tri.  Faces are one-sided: the front is the side\n"
     "the counter-clockwise winding's normal (v2 - v1) x (v3 - v1) points to; a\n"
     "pair that faces away or is coplanar is exactly 0 without integration.\n"
+    "Coplanar means within rounding (64 machine epsilons of the pair's size and\n"
+    "coordinates): any real gap is integrated, so two facing triangles a tiny\n"
+    "gap apart give F near 1 (their overlap's share), and a pair that lies in\n"
+    "one plane with opposite normals and overlaps (coincident: F jumps from 0 to\n"
+    "that share there) is refused (exit 2).  Every test is relative to the\n"
+    "triangles' size: a pair scaled by 1e-100 gives the same F; one whose areas\n"
+    "fall below 2.2e-308 (double precision's normal range) is refused.\n"
     "\n"
     "  --tri \"...\"    nine coordinates (spaces or commas); give it twice\n"
     "  --rule RULE    vertex       the seed notes' 3 x 3 vertex average\n"
@@ -72,9 +81,10 @@ static rad_status parse_triangle(int which, const char *text, rad_vec3 t[3])
 
 static void flags_text(unsigned f, char *buf, size_t size)
 {
-    static const char *names[] = {"not_facing", "guarded", "out_of_range", "not_converged"};
+    static const char *names[] = {"not_facing", "guarded", "out_of_range", "not_converged",
+                                  "coincident"};
     buf[0] = '\0';
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 5; k++)
         if (f & (1u << k)) {
             if (buf[0])
                 strncat(buf, ",", size - strlen(buf) - 1);
@@ -154,6 +164,12 @@ int cli_ff(int argc, char **argv)
             return rad_status_exit_code(st);
         }
     double seconds = (rad_sys_seconds() - t0) / repeat;
+    if (res.flags & RAD_FF_FLAG_COINCIDENT)
+        return cli_fail(RAD_ERROR(RAD_EINPUT, "ff: the triangles coincide: one plane (within "
+                                  "rounding of their size and coordinates), opposite normals, "
+                                  "overlapping; F is 0 there for the two sides of one surface but "
+                                  "tends to the overlap's share as facing triangles close, so no "
+                                  "single value is right; move one off the other's plane"));
 
     static const char *adj[] = {"disjoint", "vertex", "edge", "same"};
     char rule_name[32], used_name[32], flags[96];

@@ -1,13 +1,26 @@
 /* Entry point of rad_ff: validation, the normalised pair, the facing test,
  * adjacency, the dispatch to a scheme, and the rule names.
  *
- * 1. Reject non-finite or degenerate triangles (RAD_EINPUT).
+ * 1. Reject non-finite or degenerate triangles (RAD_EINPUT; degeneracy is a
+ *    matter of shape, not size), and pairs so small that their areas leave
+ *    double precision's normal range (RAD_EINPUT: scale the pair up).
  * 2. Normalise: translate ti[0] to the origin, divide by the longest edge L.
+ *    Every decision below is taken on the normalised pair, so it depends on
+ *    the pair's shape only: scaling both triangles by 1e-100 changes nothing.
  * 3. Facing test: the clamped kernel vanishes identically when every vertex of
- *    one triangle lies behind or on the other's plane (within plane_rel_tol):
- *    the pair faces away or is coplanar, and G = 0 exactly, without integration.
- * 4. Detect shared vertices (rad_ff_adjacency_detect) and run the scheme.
- * 5. Scale G back by L^2, F12 = G / A1, F21 = G / A2, flag values outside [0,1]. */
+ *    one triangle lies behind or on the other's plane: the pair faces away or
+ *    is coplanar, and G = 0 exactly, without integration.  "On" means within
+ *    rounding: plane_rel_tol times the larger of the pair's extent and the
+ *    coordinates' magnitude (both over L), the error of the plane test and of
+ *    the input's own digits.  Any larger gap is real: facing triangles a tiny
+ *    gap apart are integrated (F tends to the overlap's share, 1 for
+ *    identical triangles, as the gap closes) instead of jumping to 0.
+ * 4. A pair that is coplanar within that rounding, with opposite normals and
+ *    overlapping interiors, is flagged RAD_FF_FLAG_COINCIDENT: 0 is right for
+ *    the two sides of one surface, but the value jumps there.
+ * 5. Detect shared vertices (rad_ff_adjacency_detect) and run the scheme.
+ * 6. Scale G back by L^2, F12 = G / A1, F21 = G / A2, flag values outside [0,1]. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +31,7 @@
 rad_ff_params rad_ff_defaults(void)
 {
     rad_ff_params p = {.adjacency_rel_tol = 1e-10,
-                       .plane_rel_tol = 1e-12,
+                       .plane_rel_tol = 64 * DBL_EPSILON,
                        .degenerate_rel_tol = 1e-12,
                        .exact_rel_tol = 1e-14,
                        .exact_far_ratio = 5.0,
@@ -116,18 +129,28 @@ rad_status rad_ff_rule_parse(const char *text, rad_ff_rule *rule)
 }
 
 /* Step 2: the pair translated by -ti[0] and divided by the longest edge L
- * (returned), with unit normals and areas. */
-static double normalise_pair(const rad_vec3 ti[3], const rad_vec3 tj[3], ff_pair *pr)
+ * (returned), with unit normals and areas; *round gets the rounding scale of
+ * the plane test in normalised units: the larger of the pair's extent and
+ * its coordinates' magnitude over L (at least 1). */
+static double normalise_pair(const rad_vec3 ti[3], const rad_vec3 tj[3], ff_pair *pr,
+                             double *round)
 {
     const rad_vec3 *t[2] = {ti, tj};
     double L = rad_dmax(rad_geom_triangle_longest_edge(ti), rad_geom_triangle_longest_edge(tj));
     rad_vec3 o = ti[0];
+    double extent = 1.0, magnitude = 0.0;
     for (int k = 0; k < 2; k++) {
-        for (int v = 0; v < 3; v++)
-            pr->p[k][v] = rad_vec3_scale(rad_vec3_sub(t[k][v], o), 1.0 / L);
+        for (int v = 0; v < 3; v++) {
+            rad_vec3 q = t[k][v];
+            pr->p[k][v] = rad_vec3_scale(rad_vec3_sub(q, o), 1.0 / L);
+            extent = rad_dmax(extent, rad_dmax(rad_dmax(fabs(pr->p[k][v].x), fabs(pr->p[k][v].y)),
+                                               fabs(pr->p[k][v].z)));
+            magnitude = rad_dmax(magnitude, rad_dmax(rad_dmax(fabs(q.x), fabs(q.y)), fabs(q.z)));
+        }
         pr->n[k] = rad_geom_triangle_normal(pr->p[k][0], pr->p[k][1], pr->p[k][2]);
         pr->A[k] = rad_geom_triangle_area(pr->p[k][0], pr->p[k][1], pr->p[k][2]);
     }
+    *round = rad_dmax(extent, magnitude / L);
     return L;
 }
 
@@ -139,11 +162,41 @@ static int pair_faces(const ff_pair *pr, double tol)
              max_front(pr->p[0], pr->n[1], pr->p[1][0]) <= tol);
 }
 
+/* Whether every vertex of t lies within tol of the plane (o, n). */
+static int on_plane(const rad_vec3 t[3], rad_vec3 n, rad_vec3 o, double tol)
+{
+    for (int k = 0; k < 3; k++)
+        if (!(fabs(rad_vec3_dot(n, rad_vec3_sub(t[k], o))) <= tol))
+            return 0;
+    return 1;
+}
+
+/* Step 4, for a pair in one plane (normal n): whether the interiors overlap,
+ * i.e. no edge of either triangle separates them (separating axes; touching
+ * within tol does not count as overlap). */
+static int coplanar_overlap(const ff_pair *pr, rad_vec3 n, double tol)
+{
+    for (int k = 0; k < 2; k++)
+        for (int e = 0; e < 3; e++) {
+            rad_vec3 a = pr->p[k][e], b = pr->p[k][(e + 1) % 3], c = pr->p[k][(e + 2) % 3];
+            rad_vec3 m = rad_vec3_cross(rad_vec3_sub(b, a), n); /* in the plane, across the edge */
+            if (rad_vec3_dot(m, rad_vec3_sub(c, a)) > 0.0)
+                m = rad_vec3_scale(m, -1.0); /* pointing away from the triangle */
+            double lo = INFINITY;
+            for (int v = 0; v < 3; v++)
+                lo = rad_dmin(lo, rad_vec3_dot(m, rad_vec3_sub(pr->p[1 - k][v], a)));
+            if (lo >= -tol * rad_vec3_norm(m))
+                return 0;
+        }
+    return 1;
+}
+
 int rad_ff_facing(const rad_vec3 ti[3], const rad_vec3 tj[3], const rad_ff_params *params)
 {
     ff_pair pr;
-    normalise_pair(ti, tj, &pr);
-    return pair_faces(&pr, params ? params->plane_rel_tol : rad_ff_defaults().plane_rel_tol);
+    double round;
+    normalise_pair(ti, tj, &pr, &round);
+    return pair_faces(&pr, round * (params ? params->plane_rel_tol : rad_ff_defaults().plane_rel_tol));
 }
 
 rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
@@ -164,6 +217,11 @@ rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rul
                                  RAD_GEOM_MAX_COORD);
         if (rad_geom_triangle_is_degenerate(t[k][0], t[k][1], t[k][2], p.degenerate_rel_tol))
             return RAD_ERROR(RAD_EINPUT, "triangle %d is degenerate (zero area or collinear vertices)", k + 1);
+        /* G = A F scales with the area: below DBL_MIN it loses digits, then vanishes */
+        double area = rad_geom_triangle_area(t[k][0], t[k][1], t[k][2]);
+        if (!(area >= DBL_MIN))
+            return RAD_ERROR(RAD_EINPUT, "triangle %d: its area %.3g is below %.3g, where double "
+                             "precision loses digits; scale the pair up", k + 1, area, DBL_MIN);
     }
     if ((rule.scheme == RAD_FF_GAUSS || rule.scheme == RAD_FF_ANALYTIC) &&
         (rule.order < 0 || rule.order > RAD_FF_MAX_DEGREE))
@@ -174,16 +232,24 @@ rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rul
         return RAD_ERROR(RAD_EINVAL, "auto: tolerance must lie in (0, 1), got %g", p.tol);
 
     ff_pair pr;
-    double L = normalise_pair(ti, tj, &pr);
+    double round;
+    double L = normalise_pair(ti, tj, &pr, &round);
     out->A1 = rad_geom_triangle_area(ti[0], ti[1], ti[2]);
     out->A2 = rad_geom_triangle_area(tj[0], tj[1], tj[2]);
-    pr.adj = rad_ff_adjacency_detect(ti, tj, p.adjacency_rel_tol, pr.map);
+    /* on the normalised pair: relative to size, and no squares of tiny lengths */
+    pr.adj = rad_ff_adjacency_detect(pr.p[0], pr.p[1], p.adjacency_rel_tol, pr.map);
     out->adjacency = pr.adj;
 
-    /* Facing test (step 3). */
-    if (!pair_faces(&pr, p.plane_rel_tol)) {
+    /* Facing test (step 3), and the coincident pair (step 4). */
+    double plane_tol = round * p.plane_rel_tol;
+    if (!pair_faces(&pr, plane_tol)) {
         out->flags |= RAD_FF_FLAG_NOT_FACING;
         out->rel_error = 0.0;
+        if (rad_vec3_dot(pr.n[0], pr.n[1]) < 0.0 &&
+            on_plane(pr.p[1], pr.n[0], pr.p[0][0], plane_tol) &&
+            on_plane(pr.p[0], pr.n[1], pr.p[1][0], plane_tol) &&
+            coplanar_overlap(&pr, pr.n[0], plane_tol))
+            out->flags |= RAD_FF_FLAG_COINCIDENT;
         return RAD_OK;
     }
 

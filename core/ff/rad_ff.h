@@ -81,15 +81,23 @@ enum {
                                        vertex); those terms were taken as 0 and counted */
     RAD_FF_FLAG_OUT_OF_RANGE = 4u,  /* F12 or F21 lies outside [0, 1]: the estimate is
                                        wrong; it is reported as computed, never clamped */
-    RAD_FF_FLAG_NOT_CONVERGED = 8u  /* an adaptive integration (exact) or auto missed its
+    RAD_FF_FLAG_NOT_CONVERGED = 8u, /* an adaptive integration (exact) or auto missed its
                                        tolerance; the value is the best one found */
+    RAD_FF_FLAG_COINCIDENT = 16u    /* (with NOT_FACING) the triangles lie in one plane
+                                       within rounding, face opposite ways and overlap: F
+                                       is 0 for the two sides of one surface (what the
+                                       assembly takes), but tends to the overlap's share as
+                                       facing triangles close, so the pair is ambiguous */
 };
 
 typedef struct rad_ff_params {
     double adjacency_rel_tol; /* two vertices are the same when closer than this times
                                  the smaller triangle's longest edge (1e-10) */
     double plane_rel_tol;     /* a vertex nearer the other triangle's plane than this
-                                 times the pair's longest edge counts as on it (1e-12) */
+                                 times the rounding scale, the larger of the pair's
+                                 longest edge, its extent and its coordinates'
+                                 magnitude, counts as on it (64 DBL_EPSILON: rounding,
+                                 not geometry; a real gap, however thin, is integrated) */
     double degenerate_rel_tol;/* rad_geom_triangle_is_degenerate threshold (1e-12) */
     double exact_rel_tol;     /* relative tolerance of each adaptive outer integral of
                                  `exact` (1e-14) */
@@ -127,8 +135,10 @@ typedef struct rad_ff_result {
 } rad_ff_result;
 
 /* The form factor between triangles ti (i = 1) and tj (j = 2) by `rule`.
- * RAD_EINPUT for a degenerate (zero-area, collinear) or non-finite triangle,
- * RAD_EINVAL for an unsupported rule order.  Out of range values are flagged,
+ * RAD_EINPUT for a degenerate (zero-area, collinear: a matter of shape, not
+ * size) or non-finite triangle, or one whose area is below DBL_MIN (about
+ * 1e-154 across); RAD_EINVAL for an unsupported rule order.  Scale-invariant:
+ * a pair scaled by s gives the same F (G and the areas scale by s^2).  Out of range values are flagged,
  * not errors; a non-converged `exact` returns RAD_OK with the flag set. */
 rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
                           const rad_ff_params *params, rad_ff_result *out);

@@ -61,7 +61,10 @@ rad_vec3 rad_geom_triangle_point(rad_vec3 a, rad_vec3 b, rad_vec3 c, double s, d
 void rad_geom_triangle_stratum(int k, long long cell, double w1, double w2, double *s, double *t);
 /* A triangle is degenerate when its area is below rel_tol times the square of
  * its longest edge (zero-area, collinear or sliver beyond use), or it has a
- * non-finite coordinate.  rel_tol = 1e-12 is the library's default. */
+ * non-finite coordinate.  rel_tol = 1e-12 is the library's default.  A test of
+ * shape, not size: a triangle scaled by 1e-200 is degenerate exactly when the
+ * unscaled one is (area, normal and longest edge are likewise computed
+ * without underflow; the area itself underflows only below sizes of 1e-154). */
 int rad_geom_triangle_is_degenerate(rad_vec3 a, rad_vec3 b, rad_vec3 c, double rel_tol);
 
 #ifdef __cplusplus
