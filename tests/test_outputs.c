@@ -401,3 +401,29 @@ TEST(outputs_written_files_replace_targets_and_leave_nothing_else)
     remove_dir(dir);
     free(dir);
 }
+
+/* compare reads tables: a directory or binary data (/dev/zero, which never
+ * ends a line) is bad input, refused at once (a time limit guards the test). */
+TEST(outputs_compare_refuses_directory_and_binary_tables)
+{
+    char *dir = make_dir();
+    CHECK(dir != NULL);
+    if (!dir)
+        return;
+    const char *scene = harness_path(SCENE);
+    const char *tables[2] = {dir, "/dev/zero"};
+    const char *problems[2] = {"directory", "NUL"};
+    for (int k = 0; k < 2; k++) {
+        const char *argv[] = {"/usr/bin/timeout", "20", harness_radkit(), "compare", scene,
+                              tables[k], tables[k], NULL};
+        char *out, *err;
+        int code = harness_run(argv, &out, &err);
+        CHECK_MSG(code == 2, "compare %s: exit %d, want 2 (%s)", tables[k], code, err);
+        CHECK_MSG(strstr(err, tables[k]) && strstr(err, problems[k]), "compare %s: stderr %s",
+                  tables[k], err);
+        free(out);
+        free(err);
+    }
+    remove_dir(dir);
+    free(dir);
+}

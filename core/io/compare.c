@@ -10,12 +10,17 @@
  * and, for a reference with standard errors se, its own error on the same
  * scales: ref_l1 (se in place of |B - B^ref|) and ref_worst (se at the worst
  * face).  Relative to one mean, a dim face's error counts for what it adds to
- * the picture, not for its own relative size. */
+ * the picture, not for its own relative size.
+ *
+ * The reader takes bounded lines (4094 characters) and refuses a directory
+ * and binary data (a NUL byte) as bad input, so a table named /dev/zero ends
+ * at its first byte instead of being read forever. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "rad_io.h"
 
@@ -54,6 +59,25 @@ static int parse_number(const char *text, double *out)
     return 1;
 }
 
+/* One line of at most size - 1 characters into buf (without its '\n'):
+ * 1, or 0 at the end of the file, -1 for a longer line, -2 for a NUL byte
+ * (binary data, e.g. /dev/zero: never a line end, so reading stops here). */
+static int read_line(FILE *f, char *buf, size_t size, size_t *len)
+{
+    size_t n = 0;
+    int c;
+    while ((c = getc(f)) != EOF && c != '\n') {
+        if (c == '\0')
+            return -2;
+        if (n + 1 >= size)
+            return -1;
+        buf[n++] = (char)c;
+    }
+    buf[n] = '\0';
+    *len = n;
+    return c == EOF && n == 0 ? 0 : 1;
+}
+
 rad_status rad_io_read_faces_tsv(const char *path, rad_io_faces *out)
 {
     enum { MAX_LINE = 4096 };
@@ -61,20 +85,29 @@ rad_status rad_io_read_faces_tsv(const char *path, rad_io_faces *out)
     FILE *f = fopen(path, "r");
     if (!f)
         return RAD_ERROR(RAD_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        fclose(f);
+        return RAD_ERROR(RAD_EINPUT, "%s: is a directory, not a per-face table", path);
+    }
     rad_status st = RAD_OK;
     char line[MAX_LINE];
-    size_t cap = 0, lineno = 0;
-    int cols = 0;
+    size_t cap = 0, lineno = 0, len = 0;
+    int cols = 0, got;
     double *rows = NULL; /* per row: area, B[3], se[3] */
-    while (fgets(line, sizeof line, f)) {
+    while ((got = read_line(f, line, sizeof line, &len)) != 0) {
         lineno++;
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n') {
+        if (got == -1) {
             st = RAD_ERROR(RAD_EINPUT, "%s:%zu: line longer than %d characters", path, lineno,
                            MAX_LINE - 2);
             goto done;
         }
-        while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+        if (got == -2) {
+            st = RAD_ERROR(RAD_EINPUT, "%s:%zu: a NUL byte: binary data, not a per-face table",
+                           path, lineno);
+            goto done;
+        }
+        while (len && line[len - 1] == '\r')
             line[--len] = '\0';
         if (line[0] == '#' || len == 0)
             continue;
