@@ -362,7 +362,7 @@ TEST(scene_bad_inputs_are_refused_with_their_place)
         {"scenes/bad/no_faces.obj", "no faces", RAD_EINPUT},
         {"scenes/bad/empty.obj", "empty", RAD_EINPUT},
         {"scenes/bad/garbage.obj", "garbage.obj: no faces (empty scene); it has 2 statement(s) radkit ignores", RAD_EINPUT},
-        {"scenes/bad/garbage.ply", "garbage.ply: cannot read the scene", RAD_EINPUT},
+        {"scenes/bad/garbage.ply", "garbage.ply:3: element vertex needs the scalar properties x, y and z", RAD_EINPUT},
         {"scenes/bad/no_such_scene.obj", "cannot open", RAD_EINPUT},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {

@@ -127,7 +127,7 @@ TEST(cli_info_rejects_every_bad_input)
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/index_out_of_range.ply"), NULL}, "out of range");
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/empty.obj"), NULL}, "empty");
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/garbage.obj"), NULL}, "garbage.obj: no faces (empty scene); it has 2 statement(s) radkit ignores");
-    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/garbage.ply"), NULL}, "garbage.ply: cannot read the scene");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/garbage.ply"), NULL}, "garbage.ply:3: element vertex needs the scalar properties");
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad/no_such_file.obj"), NULL}, "no_such_file.obj: cannot open");
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *[]){harness_path("scenes/bad"), NULL}, "bad: not a regular file (a directory)");
     /* Usage errors. */

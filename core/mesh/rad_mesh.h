@@ -133,6 +133,12 @@ rad_status rad_mesh_write_ply(const rad_mesh *mesh, const char *path, const doub
 /* OFF with full double precision. */
 rad_status rad_mesh_write_off(const rad_mesh *mesh, const char *path);
 
+/* The polygons of a mesh file as CGAL's own reader (CGAL::IO::read_polygon_soup;
+ * OFF, PLY, STL, OBJ by extension) sees them, and the triangles their fans
+ * would make (sum of n - 2 over polygons of n >= 3 corners): an importer
+ * independent of radkit's, for tests.  RAD_EINPUT when CGAL refuses the file. */
+rad_status rad_mesh_count_polygon_soup(const char *path, long *polygons, long *triangles_if_fanned);
+
 #ifdef __cplusplus
 }
 #endif

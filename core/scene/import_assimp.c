@@ -1,5 +1,9 @@
-/* Import through Assimp's C API: glTF 2.0, PLY, OFF, STL and the other
- * formats Assimp reads [assimp].
+/* Import through Assimp's C API: glTF 2.0, STL and the other formats Assimp
+ * reads [assimp], except OBJ, OFF and PLY, which radkit reads itself
+ * (import_obj.c, import_off.c, import_ply.c): Assimp's OFF and PLY readers
+ * lose faces, hang on a PLY header without end_header and invent data where a
+ * file is shorter than its header says.  STL loads every facet of the
+ * libcgal-demo corpus (tests/test_corpus.c).
  *
  *  1. aiImportFileExWithProperties with aiProcess_JoinIdenticalVertices
  *     (shared corners) and aiProcess_ValidateDataStructure (indices in range).
@@ -8,7 +12,8 @@
  *     aiProcess_PreTransformVertices (they regroup meshes and lose the input
  *     order), nor aiProcess_Triangulate: polygons are fan-triangulated here, so
  *     that every triangle knows its input face (scene_finish refuses a
- *     polygon the fan would fold, i.e. a non-convex one).
+ *     polygon the fan would fold, i.e. a non-convex one; radkit's own
+ *     readers ear-clip those through scene_add_polygon).
  *  2. Walk the node tree depth first, children in order, each node's meshes in
  *     order, applying the accumulated node transform in double precision:
  *     the triangles come out in the order of the file's meshes and faces.
@@ -16,13 +21,13 @@
  *  3. Materials: glTF's baseColorFactor ($clr.base, or $clr.diffuse) is the
  *     reflectance and emissiveFactor ($clr.emissive) times
  *     KHR_materials_emissive_strength ($mat.emissiveIntensity) the emission.
- *     PLY, OFF and STL carry no usable material: every face gets one material
- *     from the parameters (--rho, --emission; default grey 0.5, no emission).
+ *     STL carries no usable material: every face gets one material from the
+ *     parameters (--rho, --emission; default grey 0.5, no emission).
  *     Other formats: Assimp's diffuse and emissive colours.
  *  4. The first camera, if any, placed by its node's transform.
  * Coordinates pass through Assimp's single precision (ai_real is float in
- * Debian's build): such files carry float32 data already for glTF; for ASCII
- * PLY/OFF this rounds to about 7 digits. */
+ * Debian's build): glTF and binary STL carry float32 data already; ASCII STL
+ * is rounded to about 7 digits. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -220,8 +225,7 @@ rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_p
         return RAD_ERROR(RAD_EINPUT, "%s: cannot read the scene: %s", path, aiGetErrorString());
     rad_status st = RAD_OK;
     int gltf = has_extension(path, ".gltf") || has_extension(path, ".glb");
-    int geometry_only = has_extension(path, ".ply") || has_extension(path, ".off") ||
-                        has_extension(path, ".stl");
+    int geometry_only = has_extension(path, ".stl");
     walk w = {s, ai, 0, -1, 0, 0};
     if (geometry_only || ai->mNumMaterials == 0) {
         double zero[3] = {0, 0, 0};

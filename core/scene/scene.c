@@ -523,8 +523,10 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
     rad_scene *s = scene_new(path);
     if (!s)
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory", path);
-    st = has_extension(path, ".obj") ? scene_import_obj(s, path, params)
-                                     : scene_import_assimp(s, path, params);
+    st = has_extension(path, ".obj")   ? scene_import_obj(s, path, params)
+         : has_extension(path, ".off") ? scene_import_off(s, path, params)
+         : has_extension(path, ".ply") ? scene_import_ply(s, path, params)
+                                       : scene_import_assimp(s, path, params);
     if (st == RAD_OK)
         st = scene_finish(s, params);
     if (st != RAD_OK) {

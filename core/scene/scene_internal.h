@@ -42,6 +42,11 @@ rad_scene *scene_new(const char *source);
 /* Importers fill a new scene; scene_finish validates and normalises it. */
 rad_status scene_import_obj(rad_scene *s, const char *path, const rad_scene_params *p);
 rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_params *p);
+/* radkit's own OFF and PLY readers (import_off.c, import_ply.c). */
+rad_status scene_import_off(rad_scene *s, const char *path, const rad_scene_params *p);
+rad_status scene_import_ply(rad_scene *s, const char *path, const rad_scene_params *p);
+/* The whole of a regular file of at most max_bytes, NUL-terminated (free it). */
+rad_status scene_read_file(const char *path, size_t max_bytes, char **data, size_t *size);
 /* Import `path` with Assimp only to count its triangles and materials (the
  * cross-check of the OBJ reader). */
 rad_status scene_assimp_count(const char *path, long *triangles, long *materials);
