@@ -354,10 +354,12 @@ static rad_status read_mtl(obj_reader *r, const char *mtl_path, int obj_line)
                              obj_line, mtl_path, strerror(open_errno));
         return note_add(&r->missing_lib, r->path, obj_line, mtl_path, strerror(open_errno));
     }
-    if (st != RAD_OK)
-        return open_errno ? RAD_ERROR(RAD_EINPUT, "%s:%d: cannot open material library '%s': %s",
-                                      r->path, obj_line, mtl_path, strerror(open_errno))
-                          : st;
+    if (st != RAD_OK) {
+        /* Name the OBJ line too: the library's own message may not say who asked. */
+        char why[512];
+        snprintf(why, sizeof why, "%s", rad_error_message());
+        return RAD_ERROR(st, "%s:%d: material library: %s", r->path, obj_line, why);
+    }
     int current = -1;
     char *buf;
     while ((st = scene_text_next(&t, &buf)) == RAD_OK && buf)

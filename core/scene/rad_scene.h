@@ -16,7 +16,8 @@
  *     times KHR_materials_emissive_strength (when present) the emission.
  *   - PLY, OFF, STL and anything else Assimp reads: geometry only; every face
  *     gets the reflectance and emission of the parameters (--rho, --emission).
- * Polygons are fan-triangulated (OBJ) or triangulated by Assimp; the triangles
+ * Polygons are triangulated in their plane (the fan when it does not fold,
+ * ear clipping otherwise) by radkit's readers, or by Assimp; the triangles
  * keep the order of the input faces and each its face's material.  Vertices at
  * bit-identical positions are merged and unused vertices dropped, so two
  * triangles share a vertex index exactly when they share a corner point.
