@@ -197,7 +197,7 @@ TEST(outputs_standard_output_write_error_exits_1)
         {"solve", scene, "--quiet", NULL},
         {"solve", scene, "--quiet", "--method", "hier", NULL},
         {"solve", scene, "--quiet", "--method", "mc", "--samples", "64", NULL},
-        {"solve", scene, "--quiet", "--stats", "-", NULL},
+        {"solve", scene, "--quiet", "--out", "-", NULL},
         {"solve", "--help", NULL},
         {"compare", scene, table, table, NULL},
     };
@@ -322,6 +322,9 @@ TEST(outputs_one_path_for_two_outputs_is_refused)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "mc", "--out", "-",
                                                         "--stats", "-", NULL},
                                "--stats");
+    /* without --out the table is standard output */
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--ply", "-", NULL},
+                               "standard output");
     CHECK(access(x, F_OK) != 0); /* refused before anything was written */
     /* one existing file by two names: a hard link, a symbolic link */
     FILE *f = fopen(x, "w");

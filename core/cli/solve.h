@@ -26,8 +26,8 @@ rad_status solve_parse_double(const char *option, const char *text, double lo, d
 
 /* The output paths (--out, --ply, --png, --stats), checked before any work:
  * each one writable (rad_io_output_check), no two naming the same file
- * (rad_io_output_same), none naming the scene.  RAD_EINVAL naming the
- * options and paths. */
+ * (rad_io_output_same; the table without --out is standard output, "-"),
+ * none naming the scene.  RAD_EINVAL naming the options and paths. */
 rad_status solve_check_outputs(const solve_options *o);
 
 /* --image-size and --exposure (0 when not given: automatic). */

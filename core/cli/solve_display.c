@@ -24,7 +24,8 @@ rad_status solve_parse_double(const char *option, const char *text, double lo, d
 rad_status solve_check_outputs(const solve_options *o)
 {
     const char *names[4] = {"--out", "--ply", "--png", "--stats"};
-    const char *paths[4] = {o->out, o->ply, o->png, o->stats};
+    /* the table goes to standard output when --out is not given */
+    const char *paths[4] = {o->out ? o->out : "-", o->ply, o->png, o->stats};
     for (int k = 0; k < 4; k++) {
         if (!paths[k])
             continue;
@@ -37,10 +38,15 @@ rad_status solve_check_outputs(const solve_options *o)
             return RAD_ERROR(RAD_EINVAL, "solve: %s '%s' is the scene file, which it would "
                                          "overwrite", names[k], paths[k]);
         for (int j = 0; j < k; j++)
-            if (paths[j] && rad_io_output_same(paths[j], paths[k]))
+            if (paths[j] && rad_io_output_same(paths[j], paths[k])) {
+                if (j == 0 && !o->out)
+                    return RAD_ERROR(RAD_EINVAL, "solve: %s '%s' is standard output, where the "
+                                                 "table goes without --out; give --out FILE",
+                                     names[k], paths[k]);
                 return RAD_ERROR(RAD_EINVAL, "solve: %s '%s' and %s '%s' are the same file; "
                                              "give each output its own path", names[j], paths[j],
                                  names[k], paths[k]);
+            }
     }
     return RAD_OK;
 }
