@@ -142,7 +142,7 @@ TEST(cli_solve_rejects_bad_input)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){NULL}, "scene");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){"/nonexistent/scene.obj", NULL}, "nonexistent");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/nan_vertex.obj"), NULL}, "nan_vertex.obj:");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/zero_area.obj"), NULL}, "zero_area.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/zero_area.obj"), "--strict", NULL}, "zero_area.obj:9: degenerate");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/rho_too_big.obj"), NULL}, "rho_too_big");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/negative_emission.obj"), NULL}, "negative");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--rule", "simpson", NULL}, "simpson");

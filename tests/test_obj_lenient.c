@@ -456,3 +456,18 @@ TEST(obj_nonconvex_polygon_is_triangulated)
     }
     rad_scene_destroy(s);
 }
+
+TEST(cli_solve_lenient_warnings_on_stderr)
+{
+    /* solve loads what info loads and prints each counted warning once on
+     * stderr; the solution is the one of the file without the sliver. */
+    char *out, *err;
+    int code = harness_radkit_run("solve", (const char *[]){harness_path("scenes/bad/zero_area.obj"), NULL}, &out, &err);
+    CHECK_MSG(code == 0, "exit %d: %s", code, err);
+    CHECK(strstr(err, "radkit: warning: dropped 1 degenerate (zero-area) triangle(s) (first at ") != NULL);
+    CHECK(strstr(out, "# warning = dropped 1 degenerate") != NULL);
+    double B[6];
+    CHECK(harness_face_table(out, B, 2) == 1);
+    free(out);
+    free(err);
+}
