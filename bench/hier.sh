@@ -13,12 +13,13 @@
 #    side by side (target: at most 1/40 of its time);
 #  - the exponent of links against leaves as eps goes from 0.1 to 0.003
 #    (target: <= 1.25).
-# Writes bench/hier.tsv and prints it.
+# Writes bench/hier.tsv and prints it.  REUSE=1 takes the data of the last
+# run of the experiment instead of running it again (same binary assumed).
 set -eu
 RADKIT=${1:?usage: bench/hier.sh path/to/radkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 TSV="$ROOT/bench/hier.tsv"
-RADKIT="$RADKIT" sh "$ROOT/experiments/hierarchical/run.sh" >/dev/null
+[ "${REUSE:-0}" = 1 ] || RADKIT="$RADKIT" sh "$ROOT/experiments/hierarchical/run.sh" >/dev/null
 data="$ROOT/experiments/hierarchical/data"
 {
   echo "# hier bench: $("$RADKIT" --version), Cornell box against the Monte Carlo reference, $(nproc) cores; from experiments/hierarchical"

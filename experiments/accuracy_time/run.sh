@@ -43,7 +43,7 @@ dat=data/errors.dat
   echo "# generator = $version solve --solver lu; machine = $(nproc) cores"
   echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
   echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"
-  echo "# reference_se_l1 = $(compare "$ref" reference_se_l1)"
+  echo "# reference_se_l1 = $(compare "../../$ref" reference_se_l1)"
   printf 'rule\trefine\telements\terror\ttime_s\tassemble_s\tsolve_s\tkernel_evals\trays\tworst\n'
 } > "$dat"
 for rule in $RULES; do

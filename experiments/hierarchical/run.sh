@@ -56,7 +56,7 @@ dat=data/runs.dat
   echo "# experiment = hierarchical: hier (bf, error oracles) and dense on the Cornell box"
   echo "# generator = $version; machine = $(nproc) cores"
   echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
-  echo "# reference_se_l1 = $(compare "$ref" reference_se_l1)"
+  echo "# reference_se_l1 = $(compare "../../$ref" reference_se_l1)"
   echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"
   echo "# estimate, estimate_l1: the run's own error_estimate (worst face) and error_estimate_l1 (hier only)"
   printf 'method\tparam\telements\tlinks\terror\ttime_s\trays\tkernel_evals\tlinks_partial\tworst\testimate\testimate_l1\n'
