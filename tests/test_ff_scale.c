@@ -159,3 +159,30 @@ TEST(cli_ff_coincident_pair_is_refused_and_tiny_pairs_work)
     free(out2);
     free(err2);
 }
+
+/* A whole scene scaled by 1e-100: dense and hier (double precision
+ * throughout) give the same radiosities; Monte Carlo traces rays in Embree's
+ * single precision, where such coordinates vanish: refused, not wrong. */
+TEST(solve_tiny_scene_is_scale_invariant_or_refused)
+{
+    const char *scene = harness_path("scenes/tetrahedron/tetrahedron.obj");
+    const char *methods[2] = {"dense", "hier"};
+    for (int m = 0; m < 2; m++) {
+        const char *unit[] = {scene, "--method", methods[m], "--quiet", NULL};
+        const char *tiny[] = {scene, "--method", methods[m], "--quiet", "--scale", "1e-100", NULL};
+        char *o1, *e1, *o2, *e2;
+        CHECK(harness_radkit_run("solve", unit, &o1, &e1) == 0);
+        CHECK_MSG(harness_radkit_run("solve", tiny, &o2, &e2) == 0, "%s: %s", methods[m], e2);
+        double B1[12], B2[12];
+        CHECK(harness_face_table(o1, B1, 4) == 4 && harness_face_table(o2, B2, 4) == 4);
+        for (int k = 0; k < 12; k++)
+            CHECK_NEAR(B2[k], B1[k], 1e-9, 0.0);
+        free(o1);
+        free(e1);
+        free(o2);
+        free(e2);
+    }
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "mc", "--scale",
+                                                        "1e-100", NULL},
+                               "single precision");
+}

@@ -81,11 +81,19 @@ typedef struct rad_vis_stats {
     unsigned long long pairs_skipped; /* pair queries answered without rays */
 } rad_vis_stats;
 
+/* The scene sizes Embree's single precision resolves: the largest coordinate
+ * at most RAD_VIS_MAX_SIZE, the extent at least RAD_VIS_MIN_SIZE (its
+ * intersection tests multiply three coordinates, which must stay in float's
+ * range). */
+#define RAD_VIS_MIN_SIZE 1e-12
+#define RAD_VIS_MAX_SIZE 1e12
+
 /* Build the Embree scene.  xyz (3 * nverts doubles) and tri (3 * ntris ints,
  * 0-based) are copied; the caller may free them afterwards.  params may be NULL
  * for the defaults.  RAD_EINPUT for a non-finite coordinate or an index out of
- * range (naming the triangle), RAD_EINVAL for bad parameters, RAD_EDEP if
- * Embree fails (with Embree's message). */
+ * range (naming the triangle), or a scene outside RAD_VIS_MIN_SIZE ..
+ * RAD_VIS_MAX_SIZE; RAD_EINVAL for bad parameters, RAD_EDEP if Embree fails
+ * (with Embree's message). */
 rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
                           const rad_vis_params *params, rad_vis **out);
 void rad_vis_destroy(rad_vis *vis);

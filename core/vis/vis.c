@@ -155,6 +155,18 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
         vis->tri[k] = tri[k];
         vis->findex[k] = (unsigned)tri[k];
     }
+    /* Embree works in single precision, and its intersection tests multiply
+       three coordinates: beyond 1e-12 .. 1e12 these products leave float's
+       range and rays pass through walls or hit nothing.  Refused, never a
+       silently wrong answer; the double-precision modules have no such limit. */
+    double extent = nverts ? fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2])) : 0.0;
+    if (nverts && (maxabs > RAD_VIS_MAX_SIZE || (extent > 0.0 && extent < RAD_VIS_MIN_SIZE))) {
+        status = RAD_ERROR(RAD_EINPUT, "visibility: the scene's size %.3g (largest coordinate "
+                           "%.3g) is outside %g .. %g, what single precision ray tracing "
+                           "(Embree) resolves; rescale the scene", extent, maxabs,
+                           RAD_VIS_MIN_SIZE, RAD_VIS_MAX_SIZE);
+        goto fail;
+    }
     double diag = 0.0;
     if (nverts)
         diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
