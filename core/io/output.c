@@ -87,6 +87,10 @@ rad_status rad_io_output_check(const char *path)
             return RAD_ERROR(RAD_EINVAL, "'%s' is a directory, not a file to write", path);
         if (!S_ISREG(st.st_mode))
             return RAD_OK; /* a device or pipe: written in place */
+        /* the rename would replace it anyway: honour the file's own mode */
+        if (access(target, W_OK) != 0)
+            return RAD_ERROR(RAD_EINVAL, "'%s': the file is not writable: %s", path,
+                             strerror(errno));
     }
     directory_of(target, dir, sizeof dir);
     if (stat(dir, &st) != 0) {

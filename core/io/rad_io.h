@@ -76,8 +76,9 @@ typedef struct rad_io_output {
 } rad_io_output;
 
 /* Whether path can be written, without touching it: RAD_EINVAL naming the
- * path and the problem for an empty path, a directory, a directory that does
- * not exist or is not one, or one where files cannot be created.  "-" (standard
+ * path and the problem for an empty path, a directory, a file that is not
+ * writable, a directory that does not exist or is not one, or one where files
+ * cannot be created.  "-" (standard
  * output) is fine.  Callers check before long work so a typo fails at once. */
 rad_status rad_io_output_check(const char *path);
 /* rad_io_output_check, then open (binary: "wb").  On failure *out is empty. */
