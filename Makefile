@@ -2,8 +2,9 @@
 #
 #   make            build build/radkit (the program) and build/libradkit.a
 #   make test       install missing Debian packages, build, run every test
-#   make demo       the main job: the 1D convergence demo, a table and a plot
+#   make demo       the main job: the Cornell box (dense, hier, against Monte Carlo), the 1D problem
 #   make experiments / make bench    the long studies and the benchmark table
+#   make fuzz       5000 mutated scenes and options (FUZZ_CASES, FUZZ_SEED); make test runs 200
 #   SAN=1 (address+undefined sanitizers), DEBUG=1 (-O0 -g3), WERROR=1 (-Werror)
 
 # ---- settings --------------------------------------------------------------
@@ -66,7 +67,7 @@ RADKIT := $(BUILD)/radkit
 UNIT   := $(BUILD)/tests/unit
 
 # ---- targets ---------------------------------------------------------------
-.PHONY: all deps test demo experiments bench clean echo help
+.PHONY: all deps test demo experiments bench fuzz clean echo help
 all: $(RADKIT)
 
 deps:
@@ -95,6 +96,12 @@ $(UNIT): $(TEST_OBJ) $(LIB)
 test: deps $(RADKIT) $(UNIT)
 	RADKIT_BIN=$(abspath $(RADKIT)) RADKIT_ROOT=$(CURDIR) $(UNIT)
 
+# The fuzzer is a test of the unit binary (tests/fuzz.c) with more cases.
+FUZZ_CASES ?= 5000
+FUZZ_SEED  ?= 1
+fuzz: deps $(RADKIT) $(UNIT)
+	RADKIT_BIN=$(abspath $(RADKIT)) RADKIT_ROOT=$(CURDIR) FUZZ_CASES=$(FUZZ_CASES) FUZZ_SEED=$(FUZZ_SEED) $(UNIT) fuzz_
+
 demo: deps $(RADKIT)
 	@sh scripts/demo.sh $(RADKIT)
 
@@ -122,6 +129,6 @@ echo:
 	@echo "MODULES  = $(MODULE_DIRS)"
 
 help:
-	@sed -n '2,8p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,9p' Makefile | sed 's/^# \{0,1\}//'
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)

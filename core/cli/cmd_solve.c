@@ -414,6 +414,10 @@ int cli_solve(int argc, char **argv)
         free(face_area);
         goto done;
     }
+    if ((st = solve_check_answer("dense", (size_t)faces, face_B)) != RAD_OK) {
+        free(face_area);
+        goto done;
+    }
 
     if ((st = rad_io_output_open(o.out ? o.out : "-", 0, &table_out)) != RAD_OK) {
         free(face_area);

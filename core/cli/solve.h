@@ -30,6 +30,10 @@ rad_status solve_parse_double(const char *option, const char *text, double lo, d
  * none naming the scene.  RAD_EINVAL naming the options and paths. */
 rad_status solve_check_outputs(const solve_options *o);
 
+/* Every face's B finite and >= 0 (n x 3 column-major); RAD_ENUMERIC naming
+ * the method, face and channel otherwise.  Called before a table is written. */
+rad_status solve_check_answer(const char *method, size_t n, const double *B);
+
 /* --image-size and --exposure (0 when not given: automatic). */
 rad_status solve_parse_image(const solve_options *o, int *width, int *height, double *exposure);
 

@@ -251,6 +251,8 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     if ((st = rad_io_face_averages(n, leaf_face, area, B, (size_t)faces, face_area, face_B)) !=
         RAD_OK)
         goto done;
+    if ((st = solve_check_answer("hier", (size_t)faces, face_B)) != RAD_OK)
+        goto done;
     if ((st = rad_io_output_open(o->out ? o->out : "-", 0, &table)) != RAD_OK)
         goto done;
     FILE *out = table.f;

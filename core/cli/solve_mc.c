@@ -175,7 +175,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
     st = rad_mc_solve(xyz, nv, tri, n, rho, E, vis, &mp, B, se, &ms);
     if (show_progress)
         fputc('\n', stderr);
-    if (st != RAD_OK)
+    if (st != RAD_OK || (st = solve_check_answer("mc", (size_t)n, B)) != RAD_OK)
         goto done;
     double t_paths = rad_sys_seconds();
     double se_l1 = 0.0, se_worst = 0.0;
