@@ -376,7 +376,7 @@ static rad_status read_indices(rad_scene *s, ply_reader *r, const ply_property *
         double v;
         if ((st = read_value(r, q->type, &v)) != RAD_OK)
             return st;
-        if (!(v >= 0 && v < s->nv) && !(allow_restart && v == -1)) {
+        if (!(v >= 0 && v < s->nv && v == floor(v)) && !(allow_restart && v == -1)) {
             if (s->nv == 0)
                 return RAD_ERROR(RAD_EINPUT, "%s: %s before any vertex (the vertex element must come first)",
                                  r->path, r->what);
@@ -477,7 +477,7 @@ static rad_status read_ply(rad_scene *s, ply_reader *r, const char *data, size_t
             st = read_vertices(s, r, e);
         else if (strcmp(e->name, "face") == 0 || strcmp(e->name, "tristrips") == 0)
             st = read_faces(s, r, e, e->name[0] == 't', &faces, &skipped);
-        else {
+        else if (e->np > 0) {
             begin(r, e->name, e);
             for (r->item = 0; r->item < e->count && st == RAD_OK; r->item++)
                 for (int k = 0; k < e->np && st == RAD_OK; k++)

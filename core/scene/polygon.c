@@ -14,7 +14,8 @@
  *     cut off an ear (a convex corner whose triangle holds no other corner,
  *     on its boundary included; failing that, strictly inside) and emit it in
  *     input winding.  Every cut removes one corner, so there are at most n-3
- *     cuts, each searching at most the remaining corners: the loop ends.
+ *     cuts, each searching at most the remaining corners: the loop ends, and
+ *     a budget of point-in-triangle tests bounds its time.
  *  4. If no corner is an ear (a self-intersecting polygon, or a zero net
  *     area with non-degenerate triangles, as a figure eight), the face is an
  *     input error naming file:line or the face. */
@@ -53,8 +54,15 @@ static int in_triangle(const double *p, const double *a, const double *b, const 
 
 static int same2(const double *a, const double *b) { return a[0] == b[0] && a[1] == b[1]; }
 
-/* Is corner `i` of the ring (prev/next links) an ear? */
-static int is_ear(const double *uv, const int *prev, const int *next, int i, int closed)
+/* Point-in-triangle tests one polygon may use (a few seconds at most): a
+ * polygon of many thousands of corners whose ears are hard to find is refused
+ * rather than ground through in O(n^3). */
+static const long long POLYGON_MAX_TESTS = 1LL << 30;
+
+/* Is corner `i` of the ring (prev/next links) an ear?  Adds the corners
+ * tested to *tests. */
+static int is_ear(const double *uv, const int *prev, const int *next, int i, int closed,
+                  long long *tests)
 {
     int a = prev[i], c = next[i];
     const double *pa = uv + 2 * a, *pb = uv + 2 * i, *pc = uv + 2 * c;
@@ -62,6 +70,7 @@ static int is_ear(const double *uv, const int *prev, const int *next, int i, int
         return 0;
     for (int j = next[c]; j != a; j = next[j]) {
         const double *p = uv + 2 * j;
+        ++*tests;
         /* A corner repeated elsewhere on the ring (a hole's bridge) may touch the ear. */
         if (same2(p, pa) || same2(p, pb) || same2(p, pc))
             continue;
@@ -111,15 +120,21 @@ static rad_status ear_clip(rad_scene *s, const int *idx, int n, rad_vec3 N, int 
         next[k] = (k + 1) % m;
     }
     int i = 0;
+    long long tests = 0;
     while (m > 3 && st == RAD_OK) {
         int ear = -1;
         for (int pass = 0; pass < 2 && ear < 0; pass++) {
             int j = i;
             for (int tries = 0; tries < m; tries++, j = next[j])
-                if (is_ear(uv, prev, next, j, pass == 0)) {
+                if (is_ear(uv, prev, next, j, pass == 0, &tests)) {
                     ear = j;
                     break;
                 }
+        }
+        if (tests > POLYGON_MAX_TESTS) {
+            st = face_error(s, face, line, "is a non-convex polygon too large to split into "
+                            "triangles here; split it before import");
+            break;
         }
         if (ear < 0) {
             st = face_error(s, face, line,
