@@ -421,3 +421,45 @@ TEST(mesh_barrier_maps_exceptions_to_status)
     CHECK(info.pairs_edge == 3);
     rad_mesh_destroy(m);
 }
+
+/* Convexity costs faces x vertices tests; a big scene is not worth minutes
+ * of proof.  A flat 150 x 150 grid (45 000 faces, 22 801 vertices: 1e9 tests)
+ * is reported unknown at once, a small grid of the same kind convex. */
+TEST(mesh_convexity_of_a_big_scene_is_unknown_not_ground_through)
+{
+    const int sizes[2] = {10, 150};
+    for (int k = 0; k < 2; k++) {
+        int n = sizes[k], nv = (n + 1) * (n + 1), nt = 2 * n * n;
+        double *xyz = malloc(sizeof *xyz * 3 * (size_t)nv);
+        int *tri = malloc(sizeof *tri * 3 * (size_t)nt);
+        if (!xyz || !tri) {
+            CHECK(0);
+            free(xyz);
+            free(tri);
+            return;
+        }
+        for (int j = 0; j <= n; j++)
+            for (int i = 0; i <= n; i++) {
+                double *p = xyz + 3 * (size_t)(j * (n + 1) + i);
+                p[0] = (double)i / n;
+                p[1] = (double)j / n;
+                p[2] = 0.0;
+            }
+        for (int j = 0, t = 0; j < n; j++)
+            for (int i = 0; i < n; i++, t += 2) {
+                int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                int q[6] = {a, b, d, a, d, c};
+                memcpy(tri + 3 * (size_t)t, q, sizeof q);
+            }
+        rad_mesh *m = NULL;
+        CHECK(rad_mesh_create(xyz, nv, tri, nt, NULL, &m) == RAD_OK);
+        rad_mesh_info info;
+        rad_mesh_get_info(m, &info);
+        CHECK_MSG(info.convex_inside == (k == 0 ? 1 : -1), "grid %d: convex_inside %d", n,
+                  info.convex_inside);
+        CHECK(rad_mesh_component_convex(m, 0) == (k == 0 ? 1 : -1));
+        rad_mesh_destroy(m);
+        free(xyz);
+        free(tri);
+    }
+}

@@ -25,6 +25,10 @@
 //     NEGATIVE (the front is where the counter-clockwise normal points).  A
 //     cheap local test runs first: for each interior edge, the far vertex of
 //     one face must not be behind the other; one failure decides "not convex".
+//     The full test costs faces x vertices orientation tests; above
+//     kConvexTestBudget it is not run and convexity is "unknown" (-1), which
+//     every caller treats as "may occlude": a scene of a few hundred thousand
+//     triangles would otherwise spend minutes proving what only saves rays.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -303,6 +307,10 @@ rad_mesh *build(const double *xyz, int nv, const int *tri, int nt, const int *in
 
 } // namespace radmesh
 
+// Cached convexity: 1 convex, 0 not, kUnknown too big to decide.
+constexpr int kUnknown = 2;
+constexpr double kConvexTestBudget = 4e8;
+
 static int compute_component_convex(const rad_mesh *m, int c)
 {
     if (m->comp_convex[(size_t)c] >= 0)
@@ -316,7 +324,10 @@ static int compute_component_convex(const rad_mesh *m, int c)
             verts.insert(verts.end(), &m->tri[3 * (size_t)f], &m->tri[3 * (size_t)f] + 3);
         std::sort(verts.begin(), verts.end());
         verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-        result = all_in_front(*m, faces, verts) ? 1 : 0;
+        if ((double)faces.size() * (double)verts.size() > kConvexTestBudget)
+            result = kUnknown;
+        else
+            result = all_in_front(*m, faces, verts) ? 1 : 0;
     }
     m->comp_convex[(size_t)c] = (signed char)result;
     return result;
@@ -328,15 +339,18 @@ static int compute_convex_inside(const rad_mesh *m)
         return m->convex_inside;
     const int nt = (int)(m->tri.size() / 3);
     int result = nt > 0;
-    for (int c = 0; c < m->info.components && result; c++)
+    for (int c = 0; c < m->info.components && result == 1; c++)
         result = compute_component_convex(m, c);
-    if (result && m->info.components > 1) {
+    if (result == 1 && m->info.components > 1) {
         std::vector<int> faces((size_t)nt), verts;
         std::iota(faces.begin(), faces.end(), 0);
         verts = m->tri;
         std::sort(verts.begin(), verts.end());
         verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-        result = all_in_front(*m, faces, verts) ? 1 : 0;
+        if ((double)faces.size() * (double)verts.size() > kConvexTestBudget)
+            result = kUnknown;
+        else
+            result = all_in_front(*m, faces, verts) ? 1 : 0;
     }
     m->convex_inside = result;
     return result;
@@ -383,7 +397,7 @@ int rad_mesh_component_convex(const rad_mesh *mesh, int component)
         result = compute_component_convex(mesh, component);
         return RAD_OK;
     });
-    return st == RAD_OK ? result : -1;
+    return st == RAD_OK && result != kUnknown ? result : -1;
 }
 
 void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info)
@@ -399,7 +413,7 @@ void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info)
         return RAD_OK;
     });
     *info = mesh->info;
-    info->convex_inside = convex;
+    info->convex_inside = convex == kUnknown ? -1 : convex;
 }
 
 } // extern "C"

@@ -76,8 +76,9 @@ const double *rad_mesh_vertices(const rad_mesh *mesh);   /* 3 per vertex */
 const int *rad_mesh_triangles(const rad_mesh *mesh);     /* 3 per face */
 const int *rad_mesh_input_faces(const rad_mesh *mesh);   /* 1 per face */
 /* The figures above.  convex_inside is computed on the first call (it costs
- * up to faces x vertices orientation tests, less when a local test fails);
- * that first call is not thread-safe. */
+ * up to faces x vertices orientation tests, less when a local test fails;
+ * above 4e8 tests it is not run and convex_inside is -1, unknown); that first
+ * call is not thread-safe. */
 void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info);
 
 /* Touching pairs, sorted by (a, b); owned by the mesh.  Two faces with the
@@ -87,7 +88,8 @@ const rad_mesh_pair *rad_mesh_pairs(const rad_mesh *mesh);
 
 /* Component of each face (0..components-1, numbered by first face). */
 const int *rad_mesh_face_components(const rad_mesh *mesh);
-/* Closed / convex-from-inside for one component (0 or 1; -1 for a bad index). */
+/* Closed / convex-from-inside for one component (0 or 1; -1 for a bad index,
+ * and for convexity too costly to decide, as above). */
 int rad_mesh_component_closed(const rad_mesh *mesh, int component);
 int rad_mesh_component_convex(const rad_mesh *mesh, int component);
 
