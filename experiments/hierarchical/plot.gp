@@ -22,12 +22,12 @@ do for [fmt in "png pdf"] {
        0.01 with lines dashtype 2 lc "black" title "1%", \
        0.005 with lines dashtype 4 lc "black" title "0.5%", \
        refse with lines dashtype 3 lc "gray" title "reference standard error"
-  set xlabel "links (dense: facing ordered pairs)"
+  set xlabel "links (coupled pairs; dense: facing pairs)"
   plot sel("dense-auto") using 4:5 with linespoints pt 7 title "dense", \
        sel("hier-bf") using 4:5 with linespoints pt 5 title "hier, BF", \
        sel("hier-error") using 4:5 with linespoints pt 9 title "hier, error"
   set xlabel "elements (leaves)"
-  set ylabel "links"
+  set ylabel "links (coupled pairs)"
   set format y "10^{%L}"
   set key top left
   plot sel("dense-auto") using 3:4 with linespoints pt 7 title "dense: n^2", \
