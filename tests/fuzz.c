@@ -3,7 +3,8 @@
  * Each case takes a seed scene from scenes/ (OBJ with its MTL, OFF, PLY ascii
  * and binary, STL, glTF), applies one to four mutations to one of its files
  * (bit flips, hostile bytes, deleted, duplicated or swapped chunks and lines,
- * numbers replaced by hostile tokens, truncation), sometimes adds a hostile
+ * numbers replaced by hostile tokens, truncation, and for OBJ and MTL whole
+ * statements real files carry: unused, unusual or borderline ones), sometimes adds a hostile
  * option value, and runs `radkit info` or `radkit solve` (dense, hier or mc)
  * on it with a time limit.  Every outcome is classified:
  *   clean    exit 0, and for solve a table whose every B is finite and >= 0;
@@ -144,14 +145,31 @@ static void line_around(const buffer *b, size_t at, size_t *start, size_t *end)
     *end = e < b->n ? e + 1 : e;
 }
 
+/* Statements real OBJ and MTL files carry that change nothing or little:
+ * inserted whole, they keep a file valid but unusual. */
+static const char *const unusual_lines[] = {
+    "t 1 2 3\n", "vp 0.5 0.5\n", "curv 0 1 1 2\n", "o part\n", "s off\n", "g\n",
+    "# a comment\n", "usemtl not_defined\n", "mtllib missing.mtl\n", "f 1 2 3 4\n",
+    "v 1e-300 0 0\n", "vt 0.5 0.5\n", "vn 0 0 1\n", "l 1 2\n", "p 1\n", "cstype bezier\n",
+    "Kd 1 1 1\n", "Ke 1e30 0 0\n", "Ni 1.5\n", "map_Kd -bm 0.5 -o 1 1 1 tex.png\n",
+    "illum 2\n", "newmtl extra\n", "Tf 1 1 1\n", "Kd 0.999999 0.5 0.5\n", "f 1 1 1\n",
+    "f -1 -2 -3\n", "f 1/1/1 2/2/2 3/3/3\n", "\\\n", "\r\n", "\n\n\n"};
+enum { NUNUSUAL = sizeof unusual_lines / sizeof unusual_lines[0] };
+
 static const char hostile_bytes[] = {'\0', '\n', '-', '9', '.', 'e', ' ', '/', '#', '\xff', '\r', '\t'};
 
-/* One mutation of b. */
-static int mutate(rng *r, buffer *b)
+/* One mutation of b; text (OBJ, MTL) may also get an unusual line. */
+static int mutate(rng *r, buffer *b, int text)
 {
     if (b->n == 0)
         return splice(b, 0, 0, "f 1 2 3\n", 8);
     size_t at = below(r, b->n);
+    if (text && below(r, 3) == 0) {
+        size_t s, e;
+        line_around(b, at, &s, &e);
+        const char *l = unusual_lines[below(r, NUNUSUAL)];
+        return splice(b, e, 0, l, strlen(l));
+    }
     switch (below(r, 8)) {
     case 0: /* bit flips */
         for (size_t k = 1 + below(r, 4); k > 0; k--)
@@ -396,10 +414,15 @@ TEST(fuzz_scenes_and_options)
             harness_fail(__FILE__, __LINE__, "fuzz: cannot read seed %s", sd->main);
             break;
         }
-        buffer *target = sd->extra && below(&r, 3) == 0 ? &extra_buf : &main_buf;
+        int on_extra = sd->extra && below(&r, 3) == 0;
+        buffer *target = on_extra ? &extra_buf : &main_buf;
+        const char *name = on_extra ? sd->extra : sd->main;
+        size_t nlen = strlen(name);
+        int text = nlen > 4 &&
+                   (strcmp(name + nlen - 4, ".obj") == 0 || strcmp(name + nlen - 4, ".mtl") == 0);
         int ok = 1;
         for (size_t k = 1 + below(&r, 4); k > 0 && ok; k--)
-            ok = mutate(&r, target);
+            ok = mutate(&r, target, text);
         char dir[] = "/tmp/radkit-fuzz-XXXXXX";
         if (!ok || !mkdtemp(dir)) {
             harness_fail(__FILE__, __LINE__, "fuzz: out of memory or no temporary directory");

@@ -13,7 +13,7 @@
 #include "rad_version.h"
 
 static const char help_head[] =
-    "usage: radkit info SCENE [--scale S] [--drop-degenerate] [--rho \"r g b\"]\n"
+    "usage: radkit info SCENE [--scale S] [--strict] [--rho \"r g b\"]\n"
     "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
     "                         [--facing-away M] [--singular M] [--clustering M]\n"
     "\n"
