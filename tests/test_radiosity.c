@@ -2,11 +2,13 @@
  * the regular tetrahedron, exact reciprocity, thread-count independence, and
  * occlusion by a blocker that covers all, none or some of a pair's shaft. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
 #include "rad_radiosity.h"
+#include "rad_scene.h"
 
 /* An inward-facing box [0,sx] x [0,sy] x [0,sz]: 6 faces, 2 triangles each.
  * Each face is o + a u + b v with u x v pointing into the box. */
@@ -200,4 +202,71 @@ TEST(radiosity_assembly_rejects_degenerate_triangles)
     int tri[3] = {0, 1, 2};
     CHECK(rad_radiosity_assemble(xyz, tri, 1, NULL, NULL, G, areas, NULL) == RAD_EINPUT);
     CHECK(strstr(rad_error_message(), "triangle 0") != NULL);
+}
+
+/* Closed rooms with occluders (a box on the floor; a box 1 mm from a wall; 27
+ * boxes): every row of the visible-integral assembly sums to 1 within what
+ * the outer rule is asked for, tol times the row's unoccluded coupling
+ * (sum_j G_open_ij / A_i), plus auto's 1e-6 per pair.  (The plain share of
+ * open rays, F times V, missed rows by percents near contacts.)  Then the same
+ * at a tenth of the tolerance: the error follows it. */
+TEST(radiosity_occluded_closed_rooms_rows_sum_to_one)
+{
+    const char *const scenes[] = {"scenes/furnace_room/room_box.obj",
+                                  "scenes/furnace_room/room_hair.obj",
+                                  "scenes/furnace_room/room_27.obj"};
+    for (int k = 0; k < 3; k++) {
+        rad_scene_params sp;
+        rad_scene_params_default(&sp);
+        rad_scene *scene = NULL;
+        if (rad_scene_load(harness_path(scenes[k]), &sp, &scene) != RAD_OK) {
+            CHECK_MSG(0, "cannot load %s", scenes[k]);
+            continue;
+        }
+        int n = rad_scene_triangle_count(scene), nv = rad_scene_vertex_count(scene);
+        const double *xyz = rad_scene_vertices(scene);
+        const int *tri = rad_scene_triangles(scene);
+        size_t nn = (size_t)n * (size_t)n;
+        double *G = malloc(sizeof *G * 2 * nn), *Gopen = G + nn;
+        double *areas = malloc(sizeof *areas * (size_t)n);
+        rad_vis *vis = NULL;
+        rad_assembly_params p;
+        rad_assembly_params_default(&p);
+        if (!G || !areas || rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, NULL, &vis) != RAD_OK ||
+            rad_radiosity_assemble(xyz, tri, n, NULL, &p, Gopen, areas, NULL) != RAD_OK) {
+            CHECK_MSG(0, "%s: set-up failed", scenes[k]);
+            free(G);
+            free(areas);
+            rad_vis_destroy(vis);
+            rad_scene_destroy(scene);
+            continue;
+        }
+        const double tols[2] = {p.visible.tol, p.visible.tol / 10};
+        for (int t = 0; t < 2; t++) {
+            p.visible.tol = tols[t];
+            rad_assembly_stats st;
+            CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
+            CHECK(st.pairs_occlusion_tested > 0);
+            double worst = 0.0, worst_ratio = 0.0;
+            for (int i = 0; i < n; i++) {
+                double sum = 0.0, open = 0.0;
+                for (int j = 0; j < n; j++) {
+                    sum += G[i + (size_t)j * n];
+                    open += Gopen[i + (size_t)j * n];
+                }
+                double err = fabs(sum / areas[i] - 1.0);
+                double bound = tols[t] * open / areas[i] + 1e-6 * n;
+                worst = fmax(worst, err);
+                worst_ratio = fmax(worst_ratio, err / bound);
+                CHECK_MSG(err <= bound, "%s tol %g: row %d sums to 1 %+.3g, beyond %.3g", scenes[k],
+                          tols[t], i, sum / areas[i] - 1.0, bound);
+            }
+            printf("  %s, tol %g: worst |row sum - 1| = %.3g, at most %.2f of its bound\n", scenes[k],
+                   tols[t], worst, worst_ratio);
+        }
+        rad_vis_destroy(vis);
+        free(G);
+        free(areas);
+        rad_scene_destroy(scene);
+    }
 }

@@ -402,7 +402,7 @@ TEST(scene_create_from_arrays_validates_and_warns)
     rad_scene *s = NULL;
     CHECK(rad_scene_create("arrays", xyz, 4, tri, 2, NULL, &mat, 1, NULL, &s) == RAD_OK);
     if (s) {
-        CHECK(has_warning(s, "duplicate coincident"));
+        CHECK(has_warning(s, "back to back"));
         CHECK(has_warning(s, "unused"));
         CHECK(has_warning(s, "no emitter"));
         CHECK(rad_scene_vertex_count(s) == 3);
@@ -519,4 +519,31 @@ TEST(scene_effects_facing_away_count_independent)
     CHECK_MSG(plan.pairs_facing_away == away, "plan %lld, reference %lld", plan.pairs_facing_away, away);
     rad_mesh_destroy(m);
     rad_scene_destroy(s);
+}
+
+/* A face repeated on the same side (in any rotation of its corners) adds no
+ * surface; dozens of copies made every pair behind them minutes of
+ * visibility.  Copies are dropped and counted, the first kept; the other
+ * side of a face is a surface of its own and stays; strict mode refuses. */
+TEST(scene_duplicate_faces_on_one_side_are_dropped)
+{
+    const double xyz[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const int tri[] = {0, 1, 2, 0, 1, 2, 1, 2, 0, 0, 2, 1, 0, 3, 1};
+    rad_material mat = {"grey", {0.5, 0.5, 0.5}, {1, 1, 1}};
+    rad_scene *s = NULL;
+    CHECK(rad_scene_create("arrays", xyz, 4, tri, 5, NULL, &mat, 1, NULL, &s) == RAD_OK);
+    if (s) {
+        CHECK(rad_scene_triangle_count(s) == 3);
+        const int *faces = rad_scene_triangle_faces(s);
+        CHECK(faces[0] == 0 && faces[1] == 3 && faces[2] == 4);
+        CHECK(has_warning(s, "dropped 2 duplicate face(s)"));
+        CHECK(has_warning(s, "face 1 repeats face 0"));
+        CHECK(has_warning(s, "1 pair(s) of coincident faces back to back"));
+        rad_scene_destroy(s);
+    }
+    rad_scene_params p;
+    rad_scene_params_default(&p);
+    p.strict = 1;
+    CHECK(rad_scene_create("arrays", xyz, 4, tri, 5, NULL, &mat, 1, &p, &s) == RAD_EINPUT);
+    CHECK(strstr(rad_error_message(), "face 1 repeats face 0") != NULL);
 }

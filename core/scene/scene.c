@@ -16,8 +16,14 @@
  *     scene_add_polygon) is an error.
  *  5. Count unused vertices (a warning), then merge vertices at bit-identical
  *     positions and drop unused ones, so shared corners share an index.
- *  6. Warn about duplicate coincident faces (the same three corners, in either
- *     orientation) and about a scene without emitters.
+ *  6. Duplicate coincident faces: a face with the same three corners in the
+ *     same orientation as an earlier one is dropped, counted, with one
+ *     warning naming the first (strict mode: an error).  It adds no surface
+ *     and no light, but every copy is one more blocker for every pair behind
+ *     it, which costs the visibility of a scene with dozens of copies minutes.
+ *     The same corners in the opposite orientation are the two sides of one
+ *     surface and are kept, with a warning.  Then warn about a scene without
+ *     emitters.
  *  7. Give the default camera when the file had none. */
 #include <ctype.h>
 #include <errno.h>
@@ -278,6 +284,7 @@ out:
 
 typedef struct keyed_face {
     int v[3]; /* sorted corners */
+    int odd;  /* the face's corners are an odd permutation of v (the other side) */
     int t;
 } keyed_face;
 
@@ -287,6 +294,8 @@ static int compare_faces(const void *pa, const void *pb)
     for (int k = 0; k < 3; k++)
         if (a->v[k] != b->v[k])
             return a->v[k] < b->v[k] ? -1 : 1;
+    if (a->odd != b->odd)
+        return a->odd - b->odd;
     return a->t < b->t ? -1 : a->t > b->t;
 }
 
@@ -301,28 +310,70 @@ static void sort3(int *t)
     t[2] = c;
 }
 
-static rad_status warn_duplicates(rad_scene *s)
+/* Parity of the permutation taking t to sorted order: 0 even, 1 odd. */
+static int odd_order(const int *t)
+{
+    return ((t[0] > t[1]) + (t[0] > t[2]) + (t[1] > t[2])) & 1;
+}
+
+static rad_status drop_duplicates(rad_scene *s, const rad_scene_params *p)
 {
     keyed_face *keys = malloc((size_t)s->nt * sizeof *keys + 1);
-    if (!keys)
+    unsigned char *drop = calloc((size_t)s->nt + 1, 1);
+    if (!keys || !drop) {
+        free(keys);
+        free(drop);
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory to look for duplicate faces", s->source);
+    }
     for (int t = 0; t < s->nt; t++) {
         memcpy(keys[t].v, s->tri + 3 * (size_t)t, sizeof keys[t].v);
+        keys[t].odd = odd_order(keys[t].v);
         sort3(keys[t].v);
         keys[t].t = t;
     }
     qsort(keys, (size_t)s->nt, sizeof *keys, compare_faces);
-    int dups = 0, first_a = -1, first_b = -1;
-    for (int i = 1; i < s->nt; i++)
-        if (memcmp(keys[i].v, keys[i - 1].v, sizeof keys[i].v) == 0 && dups++ == 0) {
-            first_a = keys[i - 1].t;
-            first_b = keys[i].t;
+    int same = 0, opposite = 0, same_a = -1, same_b = -1, opp_a = -1, opp_b = -1;
+    for (int i = 1; i < s->nt; i++) {
+        if (memcmp(keys[i].v, keys[i - 1].v, sizeof keys[i].v) != 0)
+            continue;
+        if (keys[i].odd == keys[i - 1].odd) {
+            /* sorted by input order within a side: keep the first */
+            drop[keys[i].t] = 1;
+            if (same++ == 0) {
+                same_a = keys[i - 1].t;
+                same_b = keys[i].t;
+            }
+        } else if (opposite++ == 0) {
+            opp_a = s->tri_face[keys[i - 1].t];
+            opp_b = s->tri_face[keys[i].t];
         }
-    rad_status st = RAD_OK;
-    if (dups > 0)
-        st = scene_warn(s, "%d duplicate coincident face(s), e.g. faces %d and %d", dups,
-                        s->tri_face[first_a], s->tri_face[first_b]);
+    }
     free(keys);
+    rad_status st = RAD_OK;
+    if (same > 0 && p->strict) {
+        st = RAD_ERROR(RAD_EINPUT, "%s: face %d repeats face %d (the same corners, the same side; "
+                       "refused in strict mode)", s->source, s->tri_face[same_b], s->tri_face[same_a]);
+    } else if (same > 0) {
+        int first_a = s->tri_face[same_a], first_b = s->tri_face[same_b], kept = 0;
+        for (int t = 0; t < s->nt; t++) {
+            if (drop[t])
+                continue;
+            if (kept != t) {
+                memcpy(s->tri + 3 * (size_t)kept, s->tri + 3 * (size_t)t, 3 * sizeof *s->tri);
+                s->tri_mat[kept] = s->tri_mat[t];
+                s->tri_face[kept] = s->tri_face[t];
+                s->tri_line[kept] = s->tri_line[t];
+            }
+            kept++;
+        }
+        s->nt = kept;
+        st = scene_warn(s, "dropped %d duplicate face(s) (the same corners on the same side as an "
+                        "earlier face; first: face %d repeats face %d)", same, first_b, first_a);
+    }
+    if (st == RAD_OK && opposite > 0)
+        st = scene_warn(s, "%d pair(s) of coincident faces back to back (the two sides of one "
+                        "surface), e.g. faces %d and %d", opposite, opp_a, opp_b);
+    free(drop);
     return st;
 }
 
@@ -475,7 +526,7 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
     if (unused > 0 &&
         (st = scene_warn(s, "%d unused vertices (not referenced by any face)", unused)) != RAD_OK)
         return st;
-    if ((st = weld(s)) != RAD_OK || (st = warn_duplicates(s)) != RAD_OK)
+    if ((st = weld(s)) != RAD_OK || (st = drop_duplicates(s, p)) != RAD_OK)
         return st;
     rad_scene_summary sum;
     rad_scene_summarize(s, &sum);
