@@ -190,3 +190,13 @@ TEST(readers_off_double_precision_comments_and_bad_numbers)
         unlink(path);
     }
 }
+
+/* A coordinate beyond 1e75 (where products of coordinates overflow in the
+ * form factors) is refused at its line in OFF and ascii PLY, as NaN is. */
+TEST(readers_huge_coordinate_names_its_line)
+{
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *const[]){harness_path("scenes/bad/off_huge_coordinate.off"), NULL},
+                               "off_huge_coordinate.off:4: vertex 1: coordinate 1e+308 is beyond");
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *const[]){harness_path("scenes/bad/ply_huge_coordinate.ply"), NULL},
+                               "ply_huge_coordinate.ply:11: vertex 1: coordinate 1e+308 is beyond");
+}

@@ -172,7 +172,8 @@ static rad_status read_off(rad_scene *s, off_reader *r, const rad_scene_params *
                              "promises", r->path, r->line, v, nv);
         double c[3];
         for (int k = 0; k < 3; k++)
-            if ((st = parse_coord(r, &c[k])) != RAD_OK)
+            if ((st = parse_coord(r, &c[k])) != RAD_OK ||
+                (st = scene_check_coordinate(r->path, r->line, v, c[k], p->scale)) != RAD_OK)
                 return st;
         if ((st = scene_add_vertex(s, c[0], c[1], c[2])) != RAD_OK)
             return st;

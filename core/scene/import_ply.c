@@ -329,7 +329,7 @@ static void begin(ply_reader *r, const char *what, const ply_element *e)
     r->item = 0;
 }
 
-static rad_status read_vertices(rad_scene *s, ply_reader *r, const ply_element *e)
+static rad_status read_vertices(rad_scene *s, ply_reader *r, const ply_element *e, double scale)
 {
     int ix = find_property(e, "x", 0), iy = find_property(e, "y", 0), iz = find_property(e, "z", 0);
     if (s->nv > 0)
@@ -351,6 +351,9 @@ static rad_status read_vertices(rad_scene *s, ply_reader *r, const ply_element *
                                      r->line, r->item, isnan(c[k]) ? "NaN" : "infinite")
                          : RAD_ERROR(RAD_EINPUT, "%s: vertex %ld has a %s coordinate", r->path,
                                      r->item, isnan(c[k]) ? "NaN" : "infinite");
+            if (st == RAD_OK)
+                st = scene_check_coordinate(r->path, r->format == F_ASCII ? r->line : 0, r->item,
+                                            c[k], scale);
         }
         if (st == RAD_OK)
             st = scene_add_vertex(s, c[0], c[1], c[2]);
@@ -474,7 +477,7 @@ static rad_status read_ply(rad_scene *s, ply_reader *r, const char *data, size_t
     for (int i = 0; i < r->ne && st == RAD_OK; i++) {
         const ply_element *e = &r->el[i];
         if (strcmp(e->name, "vertex") == 0)
-            st = read_vertices(s, r, e);
+            st = read_vertices(s, r, e, p->scale);
         else if (strcmp(e->name, "face") == 0 || strcmp(e->name, "tristrips") == 0)
             st = read_faces(s, r, e, e->name[0] == 't', &faces, &skipped);
         else if (e->np > 0) {

@@ -310,6 +310,23 @@ static void sort3(int *t)
     t[2] = c;
 }
 
+rad_status scene_check_coordinate(const char *path, int line, long vertex, double x, double scale)
+{
+    double scaled = x * scale;
+    if (!(scale > 0.0) || !isfinite(scale) || fabs(scaled) <= RAD_GEOM_MAX_COORD)
+        return RAD_OK; /* a bad scale is scene_finish's to refuse */
+    char after[48] = "";
+    if (scale != 1.0)
+        snprintf(after, sizeof after, " (after scale %g)", scale);
+    if (line > 0)
+        return RAD_ERROR(RAD_EINPUT, "%s:%d: vertex %ld: coordinate %g%s is beyond %g, where "
+                         "form-factor products overflow; scale the scene down", path, line, vertex,
+                         scaled, after, RAD_GEOM_MAX_COORD);
+    return RAD_ERROR(RAD_EINPUT, "%s: vertex %ld: coordinate %g%s is beyond %g, where form-factor "
+                     "products overflow; scale the scene down", path, vertex, scaled, after,
+                     RAD_GEOM_MAX_COORD);
+}
+
 /* Parity of the permutation taking t to sorted order: 0 even, 1 odd. */
 static int odd_order(const int *t)
 {

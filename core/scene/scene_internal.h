@@ -38,6 +38,11 @@ rad_status scene_warn(rad_scene *s, const char *fmt, ...)
 #endif
     ;
 rad_scene *scene_new(const char *source);
+/* A coordinate read at path:line (line 0: a binary file; vertex names it)
+ * once multiplied by scale: RAD_EINPUT there when beyond RAD_GEOM_MAX_COORD,
+ * the bound scene_finish applies to every format, so that the message can
+ * name the place. */
+rad_status scene_check_coordinate(const char *path, int line, long vertex, double x, double scale);
 
 /* Importers fill a new scene; scene_finish validates and normalises it. */
 rad_status scene_import_obj(rad_scene *s, const char *path, const rad_scene_params *p);
