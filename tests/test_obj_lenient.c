@@ -471,3 +471,19 @@ TEST(cli_solve_lenient_warnings_on_stderr)
     free(out);
     free(err);
 }
+
+/* A material statement before any newmtl, as hand-written MTL files have it:
+ * radkit ignores it with its warning.  Assimp's OBJ reader dereferences null
+ * on it, so info no longer re-reads OBJ files with Assimp unless asked
+ * (--assimp-check); the fuzzer found the crash. */
+TEST(obj_material_statement_before_newmtl_loads)
+{
+    char *out = NULL, *err = NULL;
+    const char *const args[] = {harness_path("scenes/lenient/material_before_newmtl.obj"), NULL};
+    int code = harness_radkit_run("info", args, &out, &err);
+    CHECK_MSG(code == 0, "info: exit %d: %s", code, err ? err : "");
+    CHECK(out && strstr(out, "# faces = 1\n"));
+    CHECK(out && strstr(out, "ignored 1 `map_Kd` statement(s)"));
+    free(out);
+    free(err);
+}

@@ -13,12 +13,16 @@
 #include "rad_version.h"
 
 static const char help_head[] =
-    "usage: radkit info SCENE [--scale S] [--strict] [--rho \"r g b\"]\n"
+    "usage: radkit info SCENE [--assimp-check] [--scale S] [--strict] [--rho \"r g b\"]\n"
     "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
     "                         [--facing-away M] [--singular M] [--clustering M]\n"
     "\n"
     "Load SCENE (OBJ+MTL, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
     "\n"
+    "  --assimp-check     OBJ: also read the file with Assimp and warn when its\n"
+    "                     triangle count differs (an independent reader; it runs\n"
+    "                     in this process and can crash on malformed files,\n"
+    "                     e.g. a material statement before any newmtl)\n"
     ;
 
 static const char help_tail[] =
@@ -60,15 +64,16 @@ static void print_decision(const char *name, const rad_effect_decision *d)
 int cli_info(int argc, char **argv)
 {
     const char *scene_path = NULL;
-    int want_help = 0;
+    int want_help = 0, assimp_check = 0;
     cli_scene_options so;
     cli_scene_options_init(&so);
-    cli_option options[4 + CLI_SCENE_OPTION_COUNT] = {
+    cli_option options[5 + CLI_SCENE_OPTION_COUNT] = {
         {"", &scene_path, NULL, "scene"},
         {"--help", NULL, &want_help, NULL},
         {"-h", NULL, &want_help, NULL},
+        {"--assimp-check", NULL, &assimp_check, NULL},
     };
-    int nopt = 3 + cli_scene_options_add(&so, options + 3);
+    int nopt = 4 + cli_scene_options_add(&so, options + 4);
     options[nopt] = (cli_option){NULL, NULL, NULL, NULL};
     rad_status st = cli_parse("info", argc, argv, 2, options);
     if (st != RAD_OK)
@@ -86,6 +91,9 @@ int cli_info(int argc, char **argv)
     rad_scene_effects_params_default(&eparams);
     if ((st = cli_scene_options_apply("info", &so, &params, &eparams)) != RAD_OK)
         return cli_fail(st);
+    /* Assimp's OBJ reader dereferences null on some malformed files; radkit's
+     * own reader is the one that decides, so the cross-check is asked for. */
+    params.no_cross_check = !assimp_check;
 
     rad_scene *scene = NULL;
     rad_mesh *mesh = NULL;

@@ -1,4 +1,4 @@
-/* OBJ + MTL: radkit's own line reader, with Assimp as a cross-check.
+/* OBJ + MTL: radkit's own line reader, with Assimp as an optional cross-check.
  *
  * Why a reader of our own: Assimp reports no line numbers and Debian's build
  * keeps coordinates in single precision (ai_real = float), while every finding
@@ -42,8 +42,9 @@
  *     geometry, call/csh and unknown keywords (they may hold geometry radkit
  *     does not see).  Texture, glossy, transmission and display statements
  *     still only warn: radkit's surfaces are opaque and diffuse by definition.
- *  7. Assimp imports the same file; if it finds a different number of
- *     triangles, or cannot read it, a warning says so. */
+ *  7. On request (no_cross_check = 0; not the default, as Assimp's reader
+ *     can crash on malformed files) Assimp imports the same file; if it finds
+ *     a different number of triangles, or cannot read it, a warning says so. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>

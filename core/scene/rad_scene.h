@@ -9,12 +9,13 @@
  * Import (rad_scene_load):
  *   - OBJ + MTL: Kd is the reflectance (albedo per channel), Ke the emitted
  *     exitance (W/m^2).  radkit's own line reader supplies the values in double
- *     precision and every finding as file:line; Assimp imports the same file
- *     and is cross-checked against it (Debian's Assimp stores coordinates in
+ *     precision and every finding as file:line; on request (no_cross_check = 0,
+ *     `radkit info --assimp-check`) Assimp imports the same file and its
+ *     triangle count is compared (Debian's Assimp stores coordinates in
  *     single precision, which is not enough for convergence studies).
  *   - glTF 2.0 (.gltf, .glb): baseColorFactor is the reflectance, emissiveFactor
  *     times KHR_materials_emissive_strength (when present) the emission.
- *   - PLY, OFF, STL and anything else Assimp reads: geometry only; every face
+ *   - PLY, OFF (radkit's readers), STL and anything else Assimp reads: geometry only; every face
  *     gets the reflectance and emission of the parameters (--rho, --emission).
  * Polygons are triangulated in their plane (the fan when it does not fold,
  * ear clipping otherwise) by radkit's readers, or by Assimp; the triangles
@@ -89,10 +90,12 @@ typedef struct rad_scene_params {
     size_t max_file_bytes;     /* refuse scene files (and material libraries) above it */
     size_t max_line_bytes;     /* refuse OBJ/MTL lines longer than this (line break not
                                   counted): memory stays bounded on any input */
-    int no_cross_check;        /* 1: do not re-read an OBJ with Assimp to cross-check
-                                  radkit's reader (Debian's Assimp 5.2 OBJ importer
-                                  spends ~50 ms clearing a buffer on every file, a
-                                  fifth of a hierarchical solve of the Cornell box) */
+    int no_cross_check;        /* 0: also re-read an OBJ with Assimp and warn when its
+                                  triangle count differs.  Default 1: Assimp's OBJ
+                                  reader runs in this process and dereferences null
+                                  on some malformed files (a material statement
+                                  before any newmtl), and Debian's Assimp 5.2 spends
+                                  ~50 ms clearing a buffer on every OBJ */
 } rad_scene_params;
 
 /* scale 1, not strict, tolerance 1e-12, no overrides, default reflectance

@@ -41,6 +41,7 @@ void rad_scene_params_default(rad_scene_params *p)
 {
     memset(p, 0, sizeof *p);
     p->scale = 1.0;
+    p->no_cross_check = 1;
     p->degenerate_rel_tol = 1e-12;
     for (int k = 0; k < 3; k++)
         p->default_rho[k] = 0.5;
