@@ -47,42 +47,70 @@
 
 #include "rad_sys.h"
 
-/* Push the ancestors' gathered irradiance (the linear function down0 +
- * downg . (x - c_e), re-centred at e) to the leaves under e and pull the
- * area-weighted mean back up; accumulates the largest leaf change.  A leaf
- * takes the linear function's value at its centroid, which is its average
- * over the leaf. */
-static void push_pull(rad_hier *h, int e, const double down0[3], const rad_vec3 downg[3],
-                      double *change, double *bmax)
+/* What a push-pull carries: the radiosity B (gathered Bg, Gg) or the
+ * transported error bound T (gathered Tg, TGg), by the same operator. */
+enum { CARRY_B, CARRY_T };
+
+/* A leaf takes E + rho cap (value at its centroid), the linear function's
+ * mean over the leaf; its slope and variation follow (see hier_elem). */
+static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
+                   double *change, double *vmax)
+{
+    const double *rho = h->rho, *E = h->E;
+    size_t n = h->nroots, f = (size_t)x->face;
+    for (int c = 0; c < 3; c++) {
+        double r = rho[f + c * n];
+        double b = E[f + c * n] + r * x->cap * tot0[c];
+        /* a non-finite b makes the change infinite, which the caller reports */
+        *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
+        *vmax = rad_dmax(*vmax, fabs(b));
+        x->B[c] = b;
+        /* sealed, the row is normalized pointwise: B's slope is that of
+           the irradiance over the row sum (0 in a furnace) */
+        rad_vec3 g = totg[c];
+        if (h->p.sealed && x->row0 > 0.0)
+            g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
+        x->gB[c] = rad_vec3_scale(g, r * x->cap);
+        double v = 0.0;
+        for (int i = 0; i < 3; i++)
+            v = rad_dmax(v, fabs(rad_vec3_dot(x->gB[c], rad_vec3_sub(x->p[i], x->c))));
+        x->var[c] = v;
+    }
+}
+
+/* T = q + rho cap (value at its centroid). */
+static void leaf_T(rad_hier *h, hier_elem *x, const double tot0[3], double *change, double *vmax)
+{
+    size_t n = h->nroots, f = (size_t)x->face;
+    for (int c = 0; c < 3; c++) {
+        double t = x->q[c] + h->rho[f + c * n] * x->cap * tot0[c];
+        *change = rad_dmax(*change, fabs(t - x->T[c]));
+        *vmax = rad_dmax(*vmax, fabs(t));
+        x->T[c] = t;
+    }
+}
+
+/* Push the ancestors' gathered linear function (down0 + downg . (x - c_e),
+ * re-centred at e) to the leaves under e, update them, and pull the
+ * area-weighted mean back up; accumulates the largest leaf change and the
+ * largest leaf value. */
+static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
+                      const rad_vec3 downg[3], double *change, double *vmax)
 {
     hier_elem *x = &h->el[e];
+    const double *g0 = carry == CARRY_B ? x->Bg : x->Tg;
+    const rad_vec3 *gg = carry == CARRY_B ? x->Gg : x->TGg;
     double tot0[3];
     rad_vec3 totg[3];
     for (int c = 0; c < 3; c++) {
-        tot0[c] = down0[c] + x->Bg[c];
-        totg[c] = rad_vec3_add(downg[c], x->Gg[c]);
+        tot0[c] = down0[c] + g0[c];
+        totg[c] = rad_vec3_add(downg[c], gg[c]);
     }
     if (x->first_child < 0) {
-        const double *rho = h->rho, *E = h->E;
-        size_t n = h->nroots, f = (size_t)x->face;
-        for (int c = 0; c < 3; c++) {
-            double r = rho[f + c * n];
-            double b = E[f + c * n] + r * x->cap * tot0[c];
-            /* a non-finite b makes the change infinite, which the caller reports */
-            *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
-            *bmax = rad_dmax(*bmax, fabs(b));
-            x->B[c] = b;
-            /* sealed, the row is normalized pointwise: B's slope is that of
-               the irradiance over the row sum (0 in a furnace) */
-            rad_vec3 g = totg[c];
-            if (h->p.sealed && x->row0 > 0.0)
-                g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
-            x->gB[c] = rad_vec3_scale(g, r * x->cap);
-            double v = 0.0;
-            for (int i = 0; i < 3; i++)
-                v = rad_dmax(v, fabs(rad_vec3_dot(x->gB[c], rad_vec3_sub(x->p[i], x->c))));
-            x->var[c] = v;
-        }
+        if (carry == CARRY_B)
+            leaf_B(h, x, tot0, totg, change, vmax);
+        else
+            leaf_T(h, x, tot0, change, vmax);
         return;
     }
     double sum[3] = {0, 0, 0}, area = 0.0;
@@ -92,15 +120,17 @@ static void push_pull(rad_hier *h, int e, const double down0[3], const rad_vec3 
         rad_vec3 delta = rad_vec3_sub(h->el[ch].c, h->el[e].c);
         for (int c = 0; c < 3; c++)
             d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
-        push_pull(h, ch, d0, totg, change, bmax);
+        push_pull(h, ch, carry, d0, totg, change, vmax);
         const hier_elem *y = &h->el[ch];
+        const double *v = carry == CARRY_B ? y->B : y->T;
         area += y->area;
         for (int c = 0; c < 3; c++)
-            sum[c] += y->area * y->B[c];
+            sum[c] += y->area * v[c];
     }
     x = &h->el[e];
+    double *v = carry == CARRY_B ? x->B : x->T;
     for (int c = 0; c < 3; c++)
-        x->B[c] = area > 0.0 ? sum[c] / area : 0.0;
+        v[c] = area > 0.0 ? sum[c] / area : 0.0;
 }
 
 /* Push the gathered form factors (value and gradient) down to the leaves. */
@@ -193,7 +223,7 @@ rad_status rad_hier_step(rad_hier *h)
     double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
     rad_vec3 zerog[3] = {zero_v, zero_v, zero_v};
     for (size_t t = 0; t < h->nroots; t++)
-        push_pull(h, (int)t, zero, zerog, &change, &bmax);
+        push_pull(h, (int)t, CARRY_B, zero, zerog, &change, &bmax);
     if (!isfinite(change) || !isfinite(bmax))
         return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
                          h->st.iterations + 1);
@@ -368,45 +398,6 @@ static void pull_gradient(rad_hier *h, int e)
     }
 }
 
-/* One step of T = q + rho K T (push-pull as for B, the same operator). */
-static void push_pull_T(rad_hier *h, int e, const double down0[3], const rad_vec3 downg[3],
-                        double *change, double *tmax)
-{
-    hier_elem *x = &h->el[e];
-    double tot0[3];
-    rad_vec3 totg[3];
-    for (int c = 0; c < 3; c++) {
-        tot0[c] = down0[c] + x->Tg[c];
-        totg[c] = rad_vec3_add(downg[c], x->TGg[c]);
-    }
-    if (x->first_child < 0) {
-        size_t n = h->nroots, f = (size_t)x->face;
-        for (int c = 0; c < 3; c++) {
-            double t = x->q[c] + h->rho[f + c * n] * x->cap * tot0[c];
-            *change = rad_dmax(*change, fabs(t - x->T[c]));
-            *tmax = rad_dmax(*tmax, fabs(t));
-            x->T[c] = t;
-        }
-        return;
-    }
-    double sum[3] = {0, 0, 0}, area = 0.0;
-    for (int k = 0; k < 4; k++) {
-        int ch = h->el[e].first_child + k;
-        double d0[3];
-        rad_vec3 delta = rad_vec3_sub(h->el[ch].c, h->el[e].c);
-        for (int c = 0; c < 3; c++)
-            d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
-        push_pull_T(h, ch, d0, totg, change, tmax);
-        const hier_elem *y = &h->el[ch];
-        area += y->area;
-        for (int c = 0; c < 3; c++)
-            sum[c] += y->area * y->T[c];
-    }
-    x = &h->el[e];
-    for (int c = 0; c < 3; c++)
-        x->T[c] = area > 0.0 ? sum[c] / area : 0.0;
-}
-
 rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
@@ -473,7 +464,7 @@ rad_status hier_error_estimate(rad_hier *h)
         }
         double change = 0.0, tmax = 0.0;
         for (size_t t = 0; t < n; t++)
-            push_pull_T(h, (int)t, zero, zerog, &change, &tmax);
+            push_pull(h, (int)t, CARRY_T, zero, zerog, &change, &tmax); /* one step of T = q + rho K T */
         if (!isfinite(change) || !isfinite(tmax)) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error bound is not finite");
             break;
