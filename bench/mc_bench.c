@@ -54,7 +54,7 @@ int main(int argc, char **argv)
     int n = rad_scene_triangle_count(scene), nv = rad_scene_vertex_count(scene);
     const double *xyz = rad_scene_vertices(scene);
     const int *tri = rad_scene_triangles(scene), *mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
 
     /* rays: area-weighted triangle, uniform point, cosine direction */
     double *cdf = malloc((size_t)n * sizeof *cdf), total = 0.0;

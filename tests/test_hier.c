@@ -32,7 +32,7 @@ static int load(const char *rel, scene_arrays *s)
     s->rho = malloc(3 * (size_t)s->n * sizeof *s->rho);
     s->E = malloc(3 * (size_t)s->n * sizeof *s->E);
     const int *mat = rad_scene_triangle_materials(s->scene);
-    const rad_material *m = rad_scene_materials(s->scene);
+    const rad_scene_material *m = rad_scene_materials(s->scene);
     for (int t = 0; t < s->n; t++)
         for (int c = 0; c < 3; c++) {
             s->rho[t + c * s->n] = m[mat[t]].rho[c];
@@ -101,8 +101,8 @@ static double dense_difference(const rad_hier *h, const scene_arrays *s, rad_ff_
             E[k + c * n] = s->E[face[k] + c * s->n];
         }
     }
-    rad_assembly_params ap;
-    rad_assembly_params_default(&ap);
+    rad_radiosity_params ap;
+    rad_radiosity_params_default(&ap);
     ap.rule = rule;
     ap.threads = 1;
     CHECK(rad_radiosity_assemble(corners, tri, (int)n, NULL, &ap, G, area, NULL) == RAD_OK);

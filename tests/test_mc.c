@@ -46,7 +46,7 @@ static int fixture_init(mc_fixture *f)
     f->area = f->rho + 12 * n;
     const double *xyz = rad_scene_vertices(f->scene);
     const int *tri = rad_scene_triangles(f->scene), *mat = rad_scene_triangle_materials(f->scene);
-    const rad_material *mats = rad_scene_materials(f->scene);
+    const rad_scene_material *mats = rad_scene_materials(f->scene);
     for (int i = 0; i < n; i++) {
         rad_vec3 v[3];
         for (int k = 0; k < 3; k++) {
@@ -197,7 +197,7 @@ static int plates_fixture(mc_fixture *f, int kind)
         memcpy(tri + 12, o, sizeof o);
         nt = 6;
     }
-    rad_material m[3] = {{"emitter", {0, 0, 0}, {1, 1, 1}},
+    rad_scene_material m[3] = {{"emitter", {0, 0, 0}, {1, 1, 1}},
                          {"receiver", {0.5, 0.5, 0.5}, {0, 0, 0}},
                          {"occluder", {0, 0, 0}, {0, 0, 0}}};
     rad_status st = rad_scene_create("plates", xyz, 16, tri, nt, mat, m, 3, NULL, &f->scene);

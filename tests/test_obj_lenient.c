@@ -45,7 +45,7 @@ static const char *warning_with(const rad_scene *s, const char *needle)
     return found;
 }
 
-static const rad_material *material_named(const rad_scene *s, const char *name)
+static const rad_scene_material *material_named(const rad_scene *s, const char *name)
 {
     for (int m = 0; m < rad_scene_material_count(s); m++)
         if (strcmp(rad_scene_materials(s)[m].name, name) == 0)
@@ -54,7 +54,7 @@ static const rad_material *material_named(const rad_scene *s, const char *name)
 }
 
 /* The material of the triangle made from input face `face`. */
-static const rad_material *material_of_face(const rad_scene *s, int face)
+static const rad_scene_material *material_of_face(const rad_scene *s, int face)
 {
     for (int t = 0; t < rad_scene_triangle_count(s); t++)
         if (rad_scene_triangle_faces(s)[t] == face)
@@ -87,7 +87,7 @@ TEST(obj_kd_one_is_the_largest_reflectance)
     CHECK_MSG(load_with("scenes/lenient/white.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (!s)
         return;
-    const rad_material *white = material_named(s, "white"), *lamp = material_named(s, "lamp"),
+    const rad_scene_material *white = material_named(s, "white"), *lamp = material_named(s, "lamp"),
                        *tinted = material_named(s, "tinted");
     CHECK(white && lamp && tinted);
     if (white && lamp && tinted) {
@@ -121,7 +121,7 @@ TEST(obj_unused_statements_warn_once_per_keyword)
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 2);
-    const rad_material *n = material_of_face(s, 1), *m = material_of_face(s, 0);
+    const rad_scene_material *n = material_of_face(s, 1), *m = material_of_face(s, 0);
     CHECK(m && n && m->rho[0] == 0.5 && n->rho[2] == 0.25 && n->emission[0] == 1.5);
     struct { const char *text; } want[] = {
         {"ignored 2 `t` statement(s) (first at "}, {"ignored.obj:15): "},
@@ -201,7 +201,7 @@ TEST(obj_missing_library_takes_the_default_material)
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 1);
-    const rad_material *m = material_of_face(s, 0);
+    const rad_scene_material *m = material_of_face(s, 0);
     CHECK(m && m->rho[0] == 0.25 && m->rho[1] == 0.375 && m->rho[2] == 0.625 && m->emission[0] == 0);
     CHECK_WARNING(s, "cannot open 1 material librar");
     CHECK_WARNING(s, "missing_mtl.obj:1: ");
@@ -219,7 +219,7 @@ TEST(obj_undefined_material_takes_the_default_material)
               rad_error_message());
     if (s) {
         CHECK(rad_scene_triangle_count(s) == 1);
-        const rad_material *m = material_of_face(s, 0);
+        const rad_scene_material *m = material_of_face(s, 0);
         CHECK(m && m->rho[0] == 0.5 && m->emission[0] == 0);
         CHECK_WARNING(s, "1 usemtl statement(s) name a material no library defines (first 'nosuch' at ");
         CHECK_WARNING(s, "undefined_material.obj:6)");
@@ -265,7 +265,7 @@ TEST(scene_degenerate_triangles_are_dropped_by_default)
     /* Arrays (and every other format) name the face. */
     const double xyz[] = {0, 0, 0, 2.385, 0, 0, 0, 1.5, 0, 4.77, 0, 0};
     const int tri[] = {0, 1, 2, 0, 1, 3};
-    rad_material mat = {"grey", {0.5, 0.5, 0.5}, {1, 1, 1}};
+    rad_scene_material mat = {"grey", {0.5, 0.5, 0.5}, {1, 1, 1}};
     s = NULL;
     CHECK(rad_scene_create("arrays", xyz, 4, tri, 2, NULL, &mat, 1, NULL, &s) == RAD_OK);
     if (s) {

@@ -56,10 +56,10 @@ TEST(radiosity_closed_box_rows_sum_to_one)
     double xyz[24 * 3], G[144], areas[12];
     int tri[36];
     int n = make_box(1.7, 2.385, 0.93, xyz, tri);
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     CHECK(rad_ff_rule_parse("exact", &p.rule) == RAD_OK);
-    rad_assembly_stats st;
+    rad_radiosity_stats st;
     CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G, areas, &st) == RAD_OK);
     double err = row_sum_error(G, areas, n);
     CHECK_MSG(err < 1e-11, "exact: worst |row sum - 1| = %.3g", err);
@@ -103,8 +103,8 @@ TEST(radiosity_tetrahedron_faces_see_a_third)
         }
     }
     double G[16], areas[4];
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     rad_ff_rule_parse("exact", &p.rule);
     CHECK(rad_radiosity_assemble(xyz, tri, 4, NULL, &p, G, areas, NULL) == RAD_OK);
     for (int i = 0; i < 4; i++)
@@ -118,8 +118,8 @@ TEST(radiosity_assembly_does_not_depend_on_threads)
     double xyz[24 * 3], G1[144], G2[144], areas[12];
     int tri[36];
     int n = make_box(1.3, 0.77, 2.1, xyz, tri);
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     rad_ff_rule_parse("gauss:4", &p.rule);
     p.threads = 1;
     CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G1, areas, NULL) == RAD_OK);
@@ -147,8 +147,8 @@ TEST(radiosity_occlusion_all_none_some)
 {
     double xyz[36], G[36], Gfree[36], areas[6];
     int tri[24];
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     rad_ff_rule_parse("gauss:6", &p.rule);
     /* Without a blocker: the unoccluded coupling (Howell C-11 gives F = 0.1998). */
     int n = plates(0.0, 0.0, xyz, tri);
@@ -160,7 +160,7 @@ TEST(radiosity_occlusion_all_none_some)
     n = plates(2.0, 0.0, xyz, tri);
     rad_vis *vis = NULL;
     CHECK(rad_vis_create(xyz, 12, tri, (size_t)n, NULL, &vis) == RAD_OK);
-    rad_assembly_stats st;
+    rad_radiosity_stats st;
     CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
     for (int i = 0; i < 2; i++)
         for (int j = 2; j < 4; j++)
@@ -230,8 +230,8 @@ TEST(radiosity_occluded_closed_rooms_rows_sum_to_one)
         double *G = malloc(sizeof *G * 2 * nn), *Gopen = G + nn;
         double *areas = malloc(sizeof *areas * (size_t)n);
         rad_vis *vis = NULL;
-        rad_assembly_params p;
-        rad_assembly_params_default(&p);
+        rad_radiosity_params p;
+        rad_radiosity_params_default(&p);
         if (!G || !areas || rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, NULL, &vis) != RAD_OK ||
             rad_radiosity_assemble(xyz, tri, n, NULL, &p, Gopen, areas, NULL) != RAD_OK) {
             CHECK_MSG(0, "%s: set-up failed", scenes[k]);
@@ -244,7 +244,7 @@ TEST(radiosity_occluded_closed_rooms_rows_sum_to_one)
         const double tols[2] = {p.visible.tol, p.visible.tol / 10};
         for (int t = 0; t < 2; t++) {
             p.visible.tol = tols[t];
-            rad_assembly_stats st;
+            rad_radiosity_stats st;
             CHECK(rad_radiosity_assemble(xyz, tri, n, vis, &p, G, areas, &st) == RAD_OK);
             CHECK(st.pairs_occlusion_tested > 0);
             double worst = 0.0, worst_ratio = 0.0;

@@ -120,7 +120,7 @@ TEST(scene_cornell_box_materials_geometry_camera)
         rad_scene_destroy(s);
         return;
     }
-    const rad_material *m = rad_scene_materials(s);
+    const rad_scene_material *m = rad_scene_materials(s);
     /* Light: emission spectrum 0, 8, 15.6, 18.4 at 400..700 nm, linear in
      * between: band means b = 4, g = 11.8, r = 17; exitance = pi x radiance. */
     CHECK_NEAR(m[light].emission[0], PI * 17.0, 0.0, 5e-7); /* 6 decimals in the MTL */
@@ -288,7 +288,7 @@ TEST(scene_gltf_from_another_tool)
     int paint = find_material(s, "paint"), lamp = find_material(s, "lamp");
     CHECK(paint >= 0 && lamp >= 0);
     if (paint >= 0 && lamp >= 0) {
-        const rad_material *m = rad_scene_materials(s);
+        const rad_scene_material *m = rad_scene_materials(s);
         CHECK(m[paint].rho[0] == 0.625 && m[paint].rho[1] == 0.5 && m[paint].rho[2] == 0.25);
         CHECK(m[paint].emission[0] == 0.0);
         /* emissiveFactor (1, 0.5, 0.25) x emissiveStrength 4 */
@@ -328,7 +328,7 @@ TEST(scene_obj_keeps_input_order_and_materials)
     if (s) {
         CHECK(rad_scene_triangle_count(s) == 5);
         const int *mat = rad_scene_triangle_materials(s), *face = rad_scene_triangle_faces(s);
-        const rad_material *m = rad_scene_materials(s);
+        const rad_scene_material *m = rad_scene_materials(s);
         const char *names[5] = {"a", "b", "a", "b", "b"};
         int faces[5] = {0, 1, 2, 3, 3};
         for (int t = 0; t < 5; t++) {
@@ -399,7 +399,7 @@ TEST(scene_create_from_arrays_validates_and_warns)
     /* Two coincident triangles (one reversed) and an unused vertex. */
     const double xyz[] = {0, 0, 0, 2.385, 0, 0, 0, 1.5, 0, 9, 9, 9};
     const int tri[] = {0, 1, 2, 0, 2, 1};
-    rad_material mat = {"grey", {0.5, 0.5, 0.5}, {0, 0, 0}};
+    rad_scene_material mat = {"grey", {0.5, 0.5, 0.5}, {0, 0, 0}};
     rad_scene *s = NULL;
     CHECK(rad_scene_create("arrays", xyz, 4, tri, 2, NULL, &mat, 1, NULL, &s) == RAD_OK);
     if (s) {
@@ -410,7 +410,7 @@ TEST(scene_create_from_arrays_validates_and_warns)
         CHECK(rad_scene_camera(s)->from_scene == 0 && rad_scene_camera(s)->fov_y_deg == 40.0);
         rad_scene_destroy(s);
     }
-    rad_material hot = {"bad", {0.5, 1.0, 0.5}, {0, 0, 0}};
+    rad_scene_material hot = {"bad", {0.5, 1.0, 0.5}, {0, 0, 0}};
     CHECK(rad_scene_create("arrays", xyz, 4, tri, 1, NULL, &hot, 1, NULL, &s) == RAD_EINPUT);
     CHECK(strstr(rad_error_message(), "reflectance g = 1") != NULL);
     const int out_of_range[] = {0, 1, 4};
@@ -530,7 +530,7 @@ TEST(scene_duplicate_faces_on_one_side_are_dropped)
 {
     const double xyz[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     const int tri[] = {0, 1, 2, 0, 1, 2, 1, 2, 0, 0, 2, 1, 0, 3, 1};
-    rad_material mat = {"grey", {0.5, 0.5, 0.5}, {1, 1, 1}};
+    rad_scene_material mat = {"grey", {0.5, 0.5, 0.5}, {1, 1, 1}};
     rad_scene *s = NULL;
     CHECK(rad_scene_create("arrays", xyz, 4, tri, 5, NULL, &mat, 1, NULL, &s) == RAD_OK);
     if (s) {

@@ -41,7 +41,7 @@ TEST(solve_occluder_blocked_form_factor_matches_monte_carlo)
         return;
     int n = rad_mesh_face_count(mesh);
     const int *parent = rad_mesh_input_faces(mesh), *mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     /* Jittered strata: the centroids of a regular split line up with the
      * occluder's edges (both sit on the same 1/4 grid) and bias the shadow by
      * 5% here (0.0942 against 0.0995); jittered points are unbiased. */
@@ -52,8 +52,8 @@ TEST(solve_occluder_blocked_form_factor_matches_monte_carlo)
     CHECK(rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
                          rad_mesh_triangles(mesh), (size_t)n, &vp, &vis) == RAD_OK);
     double *G = malloc((size_t)n * n * sizeof *G), *areas = malloc((size_t)n * sizeof *areas);
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     CHECK(rad_radiosity_assemble(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis, &p, G,
                                  areas, NULL) == RAD_OK);
     double coupling = 0.0, emitter_area = 0.0;
@@ -95,8 +95,8 @@ static double sphere_error(int level)
     const int *tri = rad_mesh_triangles(mesh);
     double *G = malloc((size_t)n * n * sizeof *G), *w = malloc((size_t)n * 10 * sizeof *w);
     double *areas = w, *rho = w + n, *E = w + 4 * (size_t)n, *B = w + 7 * (size_t)n;
-    rad_assembly_params p;
-    rad_assembly_params_default(&p);
+    rad_radiosity_params p;
+    rad_radiosity_params_default(&p);
     rad_ff_rule_parse("gauss:6", &p.rule);
     CHECK(rad_radiosity_assemble(xyz, tri, n, NULL, &p, G, areas, NULL) == RAD_OK);
     const double r = 0.6125;

@@ -87,7 +87,7 @@ int cli_compare(int argc, char **argv)
     size_t n = (size_t)rad_scene_triangle_count(scene);
     const double *xyz = rad_scene_vertices(scene);
     const int *tri = rad_scene_triangles(scene), *mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     for (int k = 0; k < 2; k++) {
         if (t[k].n != n) {
             st = RAD_ERROR(RAD_EINPUT, "compare: %s has %zu faces, the scene %zu", paths[k],

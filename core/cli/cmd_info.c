@@ -154,7 +154,7 @@ int cli_info(int argc, char **argv)
 
     /* The material table: faces and area per material. */
     int nm = rad_scene_material_count(scene), nt = rad_scene_triangle_count(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     const int *tmat = rad_scene_triangle_materials(scene), *tri = rad_scene_triangles(scene);
     const double *xyz = rad_scene_vertices(scene);
     printf("material\tname\trho_r\trho_g\trho_b\tE_r\tE_g\tE_b\tfaces\tarea\n");

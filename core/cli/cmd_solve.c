@@ -143,7 +143,7 @@ static void progress_line(double done, void *ctx)
 /* --ply, --png (the elements are the display mesh) and --stats. */
 static rad_status write_outputs(const solve_options *o, const rad_scene *scene, const rad_mesh *mesh,
                                 const int *element_material, const double *E, const double *B,
-                                const rad_effects_plan *plan, const rad_assembly_stats *as,
+                                const rad_effects_plan *plan, const rad_radiosity_stats *as,
                                 const rad_dense_report *report, int n, int faces, double t_start,
                                 const double phase_s[4])
 {
@@ -257,8 +257,8 @@ int cli_solve(int argc, char **argv)
                                   o.method));
         return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense, hier or mc)", o.method));
     }
-    rad_assembly_params ap;
-    rad_assembly_params_default(&ap);
+    rad_radiosity_params ap;
+    rad_radiosity_params_default(&ap);
     if (o.rule && (st = rad_ff_rule_parse(o.rule, &ap.rule)) != RAD_OK)
         return cli_fail(st);
     if (o.tol && (st = solve_parse_double("--tol", o.tol, 0.0, &ap.ff.tol)) != RAD_OK)
@@ -345,7 +345,7 @@ int cli_solve(int argc, char **argv)
     /* ---- per-element reflectance and emission (n x 3, column-major) ---- */
     const int *parent = rad_mesh_input_faces(mesh);
     const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     work = malloc((size_t)n * 10 * sizeof *work);
     if (!work) {
         st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d elements", n);
@@ -359,7 +359,7 @@ int cli_solve(int argc, char **argv)
     }
     for (int i = 0; i < n; i++) {
         element_material[i] = tri_mat[parent[i]];
-        const rad_material *m = &mats[tri_mat[parent[i]]];
+        const rad_scene_material *m = &mats[tri_mat[parent[i]]];
         for (int c = 0; c < 3; c++) {
             rho[i + c * n] = m->rho[c];
             E[i + c * n] = m->emission[c];
@@ -387,7 +387,7 @@ int cli_solve(int argc, char **argv)
         st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for the %d x %d coupling matrix", n, n);
         goto done;
     }
-    rad_assembly_stats as;
+    rad_radiosity_stats as;
     st = rad_radiosity_assemble(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis, &ap, G,
                                 areas, &as);
     if (show_progress)

@@ -111,7 +111,7 @@ static rad_status hier_display(const rad_hier *h, const rad_scene *scene, size_t
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
     }
     const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     for (size_t t = 0; t < nt; t++) {
         size_t l = (size_t)a->leaf[t];
         int f = leaf_face[l];
@@ -197,7 +197,7 @@ int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_eff
     }
     double *rho = work, *E = work + 3 * (size_t)faces;
     const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     for (int i = 0; i < faces; i++)
         for (int c = 0; c < 3; c++) {
             rho[i + c * faces] = mats[tri_mat[i]].rho[c];

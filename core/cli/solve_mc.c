@@ -145,7 +145,7 @@ int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effec
     double *rho = work, *E = work + 3 * n, *B = work + 6 * n, *se = work + 9 * n,
            *area = work + 12 * n;
     const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_material *mats = rad_scene_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
     for (size_t i = 0; i < n; i++) {
         const double *a = xyz + 3 * (size_t)tri[3 * i], *b = xyz + 3 * (size_t)tri[3 * i + 1],
                      *c = xyz + 3 * (size_t)tri[3 * i + 2];

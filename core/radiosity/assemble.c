@@ -24,7 +24,7 @@
 #include <omp.h>
 #endif
 
-void rad_assembly_params_default(rad_assembly_params *params)
+void rad_radiosity_params_default(rad_radiosity_params *params)
 {
     memset(params, 0, sizeof *params);
     params->rule.scheme = RAD_FF_AUTO;
@@ -42,18 +42,18 @@ static void load_triangle(const double *xyz, const int *tri, int k, rad_vec3 t[3
 }
 
 rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
-                                  const rad_assembly_params *params, double *G, double *areas,
-                                  rad_assembly_stats *stats)
+                                  const rad_radiosity_params *params, double *G, double *areas,
+                                  rad_radiosity_stats *stats)
 {
-    rad_assembly_params p;
+    rad_radiosity_params p;
     if (params)
         p = *params;
     else
-        rad_assembly_params_default(&p);
+        rad_radiosity_params_default(&p);
     if (!xyz || !tri || n < 1 || !G || !areas)
         return RAD_ERROR(RAD_EINVAL, "assembly: bad arguments (n = %d)", n);
     double t0 = rad_sys_seconds();
-    rad_assembly_stats st;
+    rad_radiosity_stats st;
     memset(&st, 0, sizeof st);
 
     for (int k = 0; k < n; k++) {
@@ -108,7 +108,7 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
             if (s == RAD_OK && !isfinite(g))
                 s = RAD_ENUMERIC;
             if (s != RAD_OK) {
-#pragma omp critical(rad_assembly_error)
+#pragma omp critical(rad_radiosity_error)
                 if (first_error == RAD_OK) {
                     first_error = s;
                     bad_i = i;
@@ -129,7 +129,7 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
         if (p.progress && (done % 64 == 0 || done == n)) {
             /* pairs done = sum over finished rows, approximated by rows from the top */
             double frac = 1.0 - (double)(n - done) * (double)(n - done) / ((double)n * (double)n);
-#pragma omp critical(rad_assembly_progress)
+#pragma omp critical(rad_radiosity_progress)
             p.progress(frac, p.progress_ctx);
         }
     }

@@ -28,7 +28,7 @@
 extern "C" {
 #endif
 
-typedef struct rad_assembly_params {
+typedef struct rad_radiosity_params {
     rad_ff_rule rule;   /* form-factor scheme per pair (default auto) */
     rad_ff_params ff;   /* its parameters (auto's tolerance among them) */
     int threads;        /* OpenMP threads; 0 = the OpenMP default */
@@ -41,12 +41,12 @@ typedef struct rad_assembly_params {
      * (0..1); NULL for none.  Must not call back into the library. */
     void (*progress)(double done, void *ctx);
     void *progress_ctx;
-} rad_assembly_params;
+} rad_radiosity_params;
 
-void rad_assembly_params_default(rad_assembly_params *params);
+void rad_radiosity_params_default(rad_radiosity_params *params);
 
 /* Work done by one assembly. */
-typedef struct rad_assembly_stats {
+typedef struct rad_radiosity_stats {
     long long pairs;             /* unordered pairs considered, n (n-1)/2 */
     long long pairs_not_facing;  /* zero without integration (facing away, coplanar) */
     long long pairs_occlusion_tested; /* pairs with possible blockers (visible integral) */
@@ -57,7 +57,7 @@ typedef struct rad_assembly_stats {
     long long kernel_evals;
     unsigned long long rays;
     double seconds;
-} rad_assembly_stats;
+} rad_radiosity_stats;
 
 /* Assemble G (n x n, column-major, caller-owned) and the areas (n) of the
  * triangles tri[3k..3k+2] over the vertices xyz.  `vis` may be NULL: no
@@ -67,8 +67,8 @@ typedef struct rad_assembly_stats {
  * RAD_EINPUT for a degenerate triangle (naming it), RAD_ENUMERIC if a form
  * factor is not finite. */
 rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
-                                  const rad_assembly_params *params, double *G, double *areas,
-                                  rad_assembly_stats *stats);
+                                  const rad_radiosity_params *params, double *G, double *areas,
+                                  rad_radiosity_stats *stats);
 
 #ifdef __cplusplus
 }

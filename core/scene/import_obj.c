@@ -266,7 +266,7 @@ static rad_status set_reflectance(obj_reader *r, const char *file, int line, int
                                   const double c[3])
 {
     static const char channel[3] = {'r', 'g', 'b'};
-    rad_material *m = &r->s->mats[current];
+    rad_scene_material *m = &r->s->mats[current];
     double rho[3];
     int ones = 0;
     for (int k = 0; k < 3; k++) {

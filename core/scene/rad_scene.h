@@ -58,11 +58,14 @@ extern "C" {
 
 typedef struct rad_scene rad_scene;
 
-typedef struct rad_material {
+typedef struct rad_scene_material {
     char name[64];
     double rho[3];      /* reflectance (albedo) per RGB channel, 0 <= rho < 1 */
     double emission[3]; /* emitted exitance E per RGB channel, W/m^2, >= 0 */
-} rad_material;
+} rad_scene_material;
+
+/* The former name, kept only until core/scene/effects.c uses the new one. */
+typedef rad_scene_material rad_material;
 
 /* A pinhole camera: where it is, what it looks at, its up vector and its
  * vertical field of view.  from_scene is 1 when the file gave it (an OBJ
@@ -115,7 +118,7 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
  * tri_material nt indices into materials (or NULL: all material 0).  It is
  * validated like a file; `name` stands in for the file name in messages. */
 rad_status rad_scene_create(const char *name, const double *xyz, int nv, const int *tri, int nt,
-                            const int *tri_material, const rad_material *materials, int nm,
+                            const int *tri_material, const rad_scene_material *materials, int nm,
                             const rad_scene_params *params, rad_scene **out);
 
 void rad_scene_destroy(rad_scene *scene);
@@ -129,7 +132,7 @@ const int *rad_scene_triangle_materials(const rad_scene *scene);   /* 1 per tria
 /* The input face (0-based, in file order) each triangle came from: polygons
  * split into several triangles share it.  Dropped faces still count. */
 const int *rad_scene_triangle_faces(const rad_scene *scene);
-const rad_material *rad_scene_materials(const rad_scene *scene);
+const rad_scene_material *rad_scene_materials(const rad_scene *scene);
 const rad_camera *rad_scene_camera(const rad_scene *scene);
 const char *rad_scene_source(const rad_scene *scene);
 /* Triangles dropped as degenerate (none in strict mode, which refuses them). */

@@ -144,9 +144,9 @@ rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int fa
 rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
                               const double emission[3])
 {
-    if (!grow((void **)&s->mats, &s->cap_m, s->nm, sizeof(rad_material)))
+    if (!grow((void **)&s->mats, &s->cap_m, s->nm, sizeof(rad_scene_material)))
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory for materials", s->source);
-    rad_material *m = &s->mats[s->nm++];
+    rad_scene_material *m = &s->mats[s->nm++];
     memset(m, 0, sizeof *m);
     snprintf(m->name, sizeof m->name, "%s", name ? name : "");
     for (int k = 0; k < 3; k++) {
@@ -180,7 +180,7 @@ static rad_status check_materials(rad_scene *s, const rad_scene_params *p)
 {
     static const char channel[3] = {'r', 'g', 'b'};
     for (int m = 0; m < s->nm; m++) {
-        rad_material *mat = &s->mats[m];
+        rad_scene_material *mat = &s->mats[m];
         if (p->has_rho)
             memcpy(mat->rho, p->rho, sizeof mat->rho);
         if (p->has_emission)
@@ -607,7 +607,7 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
 }
 
 rad_status rad_scene_create(const char *name, const double *xyz, int nv, const int *tri, int nt,
-                            const int *tri_material, const rad_material *materials, int nm,
+                            const int *tri_material, const rad_scene_material *materials, int nm,
                             const rad_scene_params *params, rad_scene **out)
 {
     rad_scene_params defaults;
@@ -656,7 +656,7 @@ const double *rad_scene_vertices(const rad_scene *s) { return s ? s->xyz : NULL;
 const int *rad_scene_triangles(const rad_scene *s) { return s ? s->tri : NULL; }
 const int *rad_scene_triangle_materials(const rad_scene *s) { return s ? s->tri_mat : NULL; }
 const int *rad_scene_triangle_faces(const rad_scene *s) { return s ? s->tri_face : NULL; }
-const rad_material *rad_scene_materials(const rad_scene *s) { return s ? s->mats : NULL; }
+const rad_scene_material *rad_scene_materials(const rad_scene *s) { return s ? s->mats : NULL; }
 const rad_camera *rad_scene_camera(const rad_scene *s) { return s ? &s->camera : NULL; }
 const char *rad_scene_source(const rad_scene *s) { return s ? s->source : ""; }
 int rad_scene_dropped_count(const rad_scene *s) { return s ? s->dropped : 0; }
@@ -692,7 +692,7 @@ void rad_scene_summarize(const rad_scene *s, rad_scene_summary *sum)
         rad_vec3 b = rad_vec3_make(s->xyz[3 * v[1]], s->xyz[3 * v[1] + 1], s->xyz[3 * v[1] + 2]);
         rad_vec3 c = rad_vec3_make(s->xyz[3 * v[2]], s->xyz[3 * v[2] + 1], s->xyz[3 * v[2] + 2]);
         double area = rad_geom_triangle_area(a, b, c);
-        const rad_material *m = &s->mats[s->tri_mat[t]];
+        const rad_scene_material *m = &s->mats[s->tri_mat[t]];
         sum->total_area += area;
         if (m->emission[0] > 0.0 || m->emission[1] > 0.0 || m->emission[2] > 0.0) {
             sum->emitters++;

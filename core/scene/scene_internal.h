@@ -13,7 +13,7 @@ struct rad_scene {
     int *tri_face;    /* input face per triangle */
     int *tri_line;    /* input line per triangle (0 when the format has none) */
     int nt, cap_t;
-    rad_material *mats;
+    rad_scene_material *mats;
     int nm, cap_m;
     rad_camera camera;
     int dropped;
