@@ -13,7 +13,7 @@
 /* ---- independent reference: nested adaptive Gauss-Kronrod ------------------ */
 
 typedef struct entry_ctx {
-    const rad_g1d_problem *problem;
+    const rad_galerkin1d_problem *problem;
     int n, a, c;         /* test cell (x), trial cell (t) */
     int alpha, beta;     /* local shapes: -1 = constant 1, 0 = 1-u, 1 = u */
     double x;            /* current outer point */
@@ -40,7 +40,7 @@ static double outer_integrand(double x, void *vctx)
 }
 
 /* int_{cell a} int_{cell c} shape_alpha(x) k(x,t) shape_beta(t) dt dx */
-static double entry_by_quadrature(const rad_g1d_problem *pb, int n, int a, int c, int alpha, int beta)
+static double entry_by_quadrature(const rad_galerkin1d_problem *pb, int n, int a, int c, int alpha, int beta)
 {
     entry_ctx e = {pb, n, a, c, alpha, beta, 0.0};
     rad_quad_result r;
@@ -51,7 +51,7 @@ static double entry_by_quadrature(const rad_g1d_problem *pb, int n, int a, int c
 }
 
 typedef struct load_ctx {
-    const rad_g1d_problem *problem;
+    const rad_galerkin1d_problem *problem;
     int n, c, alpha;
 } load_ctx;
 
@@ -61,7 +61,7 @@ static double load_integrand(double x, void *vctx)
     return l->problem->f(x) * shape(l->alpha, x * l->n - l->c);
 }
 
-static double load_by_quadrature(const rad_g1d_problem *pb, int n, int c, int alpha)
+static double load_by_quadrature(const rad_galerkin1d_problem *pb, int n, int c, int alpha)
 {
     load_ctx l = {pb, n, c, alpha};
     rad_quad_result r;
@@ -94,7 +94,7 @@ static int pick_pairs(int n, int pairs[][2])
 
 TEST(g1d_p0_closed_forms_match_quadrature)
 {
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("seed");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("seed");
     for (int s = 0; s < NSIZES; s++) {
         int n = sizes[s], pairs[16][2], np = pick_pairs(n, pairs);
         for (int k = 0; k < np; k++) {
@@ -107,7 +107,7 @@ TEST(g1d_p0_closed_forms_match_quadrature)
 
 TEST(g1d_p1_closed_forms_match_quadrature)
 {
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("seed");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("seed");
     for (int s = 0; s < NSIZES; s++) {
         int n = sizes[s], pairs[16][2], np = pick_pairs(n, pairs);
         for (int k = 0; k < np; k++) {
@@ -125,7 +125,7 @@ TEST(g1d_load_closed_forms_match_quadrature)
 {
     const char *names[] = {"seed", "exp"};
     for (int p = 0; p < 2; p++) {
-        const rad_g1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
+        const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
         for (int s = 0; s < NSIZES; s++) {
             int n = sizes[s];
             int cells[] = {0, n / 3, n / 2, n - 1};
@@ -149,7 +149,7 @@ static double notes_diag(int n, int j) { double h = 1.0 / n; return (4.0 * j - 2
 
 TEST(g1d_notes_closed_forms_two_wrong_one_right)
 {
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("seed");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("seed");
     int ns[] = {1, 4, 9};
     for (int s = 0; s < 3; s++) {
         int n = ns[s];
@@ -171,7 +171,7 @@ TEST(g1d_notes_closed_forms_two_wrong_one_right)
 /* ---- the problems' exact solutions solve the integral equation --------------- */
 
 typedef struct sol_ctx {
-    const rad_g1d_problem *problem;
+    const rad_galerkin1d_problem *problem;
     double x;
 } sol_ctx;
 
@@ -186,7 +186,7 @@ TEST(g1d_exact_solutions_solve_the_equation)
     const char *names[] = {"seed", "exp"};
     double xs[] = {0.0, 0.137, 0.5, 0.862, 1.0};
     for (int p = 0; p < 2; p++) {
-        const rad_g1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
+        const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
         CHECK(pb && pb->exact && pb->f && pb->kernel);
         for (int k = 0; k < 5; k++) {
             sol_ctx s = {pb, xs[k]};
@@ -208,7 +208,7 @@ TEST(g1d_mass_matrices_match_quadrature)
     double diag[6], off[6], u[4], w[4];
     rad_quad_gauss_legendre(4, u, w);
     for (int b = 0; b < 2; b++) {
-        rad_g1d_basis basis = b ? RAD_G1D_P1 : RAD_G1D_P0;
+        rad_galerkin1d_basis basis = b ? RAD_GALERKIN1D_P1 : RAD_GALERKIN1D_P0;
         int dim = (int)rad_galerkin1d_dim(basis, n);
         rad_galerkin1d_mass(basis, n, diag, off);
         for (int i = 0; i < dim; i++)
@@ -228,11 +228,11 @@ TEST(g1d_mass_matrices_match_quadrature)
 
 /* ---- solutions ------------------------------------------------------------------- */
 
-static double *solve_exact(const char *name, rad_g1d_basis basis, int n)
+static double *solve_exact(const char *name, rad_galerkin1d_basis basis, int n)
 {
     size_t dim = rad_galerkin1d_dim(basis, n);
     double *A = malloc(dim * dim * sizeof *A), *b = malloc(dim * sizeof *b), *y = malloc(dim * sizeof *y);
-    rad_g1d_assembly exact = {RAD_G1D_EXACT, 0};
+    rad_galerkin1d_assembly exact = {RAD_GALERKIN1D_EXACT, 0};
     CHECK(rad_galerkin1d_assemble(rad_galerkin1d_problem_find(name), basis, exact, n, A, b) == RAD_OK);
     CHECK(rad_galerkin1d_solve(basis, n, A, b, y, NULL) == RAD_OK);
     free(A);
@@ -245,7 +245,7 @@ TEST(g1d_seed_p1_reproduces_the_linear_solution)
     /* y = x lies in the P1 space, so the Galerkin solution is exact. */
     int ns[] = {1, 5, 64, 1000};
     for (int k = 0; k < 4; k++) {
-        double *y = solve_exact("seed", RAD_G1D_P1, ns[k]);
+        double *y = solve_exact("seed", RAD_GALERKIN1D_P1, ns[k]);
         for (int i = 0; i <= ns[k]; i++)
             CHECK_NEAR(y[i], (double)i / ns[k], 0.0, 1e-13);
         free(y);
@@ -258,7 +258,7 @@ TEST(g1d_seed_p0_gives_exact_cell_means)
      * so the P0 Galerkin solution is exactly the cell means of y. */
     int ns[] = {1, 6, 333};
     for (int k = 0; k < 3; k++) {
-        double *y = solve_exact("seed", RAD_G1D_P0, ns[k]);
+        double *y = solve_exact("seed", RAD_GALERKIN1D_P0, ns[k]);
         for (int c = 0; c < ns[k]; c++)
             CHECK_NEAR(y[c], (c + 0.5) / ns[k], 0.0, 1e-14);
         free(y);
@@ -272,8 +272,8 @@ TEST(g1d_exact_assembly_matches_independent_assembly)
     int n = 6;
     for (int p = 0; p < 2; p++)
         for (int bs = 0; bs < 2; bs++) {
-            const rad_g1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
-            rad_g1d_basis basis = bs ? RAD_G1D_P1 : RAD_G1D_P0;
+            const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find(names[p]);
+            rad_galerkin1d_basis basis = bs ? RAD_GALERKIN1D_P1 : RAD_GALERKIN1D_P0;
             int dim = (int)rad_galerkin1d_dim(basis, n), ns = bs ? 2 : 1;
             double S[7 * 7] = {0}, b[7] = {0}, diag[7], off[7];
             rad_galerkin1d_mass(basis, n, diag, off);
@@ -303,14 +303,14 @@ TEST(g1d_exact_assembly_matches_independent_assembly)
 
 TEST(g1d_residual_check_confirms_exact_and_catches_quadrature)
 {
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("exp");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("exp");
     for (int bs = 0; bs < 2; bs++) {
-        rad_g1d_basis basis = bs ? RAD_G1D_P1 : RAD_G1D_P0;
+        rad_galerkin1d_basis basis = bs ? RAD_GALERKIN1D_P1 : RAD_GALERKIN1D_P0;
         int n = 50;
         size_t dim = rad_galerkin1d_dim(basis, n);
         double *A = malloc(dim * dim * sizeof *A), *b = malloc(dim * sizeof *b), *y = malloc(dim * sizeof *y);
         double res = 1.0;
-        rad_g1d_assembly exact = {RAD_G1D_EXACT, 0}, mid = {RAD_G1D_GAUSS, 1};
+        rad_galerkin1d_assembly exact = {RAD_GALERKIN1D_EXACT, 0}, mid = {RAD_GALERKIN1D_GAUSS, 1};
         rad_galerkin1d_assemble(pb, basis, exact, n, A, b);
         rad_galerkin1d_solve(basis, n, A, b, y, NULL);
         CHECK(rad_galerkin1d_residual(pb, basis, n, y, &res) == RAD_OK);
@@ -330,13 +330,13 @@ TEST(g1d_gauss_is_exact_off_the_diagonal)
     /* Off the diagonal the seed kernel is bilinear on each cell pair, so K >= 2
      * Gauss points integrate it (times P1 shapes) exactly; on the diagonal the
      * kink leaves an O(h^3) error whatever K is. */
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("seed");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("seed");
     int n = 9;
     for (int bs = 0; bs < 2; bs++) {
-        rad_g1d_basis basis = bs ? RAD_G1D_P1 : RAD_G1D_P0;
+        rad_galerkin1d_basis basis = bs ? RAD_GALERKIN1D_P1 : RAD_GALERKIN1D_P0;
         size_t dim = rad_galerkin1d_dim(basis, n);
         double *E = malloc(dim * dim * sizeof *E), *G = malloc(dim * dim * sizeof *G), b[10];
-        rad_g1d_assembly exact = {RAD_G1D_EXACT, 0}, g2 = {RAD_G1D_GAUSS, 2}, split = {RAD_G1D_GAUSS_SPLIT, 6};
+        rad_galerkin1d_assembly exact = {RAD_GALERKIN1D_EXACT, 0}, g2 = {RAD_GALERKIN1D_GAUSS, 2}, split = {RAD_GALERKIN1D_GAUSS_SPLIT, 6};
         rad_galerkin1d_assemble(pb, basis, exact, n, E, b);
         rad_galerkin1d_assemble(pb, basis, g2, n, G, b);
         for (size_t j = 0; j < dim; j++)
@@ -357,9 +357,9 @@ TEST(g1d_gauss_is_exact_off_the_diagonal)
 }
 
 /* Observed order between n and 2n for one error kind (0 l2, 1 coef vs exact assembly). */
-static double observed_order(const char *name, rad_g1d_basis basis, rad_g1d_assembly assembly, int n, int kind)
+static double observed_order(const char *name, rad_galerkin1d_basis basis, rad_galerkin1d_assembly assembly, int n, int kind)
 {
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find(name);
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find(name);
     double err[2];
     for (int level = 0; level < 2; level++) {
         int m = n << level;
@@ -368,7 +368,7 @@ static double observed_order(const char *name, rad_g1d_basis basis, rad_g1d_asse
         rad_galerkin1d_assemble(pb, basis, assembly, m, A, b);
         rad_galerkin1d_solve(basis, m, A, b, y, NULL);
         if (kind == 0) {
-            rad_g1d_errors e;
+            rad_galerkin1d_error_norms e;
             rad_galerkin1d_errors(pb, basis, m, y, &e);
             err[level] = e.l2;
         } else {
@@ -387,12 +387,12 @@ static double observed_order(const char *name, rad_g1d_basis basis, rad_g1d_asse
 
 TEST(g1d_convergence_orders_match_theory)
 {
-    rad_g1d_assembly exact = {RAD_G1D_EXACT, 0}, mid = {RAD_G1D_GAUSS, 1}, g2 = {RAD_G1D_GAUSS, 2},
-                     g4 = {RAD_G1D_GAUSS, 4}, s2 = {RAD_G1D_GAUSS_SPLIT, 2};
-    struct { rad_g1d_basis basis; rad_g1d_assembly a; int kind; double order; } cases[] = {
-        {RAD_G1D_P0, exact, 0, 1.0}, {RAD_G1D_P1, exact, 0, 2.0},
-        {RAD_G1D_P0, mid, 1, 2.0},   {RAD_G1D_P0, g2, 1, 2.0}, {RAD_G1D_P0, g4, 1, 2.0},
-        {RAD_G1D_P1, mid, 1, 1.0},   {RAD_G1D_P1, g2, 1, 2.0}, {RAD_G1D_P0, s2, 1, 4.0},
+    rad_galerkin1d_assembly exact = {RAD_GALERKIN1D_EXACT, 0}, mid = {RAD_GALERKIN1D_GAUSS, 1}, g2 = {RAD_GALERKIN1D_GAUSS, 2},
+                     g4 = {RAD_GALERKIN1D_GAUSS, 4}, s2 = {RAD_GALERKIN1D_GAUSS_SPLIT, 2};
+    struct { rad_galerkin1d_basis basis; rad_galerkin1d_assembly a; int kind; double order; } cases[] = {
+        {RAD_GALERKIN1D_P0, exact, 0, 1.0}, {RAD_GALERKIN1D_P1, exact, 0, 2.0},
+        {RAD_GALERKIN1D_P0, mid, 1, 2.0},   {RAD_GALERKIN1D_P0, g2, 1, 2.0}, {RAD_GALERKIN1D_P0, g4, 1, 2.0},
+        {RAD_GALERKIN1D_P1, mid, 1, 1.0},   {RAD_GALERKIN1D_P1, g2, 1, 2.0}, {RAD_GALERKIN1D_P0, s2, 1, 4.0},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         double order = observed_order("exp", cases[k].basis, cases[k].a, 64, cases[k].kind);
@@ -404,18 +404,18 @@ TEST(g1d_convergence_orders_match_theory)
 TEST(g1d_errors_of_a_known_function)
 {
     /* y_h = 0 against y = x: L2 = 1/sqrt(3), L-inf = 1 (at x = 1), nodal = 1 - h/2. */
-    const rad_g1d_problem *pb = rad_galerkin1d_problem_find("seed");
+    const rad_galerkin1d_problem *pb = rad_galerkin1d_problem_find("seed");
     double zero[8] = {0};
-    rad_g1d_errors e;
-    CHECK(rad_galerkin1d_errors(pb, RAD_G1D_P0, 7, zero, &e) == RAD_OK);
+    rad_galerkin1d_error_norms e;
+    CHECK(rad_galerkin1d_errors(pb, RAD_GALERKIN1D_P0, 7, zero, &e) == RAD_OK);
     CHECK_NEAR(e.l2, 1.0 / sqrt(3.0), 1e-14, 0.0);
     CHECK_NEAR(e.linf, 1.0, 1e-15, 0.0);
     CHECK_NEAR(e.nodal, 1.0 - 0.5 / 7.0, 1e-15, 0.0);
     /* An interior maximum: y_h = 1 + (e-1) x (the P1 interpolant with n = 1) against
      * e^x; the error peaks where e^x = e - 1, at x = ln(e-1). */
-    const rad_g1d_problem *ex = rad_galerkin1d_problem_find("exp");
+    const rad_galerkin1d_problem *ex = rad_galerkin1d_problem_find("exp");
     double interp[2] = {1.0, exp(1.0)};
-    CHECK(rad_galerkin1d_errors(ex, RAD_G1D_P1, 1, interp, &e) == RAD_OK);
+    CHECK(rad_galerkin1d_errors(ex, RAD_GALERKIN1D_P1, 1, interp, &e) == RAD_OK);
     double xm = log(exp(1.0) - 1.0);
     CHECK_NEAR(e.linf, 1.0 + (exp(1.0) - 1.0) * xm - exp(xm), 1e-13, 0.0);
     CHECK_NEAR(e.nodal, 0.0, 0.0, 1e-15);
@@ -423,21 +423,21 @@ TEST(g1d_errors_of_a_known_function)
 
 TEST(g1d_option_parsing)
 {
-    rad_g1d_assembly a;
-    rad_g1d_basis b;
+    rad_galerkin1d_assembly a;
+    rad_galerkin1d_basis b;
     char buf[32];
-    CHECK(rad_galerkin1d_assembly_parse("exact", &a) == RAD_OK && a.kind == RAD_G1D_EXACT);
-    CHECK(rad_galerkin1d_assembly_parse("midpoint", &a) == RAD_OK && a.kind == RAD_G1D_GAUSS && a.points == 1);
+    CHECK(rad_galerkin1d_assembly_parse("exact", &a) == RAD_OK && a.kind == RAD_GALERKIN1D_EXACT);
+    CHECK(rad_galerkin1d_assembly_parse("midpoint", &a) == RAD_OK && a.kind == RAD_GALERKIN1D_GAUSS && a.points == 1);
     CHECK(rad_galerkin1d_assembly_parse("gauss:7", &a) == RAD_OK && a.points == 7);
     rad_galerkin1d_assembly_format(a, buf, sizeof buf);
     CHECK(strcmp(buf, "gauss:7") == 0);
-    CHECK(rad_galerkin1d_assembly_parse("gauss-split:3", &a) == RAD_OK && a.kind == RAD_G1D_GAUSS_SPLIT);
+    CHECK(rad_galerkin1d_assembly_parse("gauss-split:3", &a) == RAD_OK && a.kind == RAD_GALERKIN1D_GAUSS_SPLIT);
     const char *bad[] = {"gauss:0", "gauss:", "gauss:-2", "gauss:2x", "gauss:1e3", "gauss:99999",
                          "simpson", "", "Exact", "gauss-split:0"};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
         CHECK_MSG(rad_galerkin1d_assembly_parse(bad[k], &a) == RAD_EINVAL, "accepted '%s'", bad[k]);
     CHECK(rad_galerkin1d_assembly_parse(NULL, &a) == RAD_EINVAL);
-    CHECK(rad_galerkin1d_basis_parse("p1", &b) == RAD_OK && b == RAD_G1D_P1);
+    CHECK(rad_galerkin1d_basis_parse("p1", &b) == RAD_OK && b == RAD_GALERKIN1D_P1);
     CHECK(rad_galerkin1d_basis_parse("p2", &b) == RAD_EINVAL);
-    CHECK(rad_galerkin1d_dim(RAD_G1D_P1, 10) == 11 && rad_galerkin1d_dim(RAD_G1D_P0, 0) == 0);
+    CHECK(rad_galerkin1d_dim(RAD_GALERKIN1D_P1, 10) == 11 && rad_galerkin1d_dim(RAD_GALERKIN1D_P0, 0) == 0);
 }

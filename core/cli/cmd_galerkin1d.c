@@ -41,9 +41,9 @@ static const char help[] =
     "example: radkit galerkin1d --n 16 --problem exp --basis p1 --assembly gauss:2\n";
 
 /* Assemble and solve once; A is scratch of dim*dim doubles. */
-static rad_status solve_once(const rad_g1d_problem *problem, rad_g1d_basis basis,
-                             rad_g1d_assembly assembly, int n, double *A, double *b, double *y,
-                             double *rcond, double *assemble_s, double *solve_s)
+static rad_status solve_once(const rad_galerkin1d_problem *problem, rad_galerkin1d_basis basis,
+                             rad_galerkin1d_assembly assembly, int n, double *A, double *b,
+                             double *y, double *rcond, double *assemble_s, double *solve_s)
 {
     double t0 = rad_sys_seconds();
     rad_status st = rad_galerkin1d_assemble(problem, basis, assembly, n, A, b);
@@ -83,9 +83,9 @@ int cli_galerkin1d(int argc, char **argv)
         return cli_fail(RAD_ERROR(RAD_EINVAL, "galerkin1d: --n N is required (see 'radkit galerkin1d --help')"));
 
     int n = 0;
-    rad_g1d_basis basis;
-    rad_g1d_assembly assembly;
-    const rad_g1d_problem *problem = rad_galerkin1d_problem_find(problem_text);
+    rad_galerkin1d_basis basis;
+    rad_galerkin1d_assembly assembly;
+    const rad_galerkin1d_problem *problem = rad_galerkin1d_problem_find(problem_text);
     if ((st = cli_parse_positive_int("galerkin1d: --n", n_text, 1L << 30, &n)) != RAD_OK)
         return cli_fail(st);
     if (!problem)
@@ -110,13 +110,13 @@ int cli_galerkin1d(int argc, char **argv)
     double *b = vec, *y = vec + dim, *y_ref = vec + 2 * dim;
     double rcond = 0.0, assemble_s = 0.0, solve_s = 0.0, check_s = 0.0, residual = NAN;
     double err_coef = 0.0;
-    rad_g1d_errors err = {0};
+    rad_galerkin1d_error_norms err = {0};
     char assembly_name[64];
     rad_galerkin1d_assembly_format(assembly, assembly_name, sizeof assembly_name);
 
     /* The exact-assembly solution is the reference for the quadrature error. */
-    if (assembly.kind != RAD_G1D_EXACT) {
-        rad_g1d_assembly exact = {RAD_G1D_EXACT, 0};
+    if (assembly.kind != RAD_GALERKIN1D_EXACT) {
+        rad_galerkin1d_assembly exact = {RAD_GALERKIN1D_EXACT, 0};
         st = solve_once(problem, basis, exact, n, A, b, y_ref, NULL, NULL, NULL);
         if (st != RAD_OK)
             goto out;
@@ -124,7 +124,7 @@ int cli_galerkin1d(int argc, char **argv)
     st = solve_once(problem, basis, assembly, n, A, b, y, &rcond, &assemble_s, &solve_s);
     if (st != RAD_OK)
         goto out;
-    if (assembly.kind != RAD_G1D_EXACT)
+    if (assembly.kind != RAD_GALERKIN1D_EXACT)
         for (size_t i = 0; i < dim; i++)
             err_coef = fmax(err_coef, fabs(y[i] - y_ref[i]));
     if ((st = rad_galerkin1d_errors(problem, basis, n, y, &err)) != RAD_OK)
@@ -150,7 +150,7 @@ int cli_galerkin1d(int argc, char **argv)
     printf("# assemble_s = %.6f\n# solve_s = %.6f\n# check_s = %.6f\n", assemble_s, solve_s, check_s);
     printf("i\tx\ty\ty_exact\n");
     for (size_t i = 0; i < dim; i++) {
-        double x = basis == RAD_G1D_P0 ? (i + 0.5) / n : (double)i / n;
+        double x = basis == RAD_GALERKIN1D_P0 ? (i + 0.5) / n : (double)i / n;
         printf("%zu\t%.17g\t%.17g\t%.17g\n", i, x, y[i], problem->exact(x));
     }
 out:

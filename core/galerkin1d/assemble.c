@@ -21,7 +21,7 @@
 #include "rad_quad.h"
 
 typedef struct quad_ctx {
-    const rad_g1d_problem *problem;
+    const rad_galerkin1d_problem *problem;
     int n, K, split;
     double h;
     const double *u, *w; /* Gauss nodes and weights on [0,1] */
@@ -83,12 +83,13 @@ static void local_load_gauss(const quad_ctx *q, int c, double out[2])
     }
 }
 
-rad_status rad_galerkin1d_assemble(const rad_g1d_problem *problem, rad_g1d_basis basis,
-                                   rad_g1d_assembly assembly, int n, double *A, double *b)
+rad_status rad_galerkin1d_assemble(const rad_galerkin1d_problem *problem,
+                                   rad_galerkin1d_basis basis, rad_galerkin1d_assembly assembly,
+                                   int n, double *A, double *b)
 {
     if (!problem || !A || !b || n < 1)
         return RAD_ERROR(RAD_EINVAL, "galerkin1d assembly: bad arguments (n = %d)", n);
-    int exact = assembly.kind == RAD_G1D_EXACT;
+    int exact = assembly.kind == RAD_GALERKIN1D_EXACT;
     if (exact && (!problem->kernel_is_green || !problem->f_moments))
         return RAD_ERROR(RAD_EINVAL, "problem '%s' has no closed forms for exact assembly",
                          problem->name);
@@ -96,10 +97,10 @@ rad_status rad_galerkin1d_assemble(const rad_g1d_problem *problem, rad_g1d_basis
         return RAD_ERROR(RAD_EINVAL, "galerkin1d assembly: %d Gauss points", assembly.points);
 
     size_t dim = rad_galerkin1d_dim(basis, n);
-    int nshape = basis == RAD_G1D_P1 ? 2 : 1;
+    int nshape = basis == RAD_GALERKIN1D_P1 ? 2 : 1;
     double *nodes = NULL;
     quad_ctx q = {.problem = problem, .n = n, .K = assembly.points, .h = 1.0 / n,
-                  .split = assembly.kind == RAD_G1D_GAUSS_SPLIT};
+                  .split = assembly.kind == RAD_GALERKIN1D_GAUSS_SPLIT};
     if (!exact) {
         nodes = malloc(2 * (size_t)q.K * sizeof *nodes);
         if (!nodes)

@@ -17,15 +17,15 @@
 #define LINF_SAMPLES 32
 
 typedef struct cell_error {
-    const rad_g1d_problem *problem;
-    rad_g1d_basis basis;
+    const rad_galerkin1d_problem *problem;
+    rad_galerkin1d_basis basis;
     int n, c;
     const double *y;
 } cell_error;
 
-static double local_value(rad_g1d_basis basis, const double *y, int c, double u)
+static double local_value(rad_galerkin1d_basis basis, const double *y, int c, double u)
 {
-    return basis == RAD_G1D_P0 ? y[c] : y[c] * (1.0 - u) + y[c + 1] * u;
+    return basis == RAD_GALERKIN1D_P0 ? y[c] : y[c] * (1.0 - u) + y[c + 1] * u;
 }
 
 static double abs_error(const cell_error *e, double u)
@@ -69,8 +69,9 @@ static double cell_linf(const cell_error *e)
     return fmax(best_value, fmax(f1, f2));
 }
 
-rad_status rad_galerkin1d_errors(const rad_g1d_problem *problem, rad_g1d_basis basis, int n,
-                                 const double *y, rad_g1d_errors *out)
+rad_status rad_galerkin1d_errors(const rad_galerkin1d_problem *problem,
+                                 rad_galerkin1d_basis basis, int n, const double *y,
+                                 rad_galerkin1d_error_norms *out)
 {
     if (!problem || !problem->exact || !y || !out || n < 1)
         return RAD_ERROR(RAD_EINVAL, "galerkin1d errors: no exact solution to compare with");
@@ -84,10 +85,10 @@ rad_status rad_galerkin1d_errors(const rad_g1d_problem *problem, rad_g1d_basis b
             l2 += h * w[q] * d * d;
         }
         linf = fmax(linf, cell_linf(&e));
-        if (basis == RAD_G1D_P0)
+        if (basis == RAD_GALERKIN1D_P0)
             nodal = fmax(nodal, abs_error(&e, 0.5));
     }
-    if (basis == RAD_G1D_P1)
+    if (basis == RAD_GALERKIN1D_P1)
         for (int i = 0; i <= n; i++)
             nodal = fmax(nodal, fabs(y[i] - problem->exact((double)i / n)));
     out->l2 = sqrt(l2);

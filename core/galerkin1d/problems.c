@@ -69,7 +69,7 @@ static void exp_moments(double p, double h, double out[2])
     out[1] = 2.0 * ep * h * e1 - h / 2.0 - (euler_e - 1.0) * h * (p / 2.0 + h / 3.0);
 }
 
-static const rad_g1d_problem problems[] = {
+static const rad_galerkin1d_problem problems[] = {
     {"seed", "the notes' problem: f = x^3/6 + 5x/6, exact y = x", green_kernel, 1, 1,
      seed_f, seed_exact, seed_moments},
     {"exp", "manufactured: f = 2e^x - 1 - (e-1)x, exact y = e^x", green_kernel, 1, 1,
@@ -78,7 +78,7 @@ static const rad_g1d_problem problems[] = {
 
 static const char *const problem_names[] = {"seed", "exp", NULL};
 
-const rad_g1d_problem *rad_galerkin1d_problem_find(const char *name)
+const rad_galerkin1d_problem *rad_galerkin1d_problem_find(const char *name)
 {
     if (!name)
         return NULL;

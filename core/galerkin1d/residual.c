@@ -19,13 +19,14 @@
 #define RES_POINTS 4
 #define LOAD_POINTS 16
 
-static double local_value(rad_g1d_basis basis, const double *y, int c, double u)
+static double local_value(rad_galerkin1d_basis basis, const double *y, int c, double u)
 {
-    return basis == RAD_G1D_P0 ? y[c] : y[c] * (1.0 - u) + y[c + 1] * u;
+    return basis == RAD_GALERKIN1D_P0 ? y[c] : y[c] * (1.0 - u) + y[c + 1] * u;
 }
 
-rad_status rad_galerkin1d_residual(const rad_g1d_problem *problem, rad_g1d_basis basis, int n,
-                                   const double *y, double *relative_residual)
+rad_status rad_galerkin1d_residual(const rad_galerkin1d_problem *problem,
+                                   rad_galerkin1d_basis basis, int n, const double *y,
+                                   double *relative_residual)
 {
     size_t dim = rad_galerkin1d_dim(basis, n);
     if (!problem || !y || !relative_residual || dim == 0)
@@ -59,7 +60,7 @@ rad_status rad_galerkin1d_residual(const rad_g1d_problem *problem, rad_g1d_basis
                 inner += right * gw[q] * problem->kernel(x, t2) * local_value(basis, y, a, t2 * n - a);
             }
             double wt = h * gw[p] * inner;
-            if (basis == RAD_G1D_P0) {
+            if (basis == RAD_GALERKIN1D_P0) {
                 ky[a] += wt;
             } else {
                 ky[a] += wt * (1.0 - gu[p]);
@@ -68,7 +69,7 @@ rad_status rad_galerkin1d_residual(const rad_g1d_problem *problem, rad_g1d_basis
         }
         for (int q = 0; q < LOAD_POINTS; q++) {
             double fw = h * lw[q] * problem->f((a + lu[q]) * h);
-            if (basis == RAD_G1D_P0) {
+            if (basis == RAD_GALERKIN1D_P0) {
                 load[a] += fw;
             } else {
                 load[a] += fw * (1.0 - lu[q]);

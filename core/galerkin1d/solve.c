@@ -6,7 +6,7 @@
 
 #include "rad_dense.h"
 
-rad_status rad_galerkin1d_solve(rad_g1d_basis basis, int n, double *A, const double *b,
+rad_status rad_galerkin1d_solve(rad_galerkin1d_basis basis, int n, double *A, const double *b,
                                 double *y, double *rcond)
 {
     size_t dim = rad_galerkin1d_dim(basis, n);
