@@ -79,7 +79,7 @@ int main(int argc, char **argv)
         rad_vec3 t1 = rad_vec3_cross(nn, h);
         t1 = rad_vec3_scale(t1, 1.0 / rad_vec3_norm(t1));
         rad_vec3 t2 = rad_vec3_cross(nn, t1);
-        double r1 = rnd(&s), phi = 2 * 3.14159265358979323846 * rnd(&s), rr = sqrt(r1);
+        double r1 = rnd(&s), phi = 2 * RAD_PI * rnd(&s), rr = sqrt(r1);
         rad_vec3 d = rad_vec3_add(rad_vec3_add(rad_vec3_scale(t1, rr * cos(phi)),
                                                rad_vec3_scale(t2, rr * sin(phi))),
                                   rad_vec3_scale(nn, sqrt(1 - r1)));

@@ -186,7 +186,7 @@ double harness_occluder_form_factor_mc(long samples)
         if (mx > 0.25 && mx < 0.75 && my > 0.25 && my < 0.75)
             continue;
         double dx = u[2] - u[0], dy = u[3] - u[1], r2 = dx * dx + dy * dy + 1.0;
-        sum += 1.0 / (3.14159265358979323846 * r2 * r2);
+        sum += 1.0 / (RAD_PI * r2 * r2);
     }
     return sum / samples;
 }
@@ -236,21 +236,19 @@ int harness_face_table(const char *out, double *B, int max)
 
 double harness_howell_c11(double a, double b, double c)
 {
-    const double pi = 3.14159265358979323846;
     double X = a / c, Y = b / c, sx = sqrt(1 + X * X), sy = sqrt(1 + Y * Y);
-    return 2.0 / (pi * X * Y) *
+    return 2.0 / (RAD_PI * X * Y) *
            (log(sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y))) + X * sy * atan(X / sy) +
             Y * sx * atan(Y / sx) - X * atan(X) - Y * atan(Y));
 }
 
 double harness_howell_c14(double l, double w, double h)
 {
-    const double pi = 3.14159265358979323846;
     double H = h / l, W = w / l, H2 = H * H, W2 = W * W, S = sqrt(H2 + W2);
     double lg = log((1 + W2) * (1 + H2) / (1 + W2 + H2)) +
                 W2 * log(W2 * (1 + W2 + H2) / ((1 + W2) * (W2 + H2))) +
                 H2 * log(H2 * (1 + H2 + W2) / ((1 + H2) * (H2 + W2)));
-    return (W * atan(1 / W) + H * atan(1 / H) - S * atan(1 / S) + 0.25 * lg) / (pi * W);
+    return (W * atan(1 / W) + H * atan(1 / H) - S * atan(1 / S) + 0.25 * lg) / (RAD_PI * W);
 }
 
 int main(int argc, char **argv)

@@ -9,6 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rad_geom.h"
+
 typedef void (*harness_fn)(void);
 void harness_register(const char *name, const char *file, harness_fn fn);
 void harness_fail(const char *file, int line, const char *fmt, ...)

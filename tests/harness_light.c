@@ -139,7 +139,7 @@ int harness_light_trace(const double *xyz, const int *tri, int n, const double *
                 lt_vec tu = lt_cross(nn, a);
                 tu = lt_mul(tu, 1.0 / sqrt(lt_dot(tu, tu)));
                 lt_vec tv = lt_cross(nn, tu);
-                double r1 = lt_uniform(&state), r2 = 2.0 * 3.14159265358979323846 * lt_uniform(&state);
+                double r1 = lt_uniform(&state), r2 = 2.0 * RAD_PI * lt_uniform(&state);
                 double sr = sqrt(r1);
                 lt_vec d = lt_add(lt_add(lt_mul(tu, sr * cos(r2)), lt_mul(tv, sr * sin(r2))),
                                   lt_mul(nn, sqrt(1.0 - r1)));

@@ -10,7 +10,6 @@
 #include "rad_ff.h"
 #include "rad_quad.h"
 
-#define PI 3.14159265358979323846
 
 static rad_vec3 V(double x, double y, double z) { return rad_vec3_make(x, y, z); }
 
@@ -76,7 +75,7 @@ TEST(ff_kernel_clamps_each_cosine)
     rad_vec3 x = V(0.1, 0.2, 0.3), nx = V(0, 0, 1), y = V(0.4, -0.3, 1.7), ny = V(0, 0.6, -0.8);
     rad_vec3 d = rad_vec3_sub(y, x);
     double r2 = rad_vec3_dot(d, d);
-    double want = rad_vec3_dot(nx, d) * -rad_vec3_dot(ny, d) / (PI * r2 * r2);
+    double want = rad_vec3_dot(nx, d) * -rad_vec3_dot(ny, d) / (RAD_PI * r2 * r2);
     CHECK_NEAR(rad_ff_kernel(x, nx, y, ny, NULL), want, 1e-15, 0.0);
     /* Both cosines negative: the product is positive, the kernel must be 0. */
     CHECK(rad_ff_kernel(x, rad_vec3_scale(nx, -1), y, rad_vec3_scale(ny, -1), NULL) == 0.0);
@@ -95,7 +94,7 @@ static double pt_inner(double t, void *v)
 {
     pt_ctx *c = v;
     rad_vec3 y = rad_geom_triangle_point(c->a, c->b, c->c, c->s, t);
-    return rad_ff_kernel(c->x, c->n, y, c->nt, NULL) * PI / PI;
+    return rad_ff_kernel(c->x, c->n, y, c->nt, NULL) * RAD_PI / RAD_PI;
 }
 
 static double pt_outer(double s, void *v)
@@ -151,7 +150,7 @@ TEST(ff_point_polygon_matches_howell_b3)
      * element facing one corner (Howell B-3). */
     double a = 1.7, b = 0.6, c = 0.85, A = a / c, B = b / c;
     double want = (A / sqrt(1 + A * A) * atan(B / sqrt(1 + A * A)) +
-                   B / sqrt(1 + B * B) * atan(A / sqrt(1 + B * B))) / (2 * PI);
+                   B / sqrt(1 + B * B) * atan(A / sqrt(1 + B * B))) / (2 * RAD_PI);
     rad_vec3 rect[4] = {V(0, 0, c), V(0, b, c), V(a, b, c), V(a, 0, c)};
     CHECK_NEAR(rad_ff_point_polygon(V(0, 0, 0), V(0, 0, 1), rect, 4), want, 1e-14, 0.0);
 }
@@ -205,11 +204,11 @@ static double coaxial_polygons(int n, double r1, double r2, double h, const char
 {
     double G = 0.0, A1 = 0.0;
     for (int i = 0; i < n; i++) {
-        double a0 = 2 * PI * i / n, a1 = 2 * PI * (i + 1) / n;
+        double a0 = 2 * RAD_PI * i / n, a1 = 2 * RAD_PI * (i + 1) / n;
         rad_vec3 ti[3] = {V(0, 0, 0), V(r1 * cos(a0), r1 * sin(a0), 0), V(r1 * cos(a1), r1 * sin(a1), 0)};
         A1 += rad_geom_triangle_area(ti[0], ti[1], ti[2]);
         for (int j = 0; j < n; j++) {
-            double b0 = 2 * PI * j / n, b1 = 2 * PI * (j + 1) / n;
+            double b0 = 2 * RAD_PI * j / n, b1 = 2 * RAD_PI * (j + 1) / n;
             rad_vec3 tj[3] = {V(0, 0, h), V(r2 * cos(b1), r2 * sin(b1), h), V(r2 * cos(b0), r2 * sin(b0), h)};
             G += ff(ti, tj, rule).G;
         }
@@ -475,7 +474,7 @@ TEST(ff_vertex_rule_is_the_notes_formula)
                 double H = rad_vec3_dot(d, na) * rad_vec3_dot(rad_vec3_scale(d, -1), nb) / (r2 * r2);
                 sum += fmax(H, 0.0);
             }
-        double want = Aa * Ab / 9.0 * sum / (PI * Aa);
+        double want = Aa * Ab / 9.0 * sum / (RAD_PI * Aa);
         rad_ff_result o = ff(a, b, "vertex");
         CHECK_NEAR(o.F12, want, 1e-13, 0.0);
         CHECK(o.evals == 9 && o.guarded == 0);
@@ -499,7 +498,7 @@ TEST(ff_hard_cases_no_nan_inf_or_negative)
      * (dihedral measured through the pair's common space) */
     double angles[] = {30, 60, 90, 120, 150, 175};
     for (int k = 0; k < 6; k++) {
-        double th = angles[k] * PI / 180;
+        double th = angles[k] * RAD_PI / 180;
         memcpy(c[n][0], base, sizeof base);
         rad_vec3 t[3] = {V(0, 0, 0), V(0.55, 0.8 * cos(th), 0.8 * sin(th)), V(1, 0, 0)};
         memcpy(c[n++][1], t, sizeof t);

@@ -93,8 +93,8 @@ TEST(polygon_convex_keeps_the_fan_in_order)
     /* A regular 11-gon: fan order, 9 triangles. */
     double ring[11][2];
     for (int k = 0; k < 11; k++) {
-        ring[k][0] = 1.7 * cos(2 * 3.14159265358979323846 * k / 11);
-        ring[k][1] = 1.7 * sin(2 * 3.14159265358979323846 * k / 11);
+        ring[k][0] = 1.7 * cos(2 * RAD_PI * k / 11);
+        ring[k][1] = 1.7 * sin(2 * RAD_PI * k / 11);
     }
     s = planar_scene((const double(*)[2])ring, 11, O, E1, E2);
     int id11[11];
@@ -120,7 +120,7 @@ TEST(polygon_non_convex_is_ear_clipped)
     /* A five-pointed star (10 corners, inner radius 0.4), starting at an inner corner. */
     double star[10][2];
     for (int k = 0; k < 10; k++) {
-        double r = k % 2 ? 1.3 : 0.4, a = 2 * 3.14159265358979323846 * k / 10 + 0.1;
+        double r = k % 2 ? 1.3 : 0.4, a = 2 * RAD_PI * k / 10 + 0.1;
         star[k][0] = r * cos(a);
         star[k][1] = r * sin(a);
     }
@@ -170,7 +170,7 @@ TEST(polygon_degenerate_input_ends)
     /* A pentagram (self-intersecting, all turns alike): ends either way. */
     double pg[5][2];
     for (int k = 0; k < 5; k++) {
-        double a = 2 * 3.14159265358979323846 * (2 * k % 5) / 5;
+        double a = 2 * RAD_PI * (2 * k % 5) / 5;
         pg[k][0] = cos(a);
         pg[k][1] = sin(a);
     }

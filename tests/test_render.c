@@ -33,7 +33,7 @@ static void test_camera(rad_render_camera *cam)
  * own derivation: the eye looks down -z with +y up, so image right is +x. */
 static void pixel_hit(const rad_render_camera *cam, int x, int y, double *hx, double *hy)
 {
-    double ty = tan(cam->fov_y_deg * 3.14159265358979323846 / 360.0);
+    double ty = tan(cam->fov_y_deg * RAD_PI / 360.0);
     double tx = ty * cam->width / cam->height;
     double sx = (2.0 * (x + 0.5) / cam->width - 1.0) * tx;
     double sy = (1.0 - 2.0 * (y + 0.5) / cam->height) * ty;
@@ -220,7 +220,7 @@ static const unsigned char line_rgb[3] = {255, 51, 0}; /* rgb {1, 0.2, 0} * 255 
 
 static double pixel_footprint(const rad_render_camera *cam, int x, int y)
 {
-    double ty = tan(cam->fov_y_deg * 3.14159265358979323846 / 360.0);
+    double ty = tan(cam->fov_y_deg * RAD_PI / 360.0);
     double tx = ty * cam->width / cam->height;
     double sx = (2.0 * (x + 0.5) / cam->width - 1.0) * tx;
     double sy = (1.0 - 2.0 * (y + 0.5) / cam->height) * ty;
@@ -230,7 +230,7 @@ static double pixel_footprint(const rad_render_camera *cam, int x, int y)
 /* The pixel whose centre sees the point (hx, hy, 0): pixel_hit inverted. */
 static void pixel_of(const rad_render_camera *cam, double hx, double hy, int *x, int *y)
 {
-    double ty = tan(cam->fov_y_deg * 3.14159265358979323846 / 360.0);
+    double ty = tan(cam->fov_y_deg * RAD_PI / 360.0);
     double tx = ty * cam->width / cam->height;
     double sx = (hx - cam->eye[0]) / cam->eye[2], sy = (hy - cam->eye[1]) / cam->eye[2];
     *x = (int)floor((sx / tx + 1.0) * cam->width / 2.0);
@@ -438,7 +438,7 @@ TEST(render_outline_pixel_count_grows_with_width)
     /* The band areas themselves, within 10% (pixel sampling, and footprints up
      * to 7% larger off the image centre): legs 3 and 2 over the central
      * footprint 5 * 2 tan(20 deg) / 72; sum of cot(angle/2) = 1 + 3.303 + 1.868. */
-    double fp = 5.0 * 2.0 * tan(20.0 * 3.14159265358979323846 / 180.0) / 72.0;
+    double fp = 5.0 * 2.0 * tan(20.0 * RAD_PI / 180.0) / 72.0;
     double per = (3.0 + 2.0 + sqrt(13.0)) / fp, cots = 1.0 + 3.303 + 1.868;
     for (int i = 0; i < 2; i++) {
         double area = 2.0 * (per * width[i] - width[i] * width[i] * cots);

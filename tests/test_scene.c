@@ -13,7 +13,6 @@
 #include "rad_mesh.h"
 #include "rad_scene.h"
 
-static const double PI = 3.14159265358979323846;
 
 static rad_status load_with(const char *rel, const rad_scene_params *p, rad_scene **s)
 {
@@ -83,7 +82,7 @@ TEST(scene_every_shipped_scene_loads)
 /* The icosphere's area grows towards the sphere's 4 pi r^2 from below. */
 TEST(scene_sphere_levels_converge_to_the_sphere)
 {
-    double previous = 0.0, sphere = 4 * PI * 1.25 * 1.25;
+    double previous = 0.0, sphere = 4 * RAD_PI * 1.25 * 1.25;
     for (int level = 0; level < 4; level++) {
         char path[64];
         snprintf(path, sizeof path, "scenes/sphere/sphere_%d.obj", level);
@@ -123,9 +122,9 @@ TEST(scene_cornell_box_materials_geometry_camera)
     const rad_scene_material *m = rad_scene_materials(s);
     /* Light: emission spectrum 0, 8, 15.6, 18.4 at 400..700 nm, linear in
      * between: band means b = 4, g = 11.8, r = 17; exitance = pi x radiance. */
-    CHECK_NEAR(m[light].emission[0], PI * 17.0, 0.0, 5e-7); /* 6 decimals in the MTL */
-    CHECK_NEAR(m[light].emission[1], PI * 11.8, 0.0, 5e-7);
-    CHECK_NEAR(m[light].emission[2], PI * 4.0, 0.0, 5e-7);
+    CHECK_NEAR(m[light].emission[0], RAD_PI * 17.0, 0.0, 5e-7); /* 6 decimals in the MTL */
+    CHECK_NEAR(m[light].emission[1], RAD_PI * 11.8, 0.0, 5e-7);
+    CHECK_NEAR(m[light].emission[2], RAD_PI * 4.0, 0.0, 5e-7);
     /* Red paint reflects red, green paint green; the white is nearly grey. */
     CHECK(m[red].rho[0] > 0.5 && m[red].rho[1] < 0.1 && m[red].rho[2] < 0.1);
     CHECK(m[green].rho[1] > 0.3 && m[green].rho[0] < 0.2 && m[green].rho[2] < 0.2);
@@ -167,7 +166,7 @@ TEST(scene_cornell_box_materials_geometry_camera)
     CHECK(cam->from_scene == 1);
     CHECK_NEAR(cam->position[0], 0.278, 0.0, 1e-15);
     CHECK_NEAR(cam->position[2], -0.8, 0.0, 1e-15);
-    CHECK_NEAR(cam->fov_y_deg, 2 * atan(12.5 / 35.0) * 180 / PI, 1e-7, 0.0);
+    CHECK_NEAR(cam->fov_y_deg, 2 * atan(12.5 / 35.0) * 180 / RAD_PI, 1e-7, 0.0);
     rad_scene_destroy(s);
 }
 

@@ -145,8 +145,8 @@ ff_value ff_exact(const ff_pair *pr, const rad_ff_params *params)
             v.evals += c.evals;
         }
     }
-    v.G = sum / (2.0 * FF_PI);
-    err /= 2.0 * FF_PI;
+    v.G = sum / (2.0 * RAD_PI);
+    err /= 2.0 * RAD_PI;
     /* Rounding can leave a tiny negative value for a vanishing coupling;
      * within its own error bound that is zero, not a negative estimate. */
     if (v.G < 0.0 && -v.G <= err)

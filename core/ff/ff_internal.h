@@ -4,7 +4,6 @@
 
 #include "rad_ff.h"
 
-#define FF_PI 3.14159265358979323846
 
 /* The pair in normalised coordinates: origin at ti[0], lengths divided by the
  * longest edge of the pair, so every scheme sees sizes of order 1 whatever the
@@ -36,7 +35,7 @@ static inline double ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny,
     double ci = rad_vec3_dot(nx, d), cj = -rad_vec3_dot(ny, d);
     if (!(ci > 0.0) || !(cj > 0.0))
         return 0.0;
-    return (ci / r2) * (cj / r2) * (1.0 / FF_PI);
+    return (ci / r2) * (cj / r2) * (1.0 / RAD_PI);
 }
 
 /* Clip polygon in[0..n) (n <= FF_CLIP_MAX) to the open half-space

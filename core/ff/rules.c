@@ -146,7 +146,7 @@ static double contour_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly
         double gamma = atan2(cn, rad_vec3_dot(r0, r1));
         sum += gamma * rad_vec3_dot(n, c) / cn;
     }
-    return -sum / (2.0 * FF_PI);
+    return -sum / (2.0 * RAD_PI);
 }
 
 double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly, int nv)

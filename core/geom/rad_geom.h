@@ -11,6 +11,9 @@
 extern "C" {
 #endif
 
+/* pi to double precision: the one definition every module uses. */
+#define RAD_PI 3.14159265358979323846
+
 typedef struct rad_vec3 {
     double x, y, z;
 } rad_vec3;

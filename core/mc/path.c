@@ -34,7 +34,6 @@
 
 #include <math.h>
 
-static const double MC_PI = 3.14159265358979323846;
 
 static rad_vec3 point_on(const mc_tri *t, double s, double r)
 {
@@ -47,7 +46,7 @@ static void sincos_2pi(double u, double *s, double *c)
 {
     double q = u * 4.0;             /* quadrants */
     int k = (int)(q + 0.5);         /* nearest multiple of pi/2 */
-    double x = (q - k) * (MC_PI / 2); /* |x| <= pi/4 */
+    double x = (q - k) * (RAD_PI / 2); /* |x| <= pi/4 */
     double x2 = x * x;
     double sn = x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800))))));
     double cs = 1 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800 + x2 * (1.0 / 479001600))))));
@@ -92,8 +91,8 @@ static void next_event(const mc_scene *s, int t, rad_vec3 p, mc_rng *rng, const 
         if (rad_vis_segment_blocked(s->vis, pa, ya, t, e))
             return;
     }
-    double p_l = te->light_pdf * r2 / cos_y, p_c = cos_p / MC_PI;
-    double f = mis2(p_l, p_c) * cos_p * cos_y / (MC_PI * r2 * te->light_pdf);
+    double p_l = te->light_pdf * r2 / cos_y, p_c = cos_p / RAD_PI;
+    double f = mis2(p_l, p_c) * cos_p * cos_y / (RAD_PI * r2 * te->light_pdf);
     for (int c = 0; c < 3; c++)
         H[c] += beta[c] * te->E[c] * f;
 }
@@ -135,7 +134,7 @@ void mc_path_irradiance(const mc_scene *s, int t, rad_vec3 x, mc_rng *rng, const
             double weight = 1.0;
             if (s->next_event) {
                 double r = hit.t * rad_vec3_norm(w);
-                weight = mis2(cos_p / MC_PI, tj->light_pdf * r * r / cos_y);
+                weight = mis2(cos_p / RAD_PI, tj->light_pdf * r * r / cos_y);
             }
             for (int c = 0; c < 3; c++)
                 H[c] += beta[c] * tj->E[c] * weight;

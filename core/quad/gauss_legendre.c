@@ -12,6 +12,8 @@
 
 #include <math.h>
 
+#include "rad_geom.h"
+
 static void legendre_eval(int k, double x, double *p, double *dp)
 {
     double p0 = 1.0, p1 = x;
@@ -34,10 +36,9 @@ rad_status rad_quad_gauss_legendre(int k, double *x, double *w)
 {
     if (k < 1)
         return RAD_ERROR(RAD_EINVAL, "Gauss-Legendre rule needs at least 1 point, got %d", k);
-    const double pi = 3.14159265358979323846;
     int half = (k + 1) / 2;
     for (int i = 0; i < half; i++) {
-        double z = cos(pi * (i + 0.75) / (k + 0.5)), p = 0.0, dp = 1.0;
+        double z = cos(RAD_PI * (i + 0.75) / (k + 0.5)), p = 0.0, dp = 1.0;
         for (int it = 0; it < 100; it++) {
             legendre_eval(k, z, &p, &dp);
             double step = p / dp;

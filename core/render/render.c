@@ -25,7 +25,6 @@
 
 #include "rad_geom.h"
 
-static const double pi = 3.14159265358979323846;
 
 void rad_render_camera_default(rad_render_camera *cam, const double lo[3], const double hi[3])
 {
@@ -38,7 +37,7 @@ void rad_render_camera_default(rad_render_camera *cam, const double lo[3], const
         half = 1.0;
     cam->fov_y_deg = 40.0;
     /* Back off so the box's half-size subtends at most the half field of view. */
-    double dist = half / tan(0.5 * cam->fov_y_deg * pi / 180.0);
+    double dist = half / tan(0.5 * cam->fov_y_deg * RAD_PI / 180.0);
     for (int k = 0; k < 3; k++) {
         cam->look_at[k] = c[k];
         cam->eye[k] = c[k];
@@ -122,7 +121,7 @@ rad_status rad_render_image(const rad_vis *vis, size_t nverts, const double *xyz
         free(vb);
         return status;
     }
-    double ty = tan(0.5 * cam->fov_y_deg * pi / 180.0), tx = ty * (double)w / (double)h;
+    double ty = tan(0.5 * cam->fov_y_deg * RAD_PI / 180.0), tx = ty * (double)w / (double)h;
     /* One pixel's height at unit distance along a ray; the outline's reach is
      * width_px of these times the hit's distance. */
     double pixel_angle = 2.0 * ty / (double)h;

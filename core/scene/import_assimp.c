@@ -37,6 +37,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include "rad_geom.h"
 #include "scene_internal.h"
 
 static const unsigned import_flags = aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
@@ -171,7 +172,7 @@ static void read_camera(rad_scene *s, const struct aiScene *ai)
         s->camera.look_at[k] = s->camera.position[k] + d[k];
     /* Assimp keeps half the horizontal angle; the vertical one follows from the aspect. */
     double half_h = cam->mHorizontalFOV, aspect = cam->mAspect > 0 ? cam->mAspect : 1.0;
-    double fov = 2.0 * atan(tan(half_h) / aspect) * (180.0 / 3.14159265358979323846);
+    double fov = 2.0 * atan(tan(half_h) / aspect) * (180.0 / RAD_PI);
     s->camera.fov_y_deg = fov > 0.0 && fov < 180.0 ? fov : 40.0;
     s->camera.from_scene = 1;
 }

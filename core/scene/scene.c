@@ -407,7 +407,7 @@ static void default_camera(rad_scene *s)
     }
     r = sqrt(r);
     double fov = 40.0;
-    double dist = r > 0.0 ? r / sin(0.5 * fov * (3.14159265358979323846 / 180.0)) : 1.0;
+    double dist = r > 0.0 ? r / sin(0.5 * fov * (RAD_PI / 180.0)) : 1.0;
     rad_camera *cam = &s->camera;
     memset(cam, 0, sizeof *cam);
     for (int k = 0; k < 3; k++) {
