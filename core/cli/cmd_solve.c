@@ -1,30 +1,16 @@
-/* radkit solve: a scene in, radiosities out (dense Galerkin radiosity, or
- * hierarchical radiosity with --method hier: solve_hier below).
- *
- * The data flow of DESIGN.md, one step per function below: load and validate
- * the scene; build its mesh and refine it; decide the effects plan; check the
- * dense size; build visibility only if the plan says something can occlude;
- * assemble G = A F V; solve for B per channel; write the outputs. */
-#include <math.h>
+/* radkit solve: a scene in, radiosities out.  The command parses its options
+ * into pipeline parameters (solve_params.c), loads the scene, runs the
+ * library's pipeline (rad_solve_run: mesh, effects plan, visibility, dense,
+ * hierarchical or Monte Carlo solve) and prints the solution (solve_table.c,
+ * solve_display.c). */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#include "solve.h"
-#include "rad_dense.h"
-#include "rad_dense_solve.h"
-#include "rad_ff.h"
-#include "rad_geom.h"
-#include "rad_hier.h"
 #include "rad_io.h"
-#include "rad_mesh.h"
-#include "rad_radiosity.h"
-#include "rad_render.h"
 #include "rad_scene.h"
-#include "rad_sys.h"
-#include "rad_version.h"
-#include "rad_vis.h"
+#include "rad_solve.h"
+#include "solve.h"
 
 static const char help_head[] =
     "usage: radkit solve SCENE [--method dense|hier|mc] [--rule RULE] [--tol T] [--solver S]\n"
@@ -125,6 +111,14 @@ static const char help_tail[] =
     "\n"
     "example: radkit solve scenes/cornell/cornell.obj --refine 1 --out cornell.tsv\n";
 
+/* Progress on a terminal, one line rewritten in place per method. */
+static void dense_progress(double done, void *ctx)
+{
+    (void)ctx;
+    fprintf(stderr, "\rradkit: assembling %5.1f%%", 100.0 * done);
+    fflush(stderr);
+}
+
 static void solver_progress(int channel, int iteration, double residual, void *ctx)
 {
     (void)ctx;
@@ -133,54 +127,35 @@ static void solver_progress(int channel, int iteration, double residual, void *c
     fflush(stderr);
 }
 
-static void progress_line(double done, void *ctx)
+static void hier_progress(int round, size_t leaves, size_t links, void *ctx)
 {
     (void)ctx;
-    fprintf(stderr, "\rradkit: assembling %5.1f%%", 100.0 * done);
+    fprintf(stderr, "\rradkit: hier round %d: %zu leaves, %zu links   ", round, leaves, links);
     fflush(stderr);
 }
 
-/* --ply, --png (the elements are the display mesh) and --stats. */
-static rad_status write_outputs(const solve_options *o, const rad_scene *scene, const rad_mesh *mesh,
-                                const int *element_material, const double *E, const double *B,
-                                const rad_effects_plan *plan, const rad_radiosity_stats *as,
-                                const rad_dense_report *report, int n, int faces, double t_start,
-                                const double phase_s[4])
+static void mc_progress(double done, void *ctx)
 {
-    rad_status st = RAD_OK;
-    double *corners = NULL, t_render = 0.0;
-    if (o->edges) {
-        corners = malloc((size_t)n * 9 * sizeof *corners);
-        if (!corners)
-            return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d element outlines", n);
-        const double *xyz = rad_mesh_vertices(mesh);
-        const int *tri = rad_mesh_triangles(mesh);
-        for (int i = 0; i < n; i++)
-            for (int v = 0; v < 3; v++)
-                memcpy(corners + 9 * (size_t)i + 3 * v, xyz + 3 * (size_t)tri[3 * i + v],
-                       3 * sizeof *xyz);
-    }
-    solve_display d = {(size_t)rad_mesh_vertex_count(mesh), (size_t)n, rad_mesh_vertices(mesh),
-                       rad_mesh_triangles(mesh), element_material, E, B, corners};
-    st = solve_write_display(o, scene, &d, &t_render);
-    free(corners);
-    if (st == RAD_OK && o->stats) {
-        rad_io_effect effects[RAD_EFFECT_COUNT];
-        solve_effects_json(plan, effects);
-        rad_io_phase phases[5] = {{"setup", phase_s[0]}, {"visibility", phase_s[1]},
-                                  {"assemble", phase_s[2]}, {"solve", phase_s[3]},
-                                  {"render", t_render}};
-        rad_io_stats js = {
-            .method = "dense", .faces = faces, .elements = n, .links = as->pairs - as->pairs_not_facing,
-            .rays = (long long)as->rays, .kernel_evals = as->kernel_evals, .phases = phases,
-            .nphases = 5, .total_seconds = rad_sys_seconds() - t_start,
-            .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects, .neffects = RAD_EFFECT_COUNT,
-            .solver_name = rad_dense_method_name(report->method),
-            .solver_iterations = report->iterations, .solver_residual = report->residual,
-        };
-        st = rad_io_write_stats_json(o->stats, &js);
-    }
-    return st;
+    (void)ctx;
+    fprintf(stderr, "\rradkit: mc paths %5.1f%%", 100.0 * done);
+    fflush(stderr);
+}
+
+/* hier: a warning when the error estimate misses --eps, and why. */
+static void warn_target(const rad_solution *s)
+{
+    const rad_hier_stats *hs = &s->hier;
+    if (s->method != RAD_SOLVE_HIER || hs->target_met)
+        return;
+    fprintf(stderr, "radkit: warning: the error estimate %.3g (worst input triangle, relative to "
+                    "the mean reflected radiosity) exceeds --eps %g", hs->bound_face_max,
+            s->used.hier.eps);
+    if (hs->links_bound > 0)
+        fprintf(stderr, ": %lld links could not be refined further (--min-area or the depth "
+                        "limit binds)\n", hs->links_bound);
+    else
+        fprintf(stderr, " after the oracle tightened its thresholds 64-fold (the estimate is "
+                        "conservative: see error_estimate_l1)\n");
 }
 
 int cli_solve(int argc, char **argv)
@@ -234,235 +209,57 @@ int cli_solve(int argc, char **argv)
     if ((st = solve_check_outputs(&o)) != RAD_OK)
         return cli_fail(st);
 
-    /* ---- parameters ---- */
+    /* ---- options -> parameters, checked before the scene is read ---- */
     rad_scene_params sp;
     rad_effects_params ep;
     rad_scene_params_default(&sp);
     rad_scene_effects_params_default(&ep);
-    sp.no_cross_check = 1; /* 'radkit info' cross-checks a file with Assimp; solve spares the 50 ms */
-    if ((st = cli_scene_options_apply("solve", &o.scene_opts, &sp, &ep)) != RAD_OK)
-        return cli_fail(st);
-    if (o.method && strcmp(o.method, "mc") == 0)
-        return solve_mc(&o, &sp, &ep);
-    if (o.samples || o.seed)
-        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --samples and --seed need --method mc"));
-    if (o.method && strcmp(o.method, "hier") == 0)
-        return solve_hier(&o, &sp, &ep);
-    if (o.eps || o.min_area || o.oracle)
-        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --eps, --min-area and --oracle need "
-                                              "--method hier"));
-    if (o.method && strcmp(o.method, "dense") != 0) {
-        if (strcmp(o.method, "cluster") == 0)
-            return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: --method %s is not available yet; use dense",
-                                  o.method));
-        return cli_fail(RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense, hier or mc)", o.method));
-    }
-    rad_radiosity_params ap;
-    rad_radiosity_params_default(&ap);
-    if (o.rule && (st = rad_ff_rule_parse(o.rule, &ap.rule)) != RAD_OK)
-        return cli_fail(st);
-    if (o.tol && (st = solve_parse_double("--tol", o.tol, 0.0, &ap.ff.tol)) != RAD_OK)
-        return cli_fail(st);
-    rad_dense_params dp;
-    rad_dense_params_default(&dp);
-    if (o.solver && (st = rad_dense_method_parse(o.solver, &dp.method)) != RAD_OK)
-        return cli_fail(st);
-    if (o.solver_tol && (st = solve_parse_double("--solver-tol", o.solver_tol, 0.0, &dp.tol)) != RAD_OK)
-        return cli_fail(st);
-    int refine = 0, threads = 0, strata = 8;
-    if (o.max_iter && (st = cli_parse_positive_int("solve: --max-iter", o.max_iter, 100000000, &dp.max_iter)) != RAD_OK)
-        return cli_fail(st);
-    if (o.refine && strcmp(o.refine, "0") != 0 &&
-        (st = cli_parse_positive_int("solve: --refine", o.refine, 12, &refine)) != RAD_OK)
-        return cli_fail(st);
-    if (o.threads && (st = cli_parse_positive_int("solve: --threads", o.threads, 1024, &threads)) != RAD_OK)
-        return cli_fail(st);
-    if (o.strata && (st = cli_parse_positive_int("solve: --vis-strata", o.strata, 16, &strata)) != RAD_OK)
-        return cli_fail(st);
+    rad_solve_params p;
     int width, height;
     double exposure;
-    /* checked now, before the heavy work; solve_write_display reads them again */
-    if ((st = solve_parse_image(&o, &width, &height, &exposure)) != RAD_OK)
+    if ((st = cli_scene_options_apply("solve", &o.scene_opts, &sp, &ep)) != RAD_OK ||
+        (st = solve_parse_params(&o, &ep, &p)) != RAD_OK ||
+        (st = solve_parse_image(&o, &width, &height, &exposure)) != RAD_OK)
         return cli_fail(st);
-    ap.threads = threads;
     int show_progress = !o.quiet && isatty(2);
     if (show_progress) {
-        ap.progress = progress_line;
-        dp.progress = solver_progress;
+        p.assembly.progress = dense_progress;
+        p.dense.progress = solver_progress;
+        p.hier.progress = hier_progress;
+        p.mc.progress = mc_progress;
     }
 
-    /* ---- scene, mesh, plan ---- */
-    double t_start = rad_sys_seconds();
+    /* ---- scene, solve, outputs ---- */
     rad_scene *scene = NULL;
-    rad_mesh *base = NULL, *mesh = NULL;
-    rad_vis *vis = NULL;
-    double *G = NULL, *work = NULL;
-    int *element_material = NULL;
+    rad_solution *sol = NULL;
     rad_io_output table_out = {0};
     if ((st = rad_scene_load(o.scene, &sp, &scene)) != RAD_OK)
         return cli_fail(st);
-    int faces = rad_scene_triangle_count(scene);
     /* The scene's warnings (no emitter, duplicate faces, ...) go to stderr and
      * into the table's header: a scene without light solves to zeros. */
     if (!o.quiet)
         for (int w = 0; w < rad_scene_warning_count(scene); w++)
             fprintf(stderr, "radkit: warning: %s\n", rad_scene_warning(scene, w));
-    if ((st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
-                              rad_scene_triangles(scene), faces, NULL, &base)) != RAD_OK)
-        goto done;
-    rad_effects_plan plan;
-    if ((st = rad_scene_effects_plan(scene, base, &ep, &plan)) != RAD_OK)
-        goto done;
-    if (plan.refusal[0]) {
-        st = RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan.refusal);
-        goto done;
-    }
-    /* Reflectance near 1: the defaults' tolerances tightened (effects.c, 6). */
-    if (!o.tol)
-        ap.ff.tol *= plan.tighten;
-    if (!o.solver_tol)
-        dp.tol *= plan.tighten;
-    ap.visible.tol *= plan.tighten;
-    /* The dense limit in elements, before refining into something too big. */
-    size_t max_elements = 46340;
-    if (refine > 0) {
-        if ((st = rad_mesh_refine_uniform(base, refine, max_elements, &mesh)) != RAD_OK) {
-            if (st == RAD_ETOOBIG)
-                st = RAD_ERROR(RAD_ETOOBIG, "solve: --refine %d makes %.0f elements, beyond what a "
-                                            "dense solve can hold; use fewer levels or --method hier",
-                               refine, (double)faces * pow(4.0, refine));
-            goto done;
-        }
-    } else {
-        mesh = base;
-        base = NULL;
-    }
-    int n = rad_mesh_face_count(mesh);
-    if ((st = rad_dense_radiosity_check_size((size_t)n, dp.method)) != RAD_OK)
-        goto done;
-    double t_setup = rad_sys_seconds();
-
-    /* ---- per-element reflectance and emission (n x 3, column-major) ---- */
-    const int *parent = rad_mesh_input_faces(mesh);
-    const int *tri_mat = rad_scene_triangle_materials(scene);
-    const rad_scene_material *mats = rad_scene_materials(scene);
-    work = malloc((size_t)n * 10 * sizeof *work);
-    if (!work) {
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d elements", n);
-        goto done;
-    }
-    double *rho = work, *E = work + 3 * (size_t)n, *B = work + 6 * (size_t)n, *areas = work + 9 * (size_t)n;
-    element_material = malloc((size_t)n * sizeof *element_material);
-    if (!element_material) {
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d elements", n);
-        goto done;
-    }
-    for (int i = 0; i < n; i++) {
-        element_material[i] = tri_mat[parent[i]];
-        const rad_scene_material *m = &mats[tri_mat[parent[i]]];
-        for (int c = 0; c < 3; c++) {
-            rho[i + c * n] = m->rho[c];
-            E[i + c * n] = m->emission[c];
-        }
-    }
-
-    /* ---- visibility, only where the plan says something can occlude ---- */
-    /* Over the input triangles: an element lies on its input triangle, which
-     * cannot block it; the visible integral of a pair of elements takes the
-     * blockers from the shaft of the two elements. */
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    vp.strata_per_edge = strata;
-    if (plan.occlusion.on &&
-        (st = rad_vis_create(rad_scene_vertices(scene), (size_t)rad_scene_vertex_count(scene),
-                             rad_scene_triangles(scene), (size_t)faces, &vp, &vis)) != RAD_OK)
-        goto done;
-    ap.face_of = parent;
-    ap.visible.sample_strata = strata;
-    double t_vis = rad_sys_seconds();
-
-    /* ---- assembly and solve ---- */
-    G = malloc((size_t)n * (size_t)n * sizeof *G);
-    if (!G) {
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for the %d x %d coupling matrix", n, n);
-        goto done;
-    }
-    rad_radiosity_stats as;
-    st = rad_radiosity_assemble(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis, &ap, G,
-                                areas, &as);
+    st = rad_solve_run(scene, &p, &sol);
     if (show_progress)
         fputc('\n', stderr);
     if (st != RAD_OK)
         goto done;
-    double t_assembled = rad_sys_seconds();
-    rad_dense_report report;
-    st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &dp, &report);
-    if (show_progress && dp.method != RAD_DENSE_LU && dp.method != RAD_DENSE_CHOLESKY)
-        fputc('\n', stderr);
-    if (st != RAD_OK)
+    if (!o.quiet)
+        warn_target(sol);
+    if ((st = rad_io_output_open(o.out ? o.out : "-", 0, &table_out)) != RAD_OK)
         goto done;
-    double t_solved = rad_sys_seconds();
-
-    /* ---- per input triangle: area average over its elements ---- */
-    double *face_area = calloc((size_t)faces * 4, sizeof *face_area);
-    if (!face_area) {
-        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d faces", faces);
+    solve_print_table(table_out.f, &o, scene, sol);
+    if ((st = rad_io_output_commit(&table_out)) != RAD_OK)
         goto done;
-    }
-    double *face_B = face_area + faces;
-    if ((st = rad_io_face_averages((size_t)n, parent, areas, B, (size_t)faces, face_area, face_B)) != RAD_OK) {
-        free(face_area);
+    double render_s = 0.0;
+    if ((o.ply || o.png) && (st = solve_write_display(&o, scene, sol, &render_s)) != RAD_OK)
         goto done;
-    }
-    if ((st = solve_check_answer("dense", (size_t)faces, face_B)) != RAD_OK) {
-        free(face_area);
-        goto done;
-    }
-
-    if ((st = rad_io_output_open(o.out ? o.out : "-", 0, &table_out)) != RAD_OK) {
-        free(face_area);
-        goto done;
-    }
-    FILE *out = table_out.f;
-    char rule_text[64];
-    rad_ff_rule_format(ap.rule, rule_text, sizeof rule_text);
-    fprintf(out, "# radkit %s solve\n# scene = %s\n# method = dense\n", RAD_VERSION, o.scene);
-    fprintf(out, "# rule = %s\n# tol = %g\n# solver = %s\n", rule_text, ap.ff.tol,
-            rad_dense_method_name(dp.method));
-    fprintf(out, "# faces = %d\n# elements = %d\n# refine = %d\n", faces, n, refine);
-    for (int w = 0; w < rad_scene_warning_count(scene); w++)
-        fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
-    solve_print_effects(out, &plan);
-    fprintf(out, "# pairs = %lld\n# pairs_not_facing = %lld\n# pairs_occlusion_tested = %lld\n"
-                 "# pairs_visibility_sampled = %lld\n# visibility_error = %.3e\n",
-            as.pairs, as.pairs_not_facing, as.pairs_occlusion_tested, as.pairs_sampled,
-            as.visibility_error);
-    fprintf(out, "# pairs_out_of_range = %lld\n# rays = %llu\n# kernel_evals = %lld\n",
-            as.pairs_out_of_range, as.rays, as.kernel_evals);
-    fprintf(out, "# solver_factorizations = %d\n# solver_iterations = %d\n# solver_residual = %.3e\n",
-            report.factorizations, report.iterations, report.residual);
-    fprintf(out, "# rcond = %.3e\n", report.rcond);
-    fprintf(out, "# time_setup_s = %.4f\n# time_visibility_s = %.4f\n# time_assemble_s = %.4f\n"
-                 "# time_solve_s = %.4f\n# time_total_s = %.4f\n# memory_peak_bytes = %.0f\n",
-            t_setup - t_start, t_vis - t_setup - 0.0, t_assembled - t_vis, t_solved - t_assembled,
-            rad_sys_seconds() - t_start, rad_sys_peak_rss_bytes());
-    rad_io_print_faces(out, (size_t)faces, face_area, face_B);
-    free(face_area);
-    st = rad_io_output_commit(&table_out);
-    if (st == RAD_OK)
-        st = write_outputs(&o, scene, mesh, element_material, E, B, &plan, &as, &report, n, faces,
-                           t_start,
-                           (double[4]){t_setup - t_start, t_vis - t_setup, t_assembled - t_vis,
-                                       t_solved - t_assembled});
-
+    if (o.stats)
+        st = solve_write_stats(o.stats, sol, render_s);
 done:
     rad_io_output_discard(&table_out);
-    free(G);
-    free(work);
-    free(element_material);
-    rad_vis_destroy(vis);
-    rad_mesh_destroy(mesh);
-    rad_mesh_destroy(base);
+    rad_solution_destroy(sol);
     rad_scene_destroy(scene);
     return st == RAD_OK ? 0 : cli_fail(st);
 }

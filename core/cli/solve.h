@@ -1,8 +1,9 @@
-/* Internal to `radkit solve`: what its methods (cmd_solve.c: dense,
- * solve_hier.c: hierarchical, solve_mc.c: Monte Carlo) share — the parsed
- * options, the check of the output paths, the outputs made from a solution on
- * a display mesh (PLY, PNG) and the table's effect lines.  Every output goes
- * through rad_io_output (whole file or none). */
+/* Internal to `radkit solve`: the parsed options (cmd_solve.c), their
+ * translation into pipeline parameters (solve_params.c), the check of the
+ * output paths and the outputs made from a solution's display mesh (PLY, PNG;
+ * solve_display.c), the table and the stats (solve_table.c).  The pipeline
+ * itself is the library's (rad_solve.h).  Every output goes through
+ * rad_io_output (whole file or none). */
 #ifndef RAD_CLI_SOLVE_H
 #define RAD_CLI_SOLVE_H
 
@@ -11,7 +12,7 @@
 #include "cli.h"
 #include "rad_io.h"
 #include "rad_scene.h"
-#include "rad_vis.h"
+#include "rad_solve.h"
 
 typedef struct solve_options {
     const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
@@ -30,17 +31,10 @@ rad_status solve_parse_double(const char *option, const char *text, double lo, d
  * none naming the scene.  RAD_EINVAL naming the options and paths. */
 rad_status solve_check_outputs(const solve_options *o);
 
-/* Every face's B finite and >= 0 (n x 3 column-major); RAD_ENUMERIC naming
- * the method, face and channel otherwise.  Called before a table is written. */
-rad_status solve_check_answer(const char *method, size_t n, const double *B);
-
 /* --image-size and --exposure (0 when not given: automatic). */
 rad_status solve_parse_image(const solve_options *o, int *width, int *height, double *exposure);
 
-/* A solution on the triangles it is shown with.  Dense: the elements
- * themselves; hier: the conforming mesh of the leaves.  Per display triangle
- * (n x 3 column-major for E and B): material, emission, radiosity, and the
- * corners of the element it belongs to (9 doubles, for --edges). */
+/* A solution's display mesh (rad_solution display_*), as the renderer takes it. */
 typedef struct solve_display {
     size_t nv, nt;
     const double *xyz;
@@ -50,17 +44,26 @@ typedef struct solve_display {
     const double *element_corners;
 } solve_display;
 
-/* --ply and --png (with --edges, element edges drawn on the image).
- * *render_s gets the image's time (0 without --png). */
+/* --ply and --png from the solution's display mesh (with --edges, element
+ * edges drawn on the image).  *render_s gets the image's time (0 without
+ * --png). */
 rad_status solve_write_display(const solve_options *o, const rad_scene *scene,
-                               const solve_display *d, double *render_s);
+                               const rad_solution *sol, double *render_s);
 
 /* The effects plan as '#' lines of the table. */
 void solve_print_effects(FILE *out, const rad_effects_plan *plan);
 /* The same as the stats JSON's effects (RAD_EFFECT_COUNT entries). */
 void solve_effects_json(const rad_effects_plan *plan, rad_io_effect effects[RAD_EFFECT_COUNT]);
 
-int solve_hier(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);
-int solve_mc(const solve_options *o, const rad_scene_params *sp, const rad_effects_params *ep);
+/* The options as pipeline parameters (solve_params.c): each method's own
+ * options parsed, the others' refused by name; --threads for every method. */
+rad_status solve_parse_params(const solve_options *o, const rad_effects_params *ep,
+                              rad_solve_params *p);
+
+/* The table ('#' lines of parameters, plan, work and times, then one row per
+ * input triangle) and the --stats JSON (solve_table.c). */
+void solve_print_table(FILE *out, const solve_options *o, const rad_scene *scene,
+                       const rad_solution *s);
+rad_status solve_write_stats(const char *path, const rad_solution *s, double render_s);
 
 #endif

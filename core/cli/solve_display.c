@@ -86,8 +86,12 @@ static double auto_exposure(size_t n, const double *B, const double *E)
 }
 
 rad_status solve_write_display(const solve_options *o, const rad_scene *scene,
-                               const solve_display *d, double *render_s)
+                               const rad_solution *sol, double *render_s)
 {
+    const solve_display dd = {sol->display_nv, sol->display_nt, sol->display_xyz,
+                              sol->display_tri, sol->display_material, sol->display_E,
+                              sol->display_B, sol->display_corners};
+    const solve_display *d = &dd;
     *render_s = 0.0;
     if (!o->ply && !o->png)
         return RAD_OK;

@@ -41,6 +41,10 @@ typedef struct rad_dense_params {
      * bounds the error by about tol ||B||_inf.  Default 1e-10. */
     double tol;
     int max_iter; /* iteration (sweep) cap of the iterative solvers; default 10000 */
+    /* Direct solvers: 1 (default) lets channels with identical reflectance
+     * share one factorization (a grey scene: one system); 0 factors every
+     * channel on its own (the effects plan's colour decision forced on). */
+    int share_channels;
     /* Called by the iterative solvers after every sweep of every channel with
      * its relative residual; NULL (the default) for none. */
     void (*progress)(int channel, int iteration, double residual, void *ctx);

@@ -61,6 +61,7 @@ void rad_dense_params_default(rad_dense_params *params)
     params->method = RAD_DENSE_LU;
     params->tol = 1e-10;
     params->max_iter = 10000;
+    params->share_channels = 1;
     params->progress = NULL;
     params->progress_ctx = NULL;
 }
@@ -295,7 +296,7 @@ rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area,
                 continue;
             int chans[3], nc = 0;
             for (int d = c; d < 3; d++)
-                if (!done[d] && channel_equal(n, rho, c, d)) {
+                if (!done[d] && (d == c || (p.share_channels && channel_equal(n, rho, c, d)))) {
                     chans[nc++] = d;
                     done[d] = 1;
                 }

@@ -145,6 +145,22 @@ rad_status ff_auto(const ff_pair *pr, const rad_ff_params *params, ff_value *v, 
     long spent = 0;
     /* Adjacent pairs touch: the shared vertex is on both planes, which does
      * not count as an active clamp. */
+    if (pr->adj != RAD_FF_DISJOINT && !params->singular_rules) {
+        /* as if the pair were apart: the Gauss ladder whatever the distance */
+        rad_ff_params regular = *params;
+        regular.auto_near_ratio = 0.0;
+        rad_status st = RAD_OK;
+        if (ladder(pr, &regular, 1.0, -1.0, v, used, &spent, &st)) {
+            v->evals = spent;
+        } else if (st == RAD_OK) {
+            st = ff_gauss(pr, 20, v);
+            v->evals += spent;
+            v->flags |= RAD_FF_FLAG_NOT_CONVERGED;
+            used->scheme = RAD_FF_GAUSS;
+            used->order = 20;
+        }
+        return st;
+    }
     int clamped = pr->adj == RAD_FF_DISJOINT && clamp_active(pr, params->plane_rel_tol);
     if (pr->adj == RAD_FF_DISJOINT) {
         rad_status st = RAD_OK;

@@ -41,7 +41,9 @@ rad_ff_params rad_ff_defaults(void)
                        .auto_min_ratio = 0.05,
                        .auto_exact_cost = 35000,
                        .auto_safety = 0.1,
-                       .tol = 1e-6};
+                       .tol = 1e-6,
+                       .skip_facing_away = 1,
+                       .singular_rules = 1};
     return p;
 }
 
@@ -242,7 +244,7 @@ rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rul
 
     /* Facing test (step 3), and the coincident pair (step 4). */
     double plane_tol = round * p.plane_rel_tol;
-    if (!pair_faces(&pr, plane_tol)) {
+    if (p.skip_facing_away && !pair_faces(&pr, plane_tol)) {
         out->flags |= RAD_FF_FLAG_NOT_FACING;
         out->rel_error = 0.0;
         if (rad_vec3_dot(pr.n[0], pr.n[1]) < 0.0 &&

@@ -116,6 +116,13 @@ typedef struct rad_ff_params {
     long auto_exact_cost;     /* exact's cost on an adjacent pair in kernel-evaluation
                                  equivalents; auto tries ss:N only when cheaper (35000) */
     double tol;               /* relative accuracy auto aims for (1e-6) */
+    int skip_facing_away;     /* 1 (default): a pair facing away (or coplanar) is 0 without
+                                 integration, flagged NOT_FACING; 0: the rule integrates it
+                                 anyway (the effects plan's facing_away forced off) */
+    int singular_rules;       /* 1 (default): auto gives touching pairs the singular-aware
+                                 rules (ss:N, exact); 0: the regular Gauss ladder, as if
+                                 they were apart (the plan's singular decision forced off;
+                                 flagged NOT_CONVERGED where the ladder does not settle) */
 } rad_ff_params;
 
 rad_ff_params rad_ff_defaults(void);

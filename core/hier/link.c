@@ -27,6 +27,7 @@
 #include "hier_internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -217,7 +218,7 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
      * a floor), or from an explicit rule; the point values then give the
      * visible fraction only. */
     int map[3], adjacent = 0, contact = 0;
-    if (!h->p.use_rule && !far) {
+    if (!h->p.use_rule && !far && h->p.singular) {
         adjacent = rad_ff_adjacency_detect(ea->p, eb->p, 1e-9, map) != RAD_FF_DISJOINT;
         /* a corner lies within the longest edge of its centroid: elements
            whose centroids are farther apart than both longest edges cannot touch */
@@ -292,7 +293,8 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     unsigned long long rays = 0;
     const rad_hier *hc = h;
     hier_link *out = h->ln + h->nln;
-#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n > 32)
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n > 32) num_threads(threads)
     for (long long k = 0; k < (long long)n; k++) {
         work_count wc = {0, 0};
         int facing = 0;

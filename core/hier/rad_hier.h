@@ -115,6 +115,13 @@ typedef struct rad_hier_params {
     double bound_tol;     /* the same for the error transport T; default 1e-3 */
     int max_iterations;   /* steps per solve before RAD_ENUMERIC; default 100000 */
     int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
+    int singular;         /* 1 (default): elements that touch get their unoccluded F from
+                             a singular-aware rule (ss:5 where they share a vertex or an
+                             edge, exact where one touches the other); 0: from point
+                             values like every other pair (the effects plan's singular
+                             decision forced off) */
+    int threads;          /* OpenMP threads for the link estimates; 0 (default): OpenMP's
+                             default.  Results do not depend on it */
     size_t max_elements;  /* RAD_ETOOBIG beyond this many elements (all levels); 4e6 */
     size_t max_links;     /* RAD_ETOOBIG beyond this many links (pairs, each carrying
                              light both ways); 5e7 */

@@ -10,6 +10,7 @@
 #include "hier_internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +49,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->ff = rad_ff_defaults();
     params->link_share = 0.5;
     params->far_ratio = 3.0;
+    params->singular = 1;
     params->source_slope = 1;
     params->tol = 1e-10;
     params->bound_tol = 1e-3;
@@ -285,7 +287,8 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
             goto fail;
         }
         unsigned char *tab = h->can_block;
-#pragma omp parallel for schedule(dynamic, 16) if (ntris > 64)
+        int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
         for (long long r = 0; r < (long long)ntris; r++)
             for (size_t s = 0; s < ntris; s++)
                 tab[(size_t)r * ntris + s] =

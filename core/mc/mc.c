@@ -50,6 +50,7 @@ void rad_mc_params_default(rad_mc_params *params)
     params->rr_weight = 0.5;
     params->progress = NULL;
     params->progress_ctx = NULL;
+    params->threads = 0;
 }
 
 static rad_status check_params(const rad_mc_params *p)
@@ -282,10 +283,11 @@ rad_status rad_mc_solve(const double *xyz, size_t nverts, const int *tri, size_t
     long long rays = 0, bounces = 0, too_long = 0, done_units = 0;
     long long total_units = (long long)ntris * nb;
     int reported = 0;
+    int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
     for (size_t first = 0; first < ntris; first += block) {
         size_t count = ntris - first < block ? ntris - first : block;
         long long units = (long long)count * nb;
-#pragma omp parallel reduction(+ : rays, bounces, too_long)
+#pragma omp parallel reduction(+ : rays, bounces, too_long) num_threads(threads)
         {
             mc_counts cnt = {0, 0, 0};
 #pragma omp for schedule(dynamic, 1)

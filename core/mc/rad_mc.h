@@ -84,6 +84,9 @@ typedef struct rad_mc_params {
      * at most about 100 times; NULL for none. */
     void (*progress)(double done, void *ctx);
     void *progress_ctx;
+    /* OpenMP threads; 0 (default): OpenMP's default.  The table does not
+     * depend on it (per-sample seeds). */
+    int threads;
 } rad_mc_params;
 
 void rad_mc_params_default(rad_mc_params *params);

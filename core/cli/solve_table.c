@@ -1,0 +1,165 @@
+/* radkit solve: a solution as the table ('#' lines, then one row per input
+ * triangle) and as the --stats JSON.  The '#' lines follow one order for
+ * every method: the parameters used, the scene's warnings, the effects plan,
+ * the work done, the solver's figures, the phase times. */
+#include <stdio.h>
+
+#include "rad_dense.h"
+#include "rad_ff.h"
+#include "rad_io.h"
+#include "rad_sys.h"
+#include "rad_version.h"
+#include "solve.h"
+
+static void print_params(FILE *out, const rad_solution *s)
+{
+    const rad_solve_params *u = &s->used;
+    char rule[64];
+    switch (s->method) {
+    case RAD_SOLVE_DENSE:
+        rad_ff_rule_format(u->assembly.rule, rule, sizeof rule);
+        fprintf(out, "# rule = %s\n# tol = %g\n# solver = %s\n", rule, u->assembly.ff.tol,
+                rad_dense_method_name(u->dense.method));
+        fprintf(out, "# faces = %d\n# elements = %zu\n# refine = %d\n", s->faces, s->elements,
+                u->refine);
+        break;
+    case RAD_SOLVE_HIER:
+        rad_ff_rule_format(u->hier.rule, rule, sizeof rule);
+        fprintf(out, "# oracle = %s\n# rule = %s\n# tol = %g\n# eps = %g\n# min_area = %g\n"
+                     "# solver_tol = %g\n",
+                rad_hier_oracle_name(u->hier.oracle), rule, u->hier.ff.tol, u->hier.eps,
+                u->hier.min_area, u->hier.tol);
+        fprintf(out, "# faces = %d\n# elements = %zu\n# nodes = %zu\n# max_depth = %d\n", s->faces,
+                s->hier.elements, s->hier.nodes, s->hier.max_depth);
+        break;
+    case RAD_SOLVE_MC:
+        fprintf(out, "# samples = %lld\n# seed = %llu\n# batches = %d\n# faces = %d\n"
+                     "# elements = %d\n",
+                s->mc.samples_per_face, u->mc.seed, s->mc.batches, s->faces, s->faces);
+        break;
+    }
+}
+
+static void print_work(FILE *out, const rad_solution *s)
+{
+    const rad_radiosity_stats *as = &s->assembly;
+    const rad_hier_stats *hs = &s->hier;
+    switch (s->method) {
+    case RAD_SOLVE_DENSE:
+        fprintf(out, "# pairs = %lld\n# pairs_not_facing = %lld\n# pairs_occlusion_tested = %lld\n"
+                     "# pairs_visibility_sampled = %lld\n# visibility_error = %.3e\n",
+                as->pairs, as->pairs_not_facing, as->pairs_occlusion_tested, as->pairs_sampled,
+                as->visibility_error);
+        fprintf(out, "# pairs_out_of_range = %lld\n# rays = %llu\n# kernel_evals = %lld\n",
+                as->pairs_out_of_range, as->rays, as->kernel_evals);
+        fprintf(out, "# systems = %d\n# solver_factorizations = %d\n# solver_iterations = %d\n"
+                     "# solver_residual = %.3e\n# rcond = %.3e\n",
+                s->systems, s->dense.factorizations, s->dense.iterations, s->dense.residual,
+                s->dense.rcond);
+        break;
+    case RAD_SOLVE_HIER:
+        fprintf(out, "# links = %zu\n# links_leaf = %zu\n# links_clear = %zu\n"
+                     "# links_visible = %zu\n# links_partial = %zu\n# links_blocked = %zu\n"
+                     "# links_unknown = %zu\n",
+                hs->links, hs->links_leaf, hs->links_clear, hs->links_visible, hs->links_partial,
+                hs->links_blocked, hs->links_unknown);
+        fprintf(out, "# iterations = %lld\n# refinements = %lld\n# rounds = %d\n"
+                     "# residual = %.3e\n",
+                hs->iterations, hs->refinements, hs->rounds, hs->residual);
+        fprintf(out, "# error_estimate = %.3e\n# error_estimate_l1 = %.3e\n"
+                     "# error_estimate_leaf_max = %.3e\n# error_target_met = %s\n"
+                     "# links_bound = %lld\n",
+                hs->bound_face_max, hs->bound_mean, hs->bound_leaf_max,
+                hs->target_met ? "yes" : "no", hs->links_bound);
+        fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs->rays, hs->kernel_evals);
+        break;
+    case RAD_SOLVE_MC:
+        fprintf(out, "# paths = %lld\n# rays = %lld\n# bounces = %lld\n# rays_per_path = %.4f\n",
+                s->mc.paths, s->mc.rays, s->mc.bounces,
+                s->mc.paths ? (double)s->mc.rays / (double)s->mc.paths : 0.0);
+        fprintf(out, "# se_rel_l1 = %.3e\n# se_rel_max = %.3e\n", s->se_rel_l1, s->se_rel_max);
+        break;
+    }
+}
+
+void solve_print_table(FILE *out, const solve_options *o, const rad_scene *scene,
+                       const rad_solution *s)
+{
+    fprintf(out, "# radkit %s solve\n# scene = %s\n# method = %s\n", RAD_VERSION, o->scene,
+            rad_solve_method_name(s->method));
+    print_params(out, s);
+    for (int w = 0; w < rad_scene_warning_count(scene); w++)
+        fprintf(out, "# warning = %s\n", rad_scene_warning(scene, w));
+    solve_print_effects(out, &s->plan);
+    print_work(out, s);
+    for (int k = 0; k < s->nphases; k++)
+        fprintf(out, "# time_%s_s = %.4f\n", s->phases[k].name, s->phases[k].seconds);
+    fprintf(out, "# time_total_s = %.4f\n", s->total_seconds);
+    if (s->method == RAD_SOLVE_MC) {
+        double paths_s = s->nphases > 2 ? s->phases[2].seconds : 0.0;
+        fprintf(out, "# paths_per_s = %.4g\n", paths_s > 0.0 ? (double)s->mc.paths / paths_s : 0.0);
+    }
+    fprintf(out, "# memory_peak_bytes = %.0f\n", rad_sys_peak_rss_bytes());
+    if (s->face_se)
+        rad_io_print_faces_se(out, (size_t)s->faces, s->face_area, s->face_B, s->face_se);
+    else
+        rad_io_print_faces(out, (size_t)s->faces, s->face_area, s->face_B);
+}
+
+rad_status solve_write_stats(const char *path, const rad_solution *s, double render_s)
+{
+    rad_io_effect effects[RAD_EFFECT_COUNT];
+    solve_effects_json(&s->plan, effects);
+    rad_io_phase phases[RAD_SOLVE_MAX_PHASES + 1];
+    for (int k = 0; k < s->nphases; k++)
+        phases[k] = (rad_io_phase){s->phases[k].name, s->phases[k].seconds};
+    phases[s->nphases] = (rad_io_phase){"render", render_s};
+    const rad_hier_stats *hs = &s->hier;
+    rad_io_figure hier_details[] = {
+        {"nodes", (double)hs->nodes},
+        {"max_depth", hs->max_depth},
+        {"links_leaf", (double)hs->links_leaf},
+        {"links_clear", (double)hs->links_clear},
+        {"links_visible", (double)hs->links_visible},
+        {"links_partial", (double)hs->links_partial},
+        {"links_blocked", (double)hs->links_blocked},
+        {"links_unknown", (double)hs->links_unknown},
+        {"refinements", (double)hs->refinements},
+        {"rounds", hs->rounds},
+        {"eps", s->used.hier.eps},
+        {"min_area", s->used.hier.min_area},
+        {"oracle_error", s->used.hier.oracle == RAD_HIER_ORACLE_ERROR},
+        {"error_estimate", hs->bound_face_max},
+        {"error_estimate_l1", hs->bound_mean},
+        {"error_estimate_leaf_max", hs->bound_leaf_max},
+        {"error_target_met", hs->target_met},
+        {"links_bound", (double)hs->links_bound}};
+    rad_io_figure mc_details[] = {
+        {"samples_per_face", (double)s->mc.samples_per_face},
+        {"batches", s->mc.batches},
+        {"paths", (double)s->mc.paths},
+        {"bounces", (double)s->mc.bounces},
+        {"se_rel_l1", s->se_rel_l1},
+        {"se_rel_max", s->se_rel_max}};
+    rad_io_figure dense_details[] = {{"systems", s->systems},
+                                     {"pairs_not_facing", (double)s->assembly.pairs_not_facing}};
+    rad_io_stats js = {
+        .method = rad_solve_method_name(s->method), .faces = s->faces,
+        .elements = (long long)s->elements, .links = s->links, .rays = (long long)s->rays,
+        .kernel_evals = s->kernel_evals, .phases = phases, .nphases = (size_t)s->nphases + 1,
+        .total_seconds = s->total_seconds + render_s,
+        .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects,
+        .neffects = RAD_EFFECT_COUNT, .solver_name = s->solver_name,
+        .solver_iterations = s->solver_iterations, .solver_residual = s->solver_residual};
+    if (s->method == RAD_SOLVE_HIER) {
+        js.details = hier_details;
+        js.ndetails = sizeof hier_details / sizeof hier_details[0];
+    } else if (s->method == RAD_SOLVE_MC) {
+        js.details = mc_details;
+        js.ndetails = sizeof mc_details / sizeof mc_details[0];
+    } else {
+        js.details = dense_details;
+        js.ndetails = sizeof dense_details / sizeof dense_details[0];
+    }
+    return rad_io_write_stats_json(path, &js);
+}

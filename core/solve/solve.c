@@ -1,0 +1,536 @@
+/* rad_solve: the pipeline from a loaded scene to per-face radiosities, for
+ * every method (rad_solve.h).  One function per step: prepare (mesh, plan,
+ * the plan's decisions applied to the parameters, per-face materials), then
+ * one runner per method, then the per-face answer checked. */
+#include "rad_solve.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_dense.h"
+#include "rad_geom.h"
+#include "rad_io.h"
+#include "rad_mesh.h"
+#include "rad_sys.h"
+#include "rad_vis.h"
+
+rad_status rad_solve_method_parse(const char *text, rad_solve_method *out)
+{
+    static const char *const names[3] = {"dense", "hier", "mc"};
+    for (int m = 0; m < 3; m++)
+        if (text && strcmp(text, names[m]) == 0) {
+            *out = (rad_solve_method)m;
+            return RAD_OK;
+        }
+    if (text && strcmp(text, "cluster") == 0)
+        return RAD_ERROR(RAD_EINVAL, "solve: --method cluster is not available yet; use hier");
+    return RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense, hier or mc)",
+                     text ? text : "");
+}
+
+const char *rad_solve_method_name(rad_solve_method m)
+{
+    return m == RAD_SOLVE_HIER ? "hier" : m == RAD_SOLVE_MC ? "mc" : "dense";
+}
+
+void rad_solve_params_default(rad_solve_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->method = RAD_SOLVE_DENSE;
+    rad_scene_effects_params_default(&p->effects);
+    rad_radiosity_params_default(&p->assembly);
+    rad_dense_params_default(&p->dense);
+    p->dense_max_elements = 46340;
+    rad_hier_params_default(&p->hier);
+    p->hier.min_area = -1.0;
+    rad_mc_params_default(&p->mc);
+}
+
+void rad_solution_destroy(rad_solution *s)
+{
+    if (!s)
+        return;
+    free(s->face_area);
+    free(s->face_se);
+    free(s->display_xyz);
+    free(s->display_tri);
+    free(s->display_material);
+    free(s->display_E);
+    free(s->display_B);
+    free(s->display_corners);
+    free(s);
+}
+
+/* What every method starts from: the scene's triangles as a mesh, the plan,
+ * and per input triangle its reflectance and emission (faces x 3). */
+typedef struct prepared {
+    const rad_scene *scene;
+    rad_mesh *mesh;
+    int faces;
+    double *rho, *E; /* one block of 6 faces */
+} prepared;
+
+static void prepared_free(prepared *pr)
+{
+    rad_mesh_destroy(pr->mesh);
+    free(pr->rho);
+}
+
+static void add_phase(rad_solution *s, const char *name, double seconds)
+{
+    if (s->nphases < RAD_SOLVE_MAX_PHASES)
+        s->phases[s->nphases++] = (rad_solve_phase){name, seconds};
+}
+
+/* The plan's decisions, applied to the parameters in s->used. */
+static rad_status apply_plan(rad_solution *s)
+{
+    const rad_effects_plan *plan = &s->plan;
+    rad_solve_params *u = &s->used;
+    if (plan->refusal[0])
+        return RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan->refusal);
+    if (u->method == RAD_SOLVE_MC) {
+        if (plan->facing_away.forced || plan->singular.forced)
+            return RAD_ERROR(RAD_EINVAL, "solve: --facing-away and --singular decide how form "
+                                         "factors are integrated; --method mc computes none");
+        u->mc.occlusion = plan->occlusion.on;
+        return RAD_OK;
+    }
+    /* reflectance near 1: the defaults' tolerances tightened */
+    if (!u->keep_tol)
+        u->assembly.ff.tol *= plan->tighten;
+    if (!u->keep_solver_tol)
+        u->dense.tol *= plan->tighten;
+    u->assembly.visible.tol *= plan->tighten;
+    u->hier.tol *= plan->tighten;
+    u->hier.bound_tol *= plan->tighten;
+    /* facing-away pairs and singular pairs */
+    u->assembly.ff.skip_facing_away = plan->facing_away.on;
+    u->assembly.ff.singular_rules = plan->singular.on;
+    u->hier.ff.singular_rules = plan->singular.on;
+    u->hier.singular = plan->singular.on;
+    if (u->method == RAD_SOLVE_HIER && !plan->facing_away.on)
+        return RAD_ERROR(RAD_EINVAL, "solve: --facing-away off applies to --method dense only "
+                                     "(hier links only elements that face each other)");
+    /* colour: channels that may share a system share one when off */
+    u->dense.share_channels = !plan->colour.on;
+    u->hier.sealed = plan->sealed;
+    return RAD_OK;
+}
+
+static rad_status prepare(const rad_scene *scene, rad_solution *s, prepared *pr)
+{
+    memset(pr, 0, sizeof *pr);
+    pr->scene = scene;
+    pr->faces = rad_scene_triangle_count(scene);
+    rad_status st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
+                                    rad_scene_triangles(scene), pr->faces, NULL, &pr->mesh);
+    if (st == RAD_OK)
+        st = rad_scene_effects_plan(scene, pr->mesh, &s->used.effects, &s->plan);
+    if (st == RAD_OK)
+        st = apply_plan(s);
+    if (st != RAD_OK)
+        return st;
+    size_t n = (size_t)pr->faces;
+    if (!(pr->rho = malloc(n * 6 * sizeof *pr->rho)))
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu faces", n);
+    pr->E = pr->rho + 3 * n;
+    const int *tri_mat = rad_scene_triangle_materials(scene);
+    const rad_scene_material *mats = rad_scene_materials(scene);
+    for (size_t i = 0; i < n; i++) {
+        const rad_scene_material *m = &mats[tri_mat[i]];
+        /* colour off: one system, the channels' mean reflectance (exact when grey) */
+        double grey = (m->rho[0] + m->rho[1] + m->rho[2]) / 3.0;
+        for (int c = 0; c < 3; c++) {
+            pr->rho[i + c * n] = s->plan.colour.on ? m->rho[c] : grey;
+            pr->E[i + c * n] = m->emission[c];
+        }
+    }
+    return RAD_OK;
+}
+
+/* An answer is a radiosity, finite and non-negative, or it is not returned.
+ * The solvers check their own arithmetic; this catches what reaches the
+ * answer by other ways (an emission near the largest double, overflow in a
+ * path's weight). */
+static rad_status check_answer(const char *method, size_t n, const double *B)
+{
+    static const char channel[3] = {'r', 'g', 'b'};
+    for (int c = 0; c < 3; c++)
+        for (size_t i = 0; i < n; i++) {
+            double b = B[i + (size_t)c * n];
+            if (!isfinite(b))
+                return RAD_ERROR(RAD_ENUMERIC, "%s: face %zu has a non-finite radiosity (B_%c = %g): "
+                                 "an emission or a scale beyond double precision's range?",
+                                 method, i, channel[c], b);
+            if (b < 0.0)
+                return RAD_ERROR(RAD_ENUMERIC, "%s: face %zu has a negative radiosity (B_%c = %g)",
+                                 method, i, channel[c], b);
+        }
+    return RAD_OK;
+}
+
+/* The per-face answer from per-element values (face_of, area, B: n x 3). */
+static rad_status face_answer(rad_solution *s, size_t n, const int *face_of, const double *area,
+                              const double *B)
+{
+    size_t faces = (size_t)s->faces;
+    if (!(s->face_area = calloc(faces * 4, sizeof *s->face_area)))
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu faces", faces);
+    s->face_B = s->face_area + faces;
+    rad_status st = rad_io_face_averages(n, face_of, area, B, faces, s->face_area, s->face_B);
+    return st == RAD_OK ? check_answer(rad_solve_method_name(s->method), faces, s->face_B) : st;
+}
+
+/* The display of per-triangle values on the triangles themselves (dense's
+ * elements, mc's faces): copies, so that the solution owns them. */
+static rad_status display_triangles(rad_solution *s, size_t nv, const double *xyz, size_t nt,
+                                    const int *tri, const int *material, const double *E,
+                                    const double *B)
+{
+    s->display_nv = nv;
+    s->display_nt = nt;
+    s->display_xyz = malloc(nv * 3 * sizeof *s->display_xyz);
+    s->display_tri = malloc(nt * 3 * sizeof *s->display_tri);
+    s->display_material = malloc(nt * sizeof *s->display_material);
+    s->display_E = malloc(nt * 3 * sizeof *s->display_E);
+    s->display_B = malloc(nt * 3 * sizeof *s->display_B);
+    if (s->used.edges)
+        s->display_corners = malloc(nt * 9 * sizeof *s->display_corners);
+    if (!s->display_xyz || !s->display_tri || !s->display_material || !s->display_E ||
+        !s->display_B || (s->used.edges && !s->display_corners))
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+    memcpy(s->display_xyz, xyz, nv * 3 * sizeof *xyz);
+    memcpy(s->display_tri, tri, nt * 3 * sizeof *tri);
+    memcpy(s->display_material, material, nt * sizeof *material);
+    memcpy(s->display_E, E, nt * 3 * sizeof *E);
+    memcpy(s->display_B, B, nt * 3 * sizeof *B);
+    if (s->display_corners)
+        for (size_t i = 0; i < nt; i++)
+            for (int v = 0; v < 3; v++)
+                memcpy(s->display_corners + 9 * i + 3 * v, xyz + 3 * (size_t)tri[3 * i + v],
+                       3 * sizeof *xyz);
+    return RAD_OK;
+}
+
+/* Visibility over the input triangles, when the plan says something can
+ * occlude: elements lie on their input triangles, which rad_vis ignores as
+ * blockers of pairs on them. */
+static rad_status make_vis(const prepared *pr, int needed, double eps_rel, int strata,
+                           rad_vis **vis)
+{
+    *vis = NULL;
+    if (!needed)
+        return RAD_OK;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    if (eps_rel > 0.0)
+        vp.eps_rel = eps_rel;
+    if (strata > 0)
+        vp.strata_per_edge = strata;
+    return rad_vis_create(rad_scene_vertices(pr->scene), (size_t)rad_scene_vertex_count(pr->scene),
+                          rad_scene_triangles(pr->scene), (size_t)pr->faces, &vp, vis);
+}
+
+/* ---- dense ---------------------------------------------------------------- */
+
+static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
+{
+    rad_solve_params *u = &s->used;
+    rad_mesh *refined = NULL;
+    rad_vis *vis = NULL;
+    double *G = NULL, *work = NULL;
+    int *material = NULL;
+    rad_status st = RAD_OK;
+    const rad_mesh *mesh = pr->mesh;
+    if (u->refine > 0) {
+        if ((st = rad_mesh_refine_uniform(pr->mesh, u->refine, u->dense_max_elements, &refined)) !=
+            RAD_OK) {
+            if (st == RAD_ETOOBIG)
+                st = RAD_ERROR(RAD_ETOOBIG, "solve: --refine %d makes %.0f elements, beyond what a "
+                                            "dense solve can hold; use fewer levels or --method hier",
+                               u->refine, (double)pr->faces * pow(4.0, u->refine));
+            return st;
+        }
+        mesh = refined;
+    }
+    int n = rad_mesh_face_count(mesh);
+    size_t nn = (size_t)n;
+    if ((st = rad_dense_radiosity_check_size(nn, u->dense.method)) != RAD_OK)
+        goto done;
+    const int *parent = rad_mesh_input_faces(mesh);
+    size_t faces = (size_t)pr->faces;
+    work = malloc(nn * 10 * sizeof *work);
+    material = malloc(nn * sizeof *material);
+    if (!work || !material) {
+        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %d elements", n);
+        goto done;
+    }
+    double *rho = work, *E = work + 3 * nn, *B = work + 6 * nn, *areas = work + 9 * nn;
+    const int *tri_mat = rad_scene_triangle_materials(pr->scene);
+    for (size_t i = 0; i < nn; i++) {
+        size_t f = (size_t)parent[i];
+        material[i] = tri_mat[f];
+        for (int c = 0; c < 3; c++) {
+            rho[i + c * nn] = pr->rho[f + c * faces];
+            E[i + c * nn] = pr->E[f + c * faces];
+        }
+    }
+    double t_setup = rad_sys_seconds();
+    add_phase(s, "setup", t_setup - t_start);
+    if ((st = make_vis(pr, s->plan.occlusion.on, 0.0, u->assembly.visible.sample_strata, &vis)) !=
+        RAD_OK)
+        goto done;
+    double t_vis = rad_sys_seconds();
+    add_phase(s, "visibility", t_vis - t_setup);
+    if (!(G = malloc(nn * nn * sizeof *G))) {
+        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for the %d x %d coupling matrix", n, n);
+        goto done;
+    }
+    u->assembly.face_of = parent;
+    u->assembly.threads = u->threads;
+    st = rad_radiosity_assemble(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis,
+                                &u->assembly, G, areas, &s->assembly);
+    u->assembly.face_of = NULL; /* borrowed from the mesh, freed below */
+    if (st != RAD_OK)
+        goto done;
+    double t_assembled = rad_sys_seconds();
+    add_phase(s, "assemble", t_assembled - t_vis);
+    if ((st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &u->dense, &s->dense)) != RAD_OK)
+        goto done;
+    add_phase(s, "solve", rad_sys_seconds() - t_assembled);
+    s->elements = nn;
+    s->links = s->assembly.pairs - s->assembly.pairs_not_facing;
+    s->rays = s->assembly.rays;
+    s->kernel_evals = s->assembly.kernel_evals;
+    s->solver_name = rad_dense_method_name(s->dense.method);
+    s->solver_iterations = s->dense.iterations;
+    s->solver_residual = s->dense.residual;
+    s->systems = s->dense.factorizations > 0 ? s->dense.factorizations : 3;
+    if ((st = face_answer(s, nn, parent, areas, B)) != RAD_OK)
+        goto done;
+    if (u->display)
+        st = display_triangles(s, (size_t)rad_mesh_vertex_count(mesh), rad_mesh_vertices(mesh), nn,
+                               rad_mesh_triangles(mesh), material, E, B);
+done:
+    free(G);
+    free(work);
+    free(material);
+    rad_vis_destroy(vis);
+    rad_mesh_destroy(refined);
+    return st;
+}
+
+/* ---- hier ----------------------------------------------------------------- */
+
+/* The leaves' conforming mesh as the display (T-vertices resolved, so that
+ * vertex colours are smooth); each display triangle keeps its leaf's corners. */
+static rad_status hier_display(rad_solution *s, const rad_hier *h, const prepared *pr, size_t n,
+                               const int *leaf_face, const double *leaf_B)
+{
+    double *corners = malloc(n * 9 * sizeof *corners);
+    if (!corners)
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu leaves", n);
+    rad_hier_leaves(h, NULL, NULL, corners, NULL);
+    size_t nv = 0, nt = 0;
+    int *leaf = NULL;
+    rad_status st = rad_mesh_conform_leaves(corners, n, &s->display_xyz, &nv, &s->display_tri,
+                                            &leaf, &nt);
+    if (st != RAD_OK) {
+        free(corners);
+        return st;
+    }
+    s->display_nv = nv;
+    s->display_nt = nt;
+    s->display_material = malloc(nt * sizeof *s->display_material);
+    s->display_E = malloc(nt * 3 * sizeof *s->display_E);
+    s->display_B = malloc(nt * 3 * sizeof *s->display_B);
+    if (s->used.edges)
+        s->display_corners = malloc(nt * 9 * sizeof *s->display_corners);
+    if (!s->display_material || !s->display_E || !s->display_B ||
+        (s->used.edges && !s->display_corners)) {
+        free(corners);
+        free(leaf);
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+    }
+    const int *tri_mat = rad_scene_triangle_materials(pr->scene);
+    size_t faces = (size_t)pr->faces;
+    for (size_t t = 0; t < nt; t++) {
+        size_t l = (size_t)leaf[t];
+        size_t f = (size_t)leaf_face[l];
+        s->display_material[t] = tri_mat[f];
+        if (s->display_corners)
+            memcpy(s->display_corners + 9 * t, corners + 9 * l, 9 * sizeof *corners);
+        for (int c = 0; c < 3; c++) {
+            s->display_E[t + c * nt] = pr->E[f + c * faces];
+            s->display_B[t + c * nt] = leaf_B[l + c * n];
+        }
+    }
+    free(corners);
+    free(leaf);
+    return RAD_OK;
+}
+
+static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
+{
+    rad_solve_params *u = &s->used;
+    if (u->hier.min_area < 0.0) {
+        rad_scene_summary sum;
+        rad_scene_summarize(pr->scene, &sum);
+        u->hier.min_area =
+            sum.total_area * fmin(1e-4, fmax(1e-10, 1e-2 * u->hier.eps * u->hier.eps));
+    }
+    u->hier.threads = u->threads;
+    double t_setup = rad_sys_seconds();
+    add_phase(s, "setup", t_setup - t_start);
+    rad_vis *vis = NULL;
+    rad_hier *h = NULL;
+    double *leaf = NULL;
+    int *leaf_face = NULL;
+    rad_status st = make_vis(pr, s->plan.occlusion.on, 0.0, 0, &vis);
+    if (st != RAD_OK)
+        return st;
+    add_phase(s, "visibility", rad_sys_seconds() - t_setup);
+    st = rad_hier_create(rad_scene_vertices(pr->scene), (size_t)rad_scene_vertex_count(pr->scene),
+                         rad_scene_triangles(pr->scene), (size_t)pr->faces, pr->rho, pr->E, vis,
+                         &u->hier, &h);
+    if (st == RAD_OK)
+        st = rad_hier_solve(h);
+    if (st != RAD_OK)
+        goto done;
+    rad_hier_get_stats(h, &s->hier);
+    add_phase(s, "link", s->hier.time_link_s);
+    add_phase(s, "refine", s->hier.time_refine_s);
+    add_phase(s, "solve", s->hier.time_solve_s);
+    size_t n = rad_hier_leaf_count(h);
+    leaf = malloc(n * 4 * sizeof *leaf);
+    leaf_face = malloc(n * sizeof *leaf_face);
+    if (!leaf || !leaf_face) {
+        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu elements", n);
+        goto done;
+    }
+    double *area = leaf, *B = leaf + n;
+    rad_hier_leaves(h, leaf_face, area, NULL, B);
+    s->elements = s->hier.elements;
+    s->links = (long long)s->hier.links;
+    s->rays = s->hier.rays;
+    s->kernel_evals = s->hier.kernel_evals;
+    s->solver_name = "jacobi-push-pull";
+    s->solver_iterations = s->hier.iterations;
+    s->solver_residual = s->hier.residual;
+    s->systems = 3;
+    if ((st = face_answer(s, n, leaf_face, area, B)) == RAD_OK && u->display)
+        st = hier_display(s, h, pr, n, leaf_face, B);
+done:
+    free(leaf);
+    free(leaf_face);
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+    return st;
+}
+
+/* ---- mc ------------------------------------------------------------------- */
+
+/* The standard error in the measure the studies use: area-weighted standard
+ * error over the area-weighted mean reflected radiosity (B - E), three
+ * channels summed; and the largest face's on the same scale. */
+static void relative_errors(size_t n, const double *area, const double *B, const double *E,
+                            const double *se, double *l1, double *worst)
+{
+    double num = 0.0, den = 0.0, total = 0.0, top = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        total += area[i];
+        for (int c = 0; c < 3; c++) {
+            num += area[i] * se[i + c * n];
+            den += area[i] * (B[i + c * n] - E[i + c * n]);
+            top = rad_dmax(top, se[i + c * n]);
+        }
+    }
+    *l1 = den > 0.0 ? num / den : 0.0;
+    *worst = den > 0.0 ? top / (den / (3.0 * total)) : 0.0;
+}
+
+static rad_status run_mc(rad_solution *s, prepared *pr, double t_start)
+{
+    rad_solve_params *u = &s->used;
+    size_t n = (size_t)pr->faces, nv = (size_t)rad_scene_vertex_count(pr->scene);
+    const double *xyz = rad_scene_vertices(pr->scene);
+    const int *tri = rad_scene_triangles(pr->scene);
+    s->face_area = malloc(n * 4 * sizeof *s->face_area);
+    s->face_se = malloc(n * 3 * sizeof *s->face_se);
+    if (!s->face_area || !s->face_se)
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu faces", n);
+    s->face_B = s->face_area + n;
+    for (size_t i = 0; i < n; i++) {
+        const double *a = xyz + 3 * (size_t)tri[3 * i], *b = xyz + 3 * (size_t)tri[3 * i + 1],
+                     *c = xyz + 3 * (size_t)tri[3 * i + 2];
+        s->face_area[i] = rad_geom_triangle_area(rad_vec3_make(a[0], a[1], a[2]),
+                                                 rad_vec3_make(b[0], b[1], b[2]),
+                                                 rad_vec3_make(c[0], c[1], c[2]));
+    }
+    double t_setup = rad_sys_seconds();
+    add_phase(s, "setup", t_setup - t_start);
+    /* Paths need closest hits in every scene (the plan decides only whether
+     * shadow rays are needed).  A small ray epsilon: hits on a path vertex's
+     * own triangle are rejected by id, the epsilon only guards the far end. */
+    rad_vis *vis = NULL;
+    rad_status st = make_vis(pr, 1, 1e-6, 0, &vis);
+    if (st != RAD_OK)
+        return st;
+    double t_vis = rad_sys_seconds();
+    add_phase(s, "visibility", t_vis - t_setup);
+    u->mc.threads = u->threads;
+    st = rad_mc_solve(xyz, nv, tri, n, pr->rho, pr->E, vis, &u->mc, s->face_B, s->face_se, &s->mc);
+    rad_vis_destroy(vis);
+    if (st != RAD_OK || (st = check_answer("mc", n, s->face_B)) != RAD_OK)
+        return st;
+    add_phase(s, "paths", rad_sys_seconds() - t_vis);
+    relative_errors(n, s->face_area, s->face_B, pr->E, s->face_se, &s->se_rel_l1, &s->se_rel_max);
+    s->elements = n;
+    s->rays = (unsigned long long)s->mc.rays;
+    s->solver_name = "path-tracing";
+    s->solver_iterations = s->mc.paths;
+    s->solver_residual = s->se_rel_l1;
+    if (u->display)
+        st = display_triangles(s, nv, xyz, n, tri, rad_scene_triangle_materials(pr->scene), pr->E,
+                               s->face_B);
+    return st;
+}
+
+rad_status rad_solve_run(const rad_scene *scene, const rad_solve_params *params,
+                         rad_solution **out)
+{
+    if (out)
+        *out = NULL;
+    if (!scene || !out)
+        return RAD_ERROR(RAD_EINVAL, "rad_solve_run: NULL argument");
+    double t_start = rad_sys_seconds();
+    rad_solution *s = calloc(1, sizeof *s);
+    if (!s)
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory");
+    if (params)
+        s->used = *params;
+    else
+        rad_solve_params_default(&s->used);
+    s->method = s->used.method;
+    s->faces = rad_scene_triangle_count(scene);
+    prepared pr;
+    rad_status st = prepare(scene, s, &pr);
+    if (st == RAD_OK) {
+        if (s->method == RAD_SOLVE_HIER)
+            st = run_hier(s, &pr, t_start);
+        else if (s->method == RAD_SOLVE_MC)
+            st = run_mc(s, &pr, t_start);
+        else
+            st = run_dense(s, &pr, t_start);
+    }
+    prepared_free(&pr);
+    s->total_seconds = rad_sys_seconds() - t_start;
+    if (st != RAD_OK) {
+        rad_solution_destroy(s);
+        return st;
+    }
+    *out = s;
+    return RAD_OK;
+}
