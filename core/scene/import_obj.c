@@ -304,7 +304,7 @@ static rad_status read_mtl_line(obj_reader *r, const char *mtl_path, int line, c
         return st;
     }
     if (strcmp(key, "Kd") == 0 || strcmp(key, "Ke") == 0) {
-        double c[3];
+        double c[3] = {0, 0, 0}; /* parse_colour sets it; GCC cannot always see that */
         if (*current < 0)
             return RAD_ERROR(RAD_EINPUT, "%s:%d: %s before any newmtl", mtl_path, line, key);
         rad_status st = parse_colour(mtl_path, line, key, &save, c);
