@@ -5,6 +5,8 @@
 #   make demo       the main job: the Cornell box (dense, hier, against Monte Carlo), the 1D problem
 #   make experiments / make bench    the long studies and the benchmark table
 #   make fuzz       5000 mutated scenes and options (FUZZ_CASES, FUZZ_SEED); make test runs 200
+#   make install    PREFIX=/usr/local DESTDIR=: program, libradkit.so and .a, headers, radkit.pc, radkit.1
+#   make examples   stage an install, build examples/*.c against it with pkg-config, run and check them
 #   SAN=1 (address+undefined sanitizers), DEBUG=1 (-O0 -g3), WERROR=1 (-Werror)
 
 # ---- settings --------------------------------------------------------------
@@ -42,7 +44,9 @@ WARN_CXX    := -Wnon-virtual-dtor
 # ---- modules: one folder per module under core/, each with rad_<module>.h ----
 # A module may add libraries and Debian packages in its own core/<m>/module.mk.
 MODULE_DIRS := $(sort $(dir $(wildcard core/*/rad_*.h)))
-PKGS        := gcc g++ make gnuplot-nox
+# pkg-config and groff-base: make examples links through radkit.pc; the
+# manual page test renders radkit.1.
+PKGS        := gcc g++ make gnuplot-nox pkg-config groff-base
 LDLIBS      := -lm
 -include $(wildcard core/*/module.mk)
 
@@ -66,8 +70,35 @@ LIB    := $(BUILD)/libradkit.a
 RADKIT := $(BUILD)/radkit
 UNIT   := $(BUILD)/tests/unit
 
+# ---- the installable library: a second object tree ---------------------------
+# A shared library needs position-independent code, and an installed static
+# library must link with any compiler and linker, which GCC's slim LTO objects
+# (IR only) do not.  So the libraries `make install` ships are built from
+# $(BUILD)/pic/: the same sources with -fPIC, -fno-semantic-interposition
+# (nothing is meant to replace radkit's functions at load time, so calls
+# within a file inline as in the default build) and, for C,
+# -ffat-lto-objects (machine code beside the IR).  The program and the tests
+# keep the default objects, so `make` and `make test` cost what they did.
+# The shared library exports only the rad_* API (core/libradkit.map).
+VERSION  := $(shell sed -n 's/^#define RAD_VERSION "\(.*\)"/\1/p' core/sys/rad_version.h)
+SONAME   := libradkit.so.$(firstword $(subst ., ,$(VERSION)))
+PUBLIC_H := $(wildcard core/*/rad_*.h)
+pic = $(patsubst %,$(BUILD)/pic/%.o,$(basename $(1)))
+PIC_OBJ  := $(call pic,$(LIB_C) $(LIB_CXX))
+PIC_FLAG := -fPIC -fno-semantic-interposition
+PIC_LIB  := $(BUILD)/pic/libradkit.a
+SHLIB    := $(BUILD)/pic/libradkit.so.$(VERSION)
+MANPAGE  := $(BUILD)/radkit.1
+
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+MANDIR     ?= $(PREFIX)/share/man
+INSTALL    ?= install
+
 # ---- targets ---------------------------------------------------------------
-.PHONY: all deps test demo experiments bench fuzz clean echo help
+.PHONY: all deps test demo experiments bench fuzz clean echo help install uninstall examples
 all: $(RADKIT)
 
 deps:
@@ -87,6 +118,27 @@ $(LIB): $(LIB_OBJ)
 
 $(RADKIT): $(CLI_OBJ) $(LIB)
 	$(LINK) $(LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
+
+$(BUILD)/pic/%.o: %.c | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(PIC_FLAG) -ffat-lto-objects -c $< -o $@
+
+$(BUILD)/pic/%.o: %.cpp | deps
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(PIC_FLAG) -c $< -o $@
+
+$(PIC_LIB): $(PIC_OBJ)
+	rm -f $@ && gcc-ar rcs $@ $^
+
+# -z defs: every symbol resolved here (the libraries each module.mk names),
+# so a program needs only -lradkit.
+$(SHLIB): $(PIC_OBJ) core/libradkit.map
+	$(LINK) -shared $(LDFLAGS) -Wl,-soname,$(SONAME) -Wl,--version-script=core/libradkit.map \
+	  -Wl,-z,defs -o $@ $(PIC_OBJ) $(LDLIBS)
+
+# The manual page is laid out from the program's own --help texts.
+$(MANPAGE): $(RADKIT) scripts/manpage.sh
+	sh scripts/manpage.sh $(RADKIT) > $@.tmp && mv $@.tmp $@
 
 $(UNIT): $(TEST_OBJ) $(LIB)
 	@mkdir -p $(dir $@)
@@ -113,6 +165,42 @@ experiments: deps $(RADKIT)
 bench: deps $(RADKIT)
 	@sh scripts/bench.sh $(RADKIT)
 
+# The program is installed as built (static, whole-program optimised); the
+# .pc file is written here so that it names this PREFIX.  Libs.private lists
+# what the static library needs: the modules' LDLIBS, the C++ runtime (the
+# CGAL shim) and the OpenMP runtime (-lgomp, which any compiler can link).
+install: $(RADKIT) $(SHLIB) $(PIC_LIB) $(MANPAGE)
+	$(INSTALL) -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCLUDEDIR)/radkit \
+	  $(DESTDIR)$(MANDIR)/man1
+	$(INSTALL) -m 755 $(RADKIT) $(DESTDIR)$(BINDIR)/radkit
+	$(INSTALL) -m 755 $(SHLIB) $(DESTDIR)$(LIBDIR)/
+	ln -sf $(notdir $(SHLIB)) $(DESTDIR)$(LIBDIR)/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/libradkit.so
+	$(INSTALL) -m 644 $(PIC_LIB) $(DESTDIR)$(LIBDIR)/libradkit.a
+	$(INSTALL) -m 644 $(PUBLIC_H) $(DESTDIR)$(INCLUDEDIR)/radkit/
+	$(INSTALL) -m 644 $(MANPAGE) $(DESTDIR)$(MANDIR)/man1/radkit.1
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))|' \
+	  -e 's|@INCLUDEDIR@|$(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))|' \
+	  -e 's|@VERSION@|$(VERSION)|' -e 's|@LIBS_PRIVATE@|$(strip $(LDLIBS)) -lstdc++ -lgomp|' \
+	  core/radkit.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/radkit.pc
+	@# A real install (no DESTDIR) into a system directory needs the loader's cache renewed.
+	-[ -n "$(DESTDIR)" ] || ldconfig
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/radkit $(DESTDIR)$(LIBDIR)/libradkit.so $(DESTDIR)$(LIBDIR)/$(SONAME) \
+	  $(DESTDIR)$(LIBDIR)/$(notdir $(SHLIB)) $(DESTDIR)$(LIBDIR)/libradkit.a \
+	  $(DESTDIR)$(LIBDIR)/pkgconfig/radkit.pc $(DESTDIR)$(MANDIR)/man1/radkit.1 \
+	  $(DESTDIR)$(INCLUDEDIR)/radkit/rad_*.h
+	-rmdir $(DESTDIR)$(INCLUDEDIR)/radkit
+
+# A staged install in $(BUILD)/stage, examples/*.c built against it the way a
+# user would (pkg-config; shared, static, and with clang when present), run,
+# and their figures checked against the installed program's own.
+examples: deps
+	rm -rf $(BUILD)/stage
+	$(MAKE) --no-print-directory install DESTDIR=$(abspath $(BUILD)/stage) PREFIX=/usr/local
+	sh scripts/examples.sh $(abspath $(BUILD)/stage)/usr/local $(abspath $(BUILD)/examples)
+
 clean:
 	rm -rf build
 
@@ -129,6 +217,6 @@ echo:
 	@echo "MODULES  = $(MODULE_DIRS)"
 
 help:
-	@sed -n '2,9p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,11p' Makefile | sed 's/^# \{0,1\}//'
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(PIC_OBJ:.o=.d)
