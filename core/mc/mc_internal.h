@@ -7,6 +7,7 @@
 
 #include "rad_geom.h"
 #include "rad_mc.h"
+#include "rad_sys.h"
 
 /* A counter-based generator: splitmix64 over a 64-bit state, seeded per
  * sample from (seed, triangle, sample) so that results do not depend on which
@@ -15,25 +16,17 @@ typedef struct mc_rng {
     uint64_t state;
 } mc_rng;
 
-static inline uint64_t mc_mix64(uint64_t z)
+/* Uniform on [0, 1) with 53 random bits: the stream of rad_sys_hash64. */
+static inline double mc_uniform(mc_rng *r)
 {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
+    uint64_t bits = rad_sys_hash64(r->state);
+    r->state += RAD_SYS_GOLDEN;
+    return rad_sys_unit(bits);
 }
-
-static inline uint64_t mc_next64(mc_rng *r)
-{
-    r->state += 0x9e3779b97f4a7c15ull;
-    return mc_mix64(r->state);
-}
-
-/* Uniform on [0, 1) with 53 random bits. */
-static inline double mc_uniform(mc_rng *r) { return (double)(mc_next64(r) >> 11) * 0x1.0p-53; }
 
 static inline void mc_rng_seed(mc_rng *r, uint64_t seed, uint64_t tri, uint64_t sample)
 {
-    r->state = mc_mix64(seed ^ mc_mix64(tri * 0x9e3779b97f4a7c15ull ^ mc_mix64(sample + 1)));
+    r->state = rad_sys_mix64(seed ^ rad_sys_mix64(tri * RAD_SYS_GOLDEN ^ rad_sys_mix64(sample + 1)));
 }
 
 /* What a path needs of one triangle. */

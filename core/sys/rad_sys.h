@@ -5,10 +5,28 @@
 #define RAD_SYS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Hashed sampling, the one generator of the library: splitmix64
+ * \cite{steele2014splitmix}.  rad_sys_mix64 is its finalizer (a bijection of
+ * 64-bit words); rad_sys_hash64(x) is splitmix64's output for the state x,
+ * so that a key (a triangle, a cell, a sample) gives the same number on every
+ * thread and every run, and a stream is hash64(x), hash64(x + RAD_SYS_GOLDEN),
+ * ...; rad_sys_unit maps a word's top 53 bits to a uniform double in [0, 1). */
+#define RAD_SYS_GOLDEN 0x9e3779b97f4a7c15ull
+static inline uint64_t rad_sys_mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+static inline uint64_t rad_sys_hash64(uint64_t x) { return rad_sys_mix64(x + RAD_SYS_GOLDEN); }
+static inline double rad_sys_unit(uint64_t bits) { return (double)(bits >> 11) * 0x1.0p-53; }
+static inline double rad_sys_hash_unit(uint64_t x) { return rad_sys_unit(rad_sys_hash64(x)); }
 
 /* Seconds on a monotonic clock (only differences are meaningful). */
 double rad_sys_seconds(void);

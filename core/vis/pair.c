@@ -28,16 +28,6 @@ int rad_vis_sample_count(const rad_vis *vis)
     return vis ? vis->params.strata_per_edge * vis->params.strata_per_edge : 0;
 }
 
-static uint64_t splitmix64(uint64_t x)
-{
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
-static double unit_double(uint64_t x) { return (double)(x >> 11) * 0x1.0p-53; }
-
 rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts)
 {
     if (!vis || !pts || t >= vis->ntris)
@@ -58,10 +48,10 @@ rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts)
                 }
                 double w1 = 1.0 / 3.0, w2 = 1.0 / 3.0;
                 if (vis->params.jitter) {
-                    uint64_t h = splitmix64(((uint64_t)t << 20) ^ (uint64_t)cell ^
-                                            ((uint64_t)vis->params.seed << 44));
-                    w1 = unit_double(h);
-                    w2 = unit_double(splitmix64(h));
+                    uint64_t h = rad_sys_hash64(((uint64_t)t << 20) ^ (uint64_t)cell ^
+                                                ((uint64_t)vis->params.seed << 44));
+                    w1 = rad_sys_unit(h);
+                    w2 = rad_sys_hash_unit(h);
                     if (w1 + w2 > 1.0) { /* fold the square onto the triangle */
                         w1 = 1.0 - w1;
                         w2 = 1.0 - w2;

@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 
 #include "rad_geom.h"
+#include "rad_sys.h"
 #include "rad_vis.h"
 
 /* Every triangle of the scene carries this mask; every ray sets it too, so a

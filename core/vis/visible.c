@@ -538,16 +538,6 @@ static int in_front(const rad_vec3 c[3], const rad_vec3 b[3])
     return 1;
 }
 
-/* A uniform number in [0, 1) from a key (splitmix64). */
-static double hashed(uint64_t z)
-{
-    z += 0x9e3779b97f4a7c15ull;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * 0x1.0p-53;
-}
-
 /* The fallback where the clipping would need too many blockers or pieces:
  * G = G_open x (sum K v / sum K) over the segments joining jittered
  * stratified points of a and b (k^2 each, k = sample_strata), the
@@ -582,10 +572,12 @@ static rad_status sampled(const rad_vis *vis, const rad_vec3 a[3], int face_a, c
     }
     for (int i = 0; i < m; i++) {
         double s, t;
-        rad_geom_triangle_stratum(k, i, hashed(key + 4 * (uint64_t)i), hashed(key + 4 * (uint64_t)i + 1), &s, &t);
+        rad_geom_triangle_stratum(k, i, rad_sys_hash_unit(key + 4 * (uint64_t)i),
+                                  rad_sys_hash_unit(key + 4 * (uint64_t)i + 1), &s, &t);
         rad_vec3 x = rad_geom_triangle_point(a[0], a[1], a[2], s, t);
         for (int j = 0; j < m; j++) {
-            rad_geom_triangle_stratum(k, j, hashed(~key + 4 * (uint64_t)j), hashed(~key + 4 * (uint64_t)j + 1), &s, &t);
+            rad_geom_triangle_stratum(k, j, rad_sys_hash_unit(~key + 4 * (uint64_t)j),
+                                      rad_sys_hash_unit(~key + 4 * (uint64_t)j + 1), &s, &t);
             rad_vec3 y = rad_geom_triangle_point(b[0], b[1], b[2], s, t);
             w[filled] = rad_ff_kernel(x, na, y, nb, NULL);
             evals++;
