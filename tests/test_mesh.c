@@ -9,6 +9,7 @@
 
 #include "harness.h"
 #include "rad_geom.h"
+#include "rad_io.h"
 #include "rad_mesh.h"
 #include "rad_scene.h"
 
@@ -334,7 +335,8 @@ TEST(mesh_max_edge_refinement_bounds_edges_and_conforms)
     rad_scene_destroy(s);
 }
 
-/* Write PLY and OFF, read them back through the importer (Assimp), compare. */
+/* Write PLY (rad_io_write_ply) and OFF, read them back through the importer,
+ * compare. */
 TEST(mesh_ply_and_off_round_trip)
 {
     rad_scene *s = load("scenes/sphere/sphere_1.obj");
@@ -347,10 +349,15 @@ TEST(mesh_ply_and_off_round_trip)
     snprintf(ply, sizeof ply, "/tmp/radkit-test-%ld.ply", (long)getpid());
     snprintf(off, sizeof off, "/tmp/radkit-test-%ld.off", (long)getpid());
     int nv = rad_mesh_vertex_count(m), nt = rad_mesh_face_count(m);
-    double *rgb = malloc(3 * (size_t)nv * sizeof *rgb);
-    for (int i = 0; i < 3 * nv; i++)
-        rgb[i] = (i % 7) / 6.0;
-    CHECK(rad_mesh_write_ply(m, ply, rgb) == RAD_OK);
+    /* One radiosity per channel on every face, so every vertex takes it;
+     * exposure 1 and gamma 1 make the colour 255 B. */
+    double *B = malloc(3 * (size_t)nt * sizeof *B);
+    const double channel[3] = {0.05, 0.25, 0.6};
+    for (int i = 0; i < 3 * nt; i++)
+        B[i] = channel[i / nt];
+    rad_io_tonemap tm = {1.0, 1.0};
+    CHECK(rad_io_write_ply(ply, (size_t)nv, rad_mesh_vertices(m), (size_t)nt, rad_mesh_triangles(m),
+                           B, &tm, 0) == RAD_OK);
     CHECK(rad_mesh_write_off(m, off) == RAD_OK);
     const char *paths[2] = {ply, off};
     for (int k = 0; k < 2; k++) {
@@ -380,7 +387,7 @@ TEST(mesh_ply_and_off_round_trip)
             double x, y, z;
             int r, g, b;
             CHECK(sscanf(line, "%lf %lf %lf %d %d %d", &x, &y, &z, &r, &g, &b) == 6);
-            CHECK(r == 0 && g == 43 && b == 85); /* (0, 1/6, 2/6) * 255, rounded */
+            CHECK(r == 13 && g == 64 && b == 153); /* (0.05, 0.25, 0.6) * 255, rounded */
             found = 1;
             break;
         }
@@ -391,7 +398,7 @@ TEST(mesh_ply_and_off_round_trip)
     CHECK(found);
     remove(ply);
     remove(off);
-    free(rgb);
+    free(B);
     rad_mesh_destroy(m);
     rad_scene_destroy(s);
 }
@@ -410,7 +417,7 @@ TEST(mesh_barrier_maps_exceptions_to_status)
     CHECK(rad_mesh_create(xyz, 3, NULL, 1, NULL, &m) == RAD_EGEOM);
     CHECK(rad_mesh_create(xyz, 3, bad, 1, NULL, NULL) == RAD_EINVAL);
     rad_mesh_destroy(NULL);
-    CHECK(rad_mesh_write_ply(NULL, "/tmp/x.ply", NULL) == RAD_EINVAL);
+    CHECK(rad_mesh_write_off(NULL, "/tmp/x.off") == RAD_EINVAL);
     /* A non-manifold fan (three triangles on one edge) is analysed, not refused. */
     const double fan[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
     const int tri[9] = {0, 1, 2, 0, 1, 3, 0, 1, 4};

@@ -13,8 +13,8 @@
  * mesh and cross-checks closedness and the component count.
  * Refinement makes a new mesh whose elements each remember the input face they
  * lie in.  Leaves of midpoint-split quadtrees are turned into a conforming
- * mesh (hanging vertices resolved).  Export writes PLY (with per-vertex
- * colours) and OFF.
+ * mesh (hanging vertices resolved).  Export writes OFF; PLY with vertex
+ * colours is rad_io_write_ply's.
  *
  * Every function is safe to call from C; no exception crosses this header:
  * std::bad_alloc becomes RAD_ENOMEM and any other exception RAD_EGEOM, with
@@ -129,9 +129,6 @@ rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_
 rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double **xyz_out,
                                    size_t *nv_out, int **tri_out, int **leaf_out, size_t *nt_out);
 
-/* ASCII PLY: vertices with red/green/blue (uchar; vertex_rgb has 3 doubles in
- * [0,1] per vertex, clamped, or NULL for grey) and faces with their input face. */
-rad_status rad_mesh_write_ply(const rad_mesh *mesh, const char *path, const double *vertex_rgb);
 /* OFF with full double precision. */
 rad_status rad_mesh_write_off(const rad_mesh *mesh, const char *path);
 

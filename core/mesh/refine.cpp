@@ -172,39 +172,6 @@ rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_
     });
 }
 
-rad_status rad_mesh_write_ply(const rad_mesh *mesh, const char *path, const double *vertex_rgb)
-{
-    if (!mesh || !path)
-        return RAD_ERROR(RAD_EINVAL, "rad_mesh_write_ply: NULL argument");
-    return radmesh::guarded("PLY export", [&]() -> rad_status {
-        FILE *f = std::fopen(path, "w");
-        if (!f)
-            return RAD_ERROR(RAD_EIO, "%s: cannot open for writing", path);
-        size_t nv = mesh->xyz.size() / 3, nt = mesh->tri.size() / 3;
-        std::fprintf(f, "ply\nformat ascii 1.0\ncomment written by radkit (rad_mesh)\n"
-                        "element vertex %zu\nproperty double x\nproperty double y\nproperty double z\n"
-                        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-                        "element face %zu\nproperty list uchar int vertex_indices\n"
-                        "property int input_face\nend_header\n", nv, nt);
-        for (size_t v = 0; v < nv; v++) {
-            int rgb[3];
-            for (int k = 0; k < 3; k++) {
-                double c = vertex_rgb ? vertex_rgb[3 * v + (size_t)k] : 0.5;
-                c = std::isfinite(c) ? std::fmin(1.0, std::fmax(0.0, c)) : 0.0;
-                rgb[k] = (int)std::lround(255.0 * c);
-            }
-            std::fprintf(f, "%.17g %.17g %.17g %d %d %d\n", mesh->xyz[3 * v], mesh->xyz[3 * v + 1],
-                         mesh->xyz[3 * v + 2], rgb[0], rgb[1], rgb[2]);
-        }
-        for (size_t t = 0; t < nt; t++)
-            std::fprintf(f, "3 %d %d %d %d\n", mesh->tri[3 * t], mesh->tri[3 * t + 1],
-                         mesh->tri[3 * t + 2], mesh->input_face[t]);
-        if (std::fclose(f) != 0)
-            return RAD_ERROR(RAD_EIO, "%s: write failed", path);
-        return RAD_OK;
-    });
-}
-
 rad_status rad_mesh_write_off(const rad_mesh *mesh, const char *path)
 {
     if (!mesh || !path)
