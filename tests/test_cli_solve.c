@@ -173,7 +173,7 @@ TEST(cli_solve_help_explains_every_option)
                           "--refine", "--threads", "--vis-strata", "--out", "--ply", "--png",
                           "--image-size", "--exposure", "--stats", "--quiet", "--scale",
                           "--drop-degenerate", "--rho", "--emission", "--occlusion", "--colour",
-                          "--facing-away", "--singular", "--clustering", "cholesky", "southwell",
+                          "--facing-away", "--singular", "--reflectance", "cholesky", "southwell",
                           "exact", "auto"};
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         CHECK_MSG(strstr(out, opts[k]) != NULL, "solve --help does not mention %s", opts[k]);

@@ -451,7 +451,6 @@ TEST(scene_effects_plan_decisions)
      * each other.  The facing-away pairs of a closed convex cube are the
      * coplanar halves of a side (6): each lies in the other's plane. */
     CHECK(plan.pairs_facing_away == 6 && plan.pairs_total == 66);
-    CHECK(plan.clustering.on == 0);
     /* Occluder: a plate between two plates: occlusion per pair. */
     CHECK(plan_for("scenes/occluder/occluder.obj", NULL, &plan) == RAD_OK);
     CHECK(plan.occlusion.on == 1);
@@ -466,15 +465,10 @@ TEST(scene_effects_plan_decisions)
     rad_scene_effects_params_default(&ep);
     ep.occlusion = RAD_EFFECT_ON;
     ep.colour = RAD_EFFECT_ON;
-    ep.cluster_min_faces = 100;
-    ep.cluster_min_objects = 10;
     CHECK(plan_for("scenes/furnace_cube/cube.obj", &ep, &plan) == RAD_OK);
     CHECK(plan.occlusion.on == 1 && plan.occlusion.forced == 1);
     CHECK(strstr(plan.occlusion.reason, "forced on") != NULL);
     CHECK(plan.colour.on == 1 && plan.colour.forced);
-    /* Clustering pays with many objects (lower thresholds to test the rule). */
-    CHECK(plan_for("scenes/many_objects/many_64.obj", &ep, &plan) == RAD_OK);
-    CHECK(plan.clustering.on == 1 && plan.clustering.forced == 0);
     rad_effect_mode mode;
     CHECK(rad_scene_effect_mode_parse("x", "on", &mode) == RAD_OK && mode == RAD_EFFECT_ON);
     CHECK(rad_scene_effect_mode_parse("x", "maybe", &mode) == RAD_EINVAL);

@@ -20,7 +20,7 @@ TEST(cli_info_help_explains_every_option)
     char *out, *err;
     CHECK(harness_radkit_run("info", (const char *[]){"--help", NULL}, &out, &err) == 0);
     const char *opts[] = {"--scale", "--drop-degenerate", "--rho", "--emission", "--occlusion",
-                          "--colour", "--facing-away", "--singular", "--clustering", "auto",
+                          "--colour", "--facing-away", "--singular", "--reflectance", "auto",
                           "example:"};
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         CHECK_MSG(strstr(out, opts[k]) != NULL, "help lacks %s", opts[k]);
@@ -47,7 +47,7 @@ TEST(cli_info_every_shipped_scene)
                           "bbox_max", "closed", "convex", "components", "pairs_shared_edge",
                           "pairs_shared_vertex", "effect_occlusion", "effect_occlusion_reason",
                           "effect_colour", "effect_colour_reason", "effect_facing_away",
-                          "effect_singular", "effect_clustering", "effect_clustering_reason",
+                          "effect_singular", "effect_reflectance", "effect_reflectance_reason",
                           "camera_position", "warnings"};
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
         char *out, *err, buf[512];

@@ -35,10 +35,10 @@ rad_status cli_parse_positive_int(const char *option, const char *text, long max
  * --drop-degenerate, --rho, --emission and the six effect overrides.  cli_scene_options_add
  * appends their entries to a table (room for CLI_SCENE_OPTION_COUNT);
  * cli_scene_options_apply turns the parsed text into parameters. */
-#define CLI_SCENE_OPTION_COUNT 11
+#define CLI_SCENE_OPTION_COUNT 10
 typedef struct cli_scene_options {
     const char *scale, *rho, *emission;
-    const char *mode[6]; /* occlusion, colour, facing-away, singular, clustering, reflectance */
+    const char *mode[5]; /* occlusion, colour, facing-away, singular, reflectance */
     int strict, drop_degenerate;
 } cli_scene_options;
 

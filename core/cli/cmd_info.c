@@ -15,7 +15,7 @@
 static const char help_head[] =
     "usage: radkit info SCENE [--assimp-check] [--scale S] [--strict] [--rho \"r g b\"]\n"
     "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
-    "                         [--facing-away M] [--singular M] [--clustering M]\n"
+    "                         [--facing-away M] [--singular M] [--reflectance M]\n"
     "\n"
     "Load SCENE (OBJ+MTL, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
     "\n"

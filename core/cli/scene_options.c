@@ -22,12 +22,18 @@ const char cli_scene_options_help[] =
     "  --rho \"r g b\"      reflectance of every material, each in [0, 1) (one number\n"
     "                     means grey); PLY/OFF/STL faces get it (default 0.5)\n"
     "  --emission \"r g b\" emitted exitance of every material, W/m^2, >= 0\n"
-    "  --occlusion M, --colour M, --facing-away M, --singular M, --clustering M,\n"
+    "  --occlusion M, --colour M, --facing-away M, --singular M,\n"
     "  --reflectance M    override one decision of the effects plan: M is auto\n"
-    "                     (decide from the scene, the default), on or off\n";
+    "                     (decide from the scene, the default), on or off.\n"
+    "                     occlusion off: no visibility, no rays; colour off: one\n"
+    "                     system with each face's channel-mean reflectance, on:\n"
+    "                     one system per channel; facing-away off: pairs facing\n"
+    "                     away are integrated anyway (dense); singular off:\n"
+    "                     touching pairs by the regular rules; reflectance off:\n"
+    "                     the default tolerances even near rho 1\n";
 
 static const char *const mode_option[RAD_EFFECT_COUNT] = {
-    "--occlusion", "--colour", "--facing-away", "--singular", "--clustering", "--reflectance"};
+    "--occlusion", "--colour", "--facing-away", "--singular", "--reflectance"};
 
 void cli_scene_options_init(cli_scene_options *o)
 {
@@ -107,7 +113,7 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
         sp->has_emission = 1;
     }
     rad_effect_mode *modes[RAD_EFFECT_COUNT] = {&ep->occlusion, &ep->colour, &ep->facing_away,
-                                                &ep->singular, &ep->clustering, &ep->reflectance};
+                                                &ep->singular, &ep->reflectance};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         char what[64];
         snprintf(what, sizeof what, "%s: %s", command, mode_option[k]);

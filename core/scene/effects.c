@@ -18,10 +18,7 @@
  *  4. Singular quadrature.  Only pairs that touch (shared edge or vertex) and
  *     are not coplanar have an integrable singularity of the kernel; coplanar
  *     touching pairs have a zero kernel.  On when such pairs exist.
- *  5. Clustering.  Initial linking is quadratic in the number of faces; a
- *     cluster hierarchy pays when there are many faces in many separate
- *     objects (cluster_min_faces faces in cluster_min_objects components).
- *  6. Reflectance near 1.  An error d in a row of form factors (energy lost
+ *  5. Reflectance near 1.  An error d in a row of form factors (energy lost
  *     or gained per bounce) changes B by up to d / (1 - rho) after all
  *     bounces, and a solver stopped at a step change c is up to
  *     c rho / (1 - rho) from its fixed point.  The defaults are set for
@@ -29,7 +26,9 @@
  *     tighten = (1 - rho_max) / (1 - near_one).  Beyond an amplification of
  *     max_amplification no tolerance double precision can deliver would do:
  *     the plan refuses (refusal), and the solvers exit with its reason.
- * Every decision can be forced on or off; the reason then says so.
+ * Every decision can be forced on or off; the reason then says so.  Each one
+ * changes what the solvers run (rad_solve.h says how); a decision nothing
+ * would act on is not made (clustering joins when a clustered method does).
  * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
 #include <stdio.h>
@@ -43,8 +42,6 @@ void rad_scene_effects_params_default(rad_effects_params *p)
 {
     memset(p, 0, sizeof *p);
     p->pair_scan_max_faces = 20000;
-    p->cluster_min_faces = 5000;
-    p->cluster_min_objects = 50;
     p->grey_tol = 1e-12;
     p->plane_rel_tol = 1e-12;
     p->near_one = 0.5;
@@ -56,10 +53,10 @@ void rad_scene_effects_list(const rad_effects_plan *plan,
                             const char *names[RAD_EFFECT_COUNT])
 {
     static const char *const all[RAD_EFFECT_COUNT] = {"occlusion", "colour", "facing_away",
-                                                      "singular", "clustering", "reflectance"};
+                                                      "singular", "reflectance"};
     const rad_effect_decision *d[RAD_EFFECT_COUNT] = {&plan->occlusion, &plan->colour,
                                                       &plan->facing_away, &plan->singular,
-                                                      &plan->clustering, &plan->reflectance};
+                                                      &plan->reflectance};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         if (dec)
             dec[k] = d[k];
@@ -150,7 +147,7 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     /* 2. colour */
     int grey = 1, grey_e = 1;
     for (int t = 0; t < s->nt; t++) {
-        const rad_material *m = &s->mats[s->tri_mat[t]];
+        const rad_scene_material *m = &s->mats[s->tri_mat[t]];
         if (fabs(m->rho[0] - m->rho[1]) > params->grey_tol || fabs(m->rho[1] - m->rho[2]) > params->grey_tol)
             grey = 0;
         if (fabs(m->emission[0] - m->emission[1]) > params->grey_tol ||
@@ -195,13 +192,6 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
              plan->pairs_adjacent_coplanar);
     settle(&plan->singular, params->singular, plan->pairs_singular > 0, why);
 
-    /* 5. clustering */
-    int pays = s->nt >= params->cluster_min_faces && info.components >= params->cluster_min_objects;
-    snprintf(why, sizeof why, "%d faces in %d connected components (clustering pays from %d faces in "
-             "%d components)", s->nt, info.components, params->cluster_min_faces,
-             params->cluster_min_objects);
-    settle(&plan->clustering, params->clustering, pays, why);
-
     /* sealed: closed components, the largest-volume one facing inward (a
        negative signed volume), every other one outward */
     {
@@ -228,7 +218,7 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
         plan->sealed = ok;
     }
 
-    /* 6. reflectance near 1 */
+    /* 5. reflectance near 1 */
     double rho_max = 0.0;
     for (int t = 0; t < s->nt; t++)
         for (int c = 0; c < 3; c++)

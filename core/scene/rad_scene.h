@@ -64,9 +64,6 @@ typedef struct rad_scene_material {
     double emission[3]; /* emitted exitance E per RGB channel, W/m^2, >= 0 */
 } rad_scene_material;
 
-/* The former name, kept only until core/scene/effects.c uses the new one. */
-typedef rad_scene_material rad_material;
-
 /* A pinhole camera: where it is, what it looks at, its up vector and its
  * vertical field of view.  from_scene is 1 when the file gave it (an OBJ
  * comment "# radkit camera ..." or a glTF/Assimp camera), 0 for the default
@@ -165,10 +162,8 @@ typedef enum rad_effect_mode {
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out);
 
 typedef struct rad_effects_params {
-    rad_effect_mode occlusion, colour, facing_away, singular, clustering, reflectance;
+    rad_effect_mode occlusion, colour, facing_away, singular, reflectance;
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
-    int cluster_min_faces;    /* clustering pays only with at least this many faces ... */
-    int cluster_min_objects;  /* ... in at least this many connected components */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
                                  face's plane counts as on it (facing-away test) */
@@ -176,8 +171,8 @@ typedef struct rad_effects_params {
     double max_amplification; /* refuse scenes whose 1 / (1 - rho_max) exceeds this */
 } rad_effects_params;
 
-/* Everything automatic; pair scan up to 20000 faces; clustering from 5000
- * faces in 50 components; grey within 1e-12; plane tolerance 1e-12;
+/* Everything automatic; pair scan up to 20000 faces; grey within 1e-12;
+ * plane tolerance 1e-12;
  * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6. */
 void rad_scene_effects_params_default(rad_effects_params *params);
 
@@ -197,8 +192,6 @@ typedef struct rad_effects_plan {
     rad_effect_decision facing_away;
     /* on: edge/vertex-adjacent non-coplanar pairs get singular quadrature. */
     rad_effect_decision singular;
-    /* on: build a cluster hierarchy before linking. */
-    rad_effect_decision clustering;
     /* on: the largest reflectance is near 1, so that errors of the form
      * factors and of the solver's stopping test are amplified by up to
      * 1 / (1 - rho_max): their tolerances are multiplied by `tighten`. */
@@ -225,8 +218,8 @@ rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan);
 
 /* The decisions in a fixed order with their names ("occlusion", "colour",
- * "facing_away", "singular", "clustering", "reflectance"), for printing. */
-#define RAD_EFFECT_COUNT 6
+ * "facing_away", "singular", "reflectance"), for printing. */
+#define RAD_EFFECT_COUNT 5
 void rad_scene_effects_list(const rad_effects_plan *plan,
                             const rad_effect_decision *decisions[RAD_EFFECT_COUNT],
                             const char *names[RAD_EFFECT_COUNT]);
