@@ -76,11 +76,12 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
     int bad_i = -1, bad_j = -1;
     char bad_message[512] = ""; /* messages are thread-local: copy the worker's */
 #ifdef _OPENMP
-    if (p.threads > 0)
-        omp_set_num_threads(p.threads);
+    /* The caller's thread count for this region only: the library leaves
+     * the process-wide OpenMP setting alone. */
+    int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
 #endif
 
-#pragma omp parallel for schedule(dynamic, 1) \
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) \
     reduction(+ : not_facing, tested, sampled, out_of_range, evals, rays, vis_err, vis_G)
     for (int i = 0; i < n; i++) {
         rad_vec3 ti[3], tj[3];
