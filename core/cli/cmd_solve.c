@@ -3,6 +3,7 @@
  * library's pipeline (rad_solve_run: mesh, effects plan, visibility, dense,
  * hierarchical or Monte Carlo solve) and prints the solution (solve_table.c,
  * solve_display.c). */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -154,8 +155,9 @@ static void warn_target(const rad_solution *s)
         fprintf(stderr, ": %lld links could not be refined further (--min-area or the depth "
                         "limit binds)\n", hs->links_bound);
     else
-        fprintf(stderr, " after the oracle tightened its thresholds 64-fold (the estimate is "
-                        "conservative: see error_estimate_l1)\n");
+        fprintf(stderr, " after the oracle tightened its thresholds %.0f-fold (the estimate is "
+                        "conservative: see error_estimate_l1)\n",
+                pow(4.0, s->used.hier.max_tighten));
 }
 
 int cli_solve(int argc, char **argv)

@@ -11,7 +11,7 @@
  * triangle's area; the link is refined when that exceeds link_share x eps R
  * x the triangle's scale.  The scale starts at 1; when a pass refines
  * nothing, rad_hier_solve computes the bound and quarters the scale of every
- * input triangle whose bound still exceeds eps R (at most HIER_MAX_TIGHTEN
+ * input triangle whose bound still exceeds eps R (at most max_tighten
  * times): refinement goes where the error is largest, and stops where the
  * minimum area or depth binds.  (A pointwise target, the same for every
  * element, would link each small element to all the small elements around
@@ -69,9 +69,8 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
 
 /* ERROR oracle: tighten the thresholds of the input triangles whose error
  * bound (the area-weighted mean of their leaves', solve.c) exceeds eps R, by
- * 4 each time, at most HIER_MAX_TIGHTEN times.  Returns how many were
- * tightened (0: none fails, or none may be tightened further). */
-#define HIER_MAX_TIGHTEN 3
+ * 4 each time, at most max_tighten times.  Returns how many were tightened
+ * (0: none fails, or none may be tightened further). */
 int hier_tighten_failing(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -92,7 +91,7 @@ int hier_tighten_failing(rad_hier *h)
         double b = 0.0;
         for (int c = 0; c < 3; c++)
             b = rad_dmax(b, area[f] > 0.0 ? bound[3 * f + (size_t)c] / area[f] : 0.0);
-        if (b > target && h->face_scale[f] > 1.0 / (1 << (2 * HIER_MAX_TIGHTEN)) * 1.0001) {
+        if (b > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
             h->face_scale[f] *= 0.25;
             tightened++;
         }

@@ -511,17 +511,11 @@ rad_status hier_error_estimate(rad_hier *h)
     return st;
 }
 
-/* The solves between refinement rounds only feed the oracle, whose decisions
- * compare errors with eps (1e-3 and up in practice) times the mean reflected
- * radiosity: a step change of 1e-5 leaves B within about 1e-5 / (1 - rho) of
- * its fixed point, far below that.  The last solve goes to tol. */
-#define HIER_ROUND_TOL 1e-5
-
 rad_status rad_hier_solve(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    double round_tol = fmax(h->p.tol, HIER_ROUND_TOL * (1.0 - h->rho_max));
+    double round_tol = fmax(h->p.tol, h->p.round_tol * (1.0 - h->rho_max));
     rad_status st = hier_solve_links(h, round_tol);
     for (int round = 0; st == RAD_OK; round++) {
         if (h->p.progress)

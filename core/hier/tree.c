@@ -50,6 +50,8 @@ void rad_hier_params_default(rad_hier_params *params)
     params->link_share = 0.5;
     params->far_ratio = 3.0;
     params->singular = 1;
+    params->round_tol = 1e-5;
+    params->max_tighten = 3;
     params->source_slope = 1;
     params->tol = 1e-10;
     params->bound_tol = 1e-3;
@@ -83,6 +85,10 @@ static rad_status check_params(const rad_hier_params *p)
         return RAD_ERROR(RAD_EINVAL, "hier: tol and bound_tol must be finite numbers > 0");
     if (p->max_iterations < 1 || p->max_rounds < 0)
         return RAD_ERROR(RAD_EINVAL, "hier: max_iterations must be >= 1 and max_rounds >= 0");
+    if (!(p->round_tol > 0.0) || !(p->round_tol < 1.0) || p->max_tighten < 0 ||
+        p->max_tighten > 30)
+        return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1) and max_tighten in "
+                                     "0..30");
     if (p->max_elements < 1 || p->max_links < 1)
         return RAD_ERROR(RAD_EINVAL, "hier: max_elements and max_links must be >= 1");
     return RAD_OK;
