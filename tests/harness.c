@@ -128,8 +128,29 @@ const char *harness_path(const char *rel)
     static char buf[8][1024];
     static int next;
     char *p = buf[next++ % 8];
-    snprintf(p, sizeof buf[0], "%s/%s", harness_root(), rel);
+    if (rel[0] == '/')
+        snprintf(p, sizeof buf[0], "%s", rel);
+    else
+        snprintf(p, sizeof buf[0], "%s/%s", harness_root(), rel);
     return p;
+}
+
+rad_status harness_scene_load_status(const char *rel, const rad_scene_params *params,
+                                     rad_scene **out)
+{
+    return rad_scene_load(harness_path(rel), params, out);
+}
+
+rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
+                                 const rad_scene_params *params)
+{
+    rad_scene *s = NULL;
+    if (harness_scene_load_status(rel, params, &s) != RAD_OK) {
+        harness_fail(file, line, "loading %s: %s", rel, rad_error_message());
+        rad_scene_destroy(s);
+        return NULL;
+    }
+    return s;
 }
 
 const char *harness_header(const char *out, const char *key, char *buf, size_t size)

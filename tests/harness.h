@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "rad_geom.h"
+#include "rad_scene.h"
 
 typedef void (*harness_fn)(void);
 void harness_register(const char *name, const char *file, harness_fn fn);
@@ -58,8 +59,20 @@ const char *harness_root(void);
  * (NULL-terminated).  Output as for harness_run. */
 int harness_radkit_run(const char *command, const char *const args[], char **out, char **err);
 
-/* RADKIT_ROOT/rel, in one of 8 rotating buffers (so a few can be alive at once). */
+/* RADKIT_ROOT/rel, in one of 8 rotating buffers (so a few can be alive at once);
+ * an absolute path is returned as it is. */
 const char *harness_path(const char *rel);
+
+/* The tests' one scene loader: rad_scene_load of harness_path(rel) with
+ * params (NULL: the defaults).  harness_scene_load records a check failure
+ * (at the caller's line, with the library's message) and returns NULL when the
+ * scene does not load; harness_scene_load_status returns the status, for
+ * tests of refusals. */
+#define harness_scene_load(rel, params) harness_scene_load_at(__FILE__, __LINE__, rel, params)
+rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
+                                 const rad_scene_params *params);
+rad_status harness_scene_load_status(const char *rel, const rad_scene_params *params,
+                                     rad_scene **out);
 
 /* The value of a "# key = value" line of a program's output, copied to buf;
  * NULL when there is no such line. */

@@ -25,7 +25,7 @@ typedef struct scene_arrays {
 static int load(const char *rel, scene_arrays *s)
 {
     memset(s, 0, sizeof *s);
-    CHECK(rad_scene_load(harness_path(rel), NULL, &s->scene) == RAD_OK);
+    s->scene = harness_scene_load(rel, NULL);
     if (!s->scene)
         return 0;
     s->n = rad_scene_triangle_count(s->scene);

@@ -79,9 +79,8 @@ static int fixture_load(mc_fixture *f, const char *rel, double rho)
         sp.has_rho = 1;
         sp.rho[0] = sp.rho[1] = sp.rho[2] = rho;
     }
-    rad_status st = rad_scene_load(harness_path(rel), &sp, &f->scene);
-    CHECK_MSG(st == RAD_OK, "%s: %s", rel, rad_error_message());
-    return st == RAD_OK && fixture_init(f);
+    f->scene = harness_scene_load(rel, &sp);
+    return f->scene && fixture_init(f);
 }
 
 static rad_status fixture_run(mc_fixture *f, long long samples, unsigned long long seed,

@@ -13,16 +13,6 @@
 #include "rad_mesh.h"
 #include "rad_scene.h"
 
-static rad_scene *load(const char *rel)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", harness_root(), rel);
-    rad_scene *s = NULL;
-    rad_status st = rad_scene_load(path, NULL, &s);
-    CHECK_MSG(st == RAD_OK, "loading %s: %s", rel, rad_error_message());
-    return s;
-}
-
 static rad_mesh *mesh_of(const rad_scene *s)
 {
     rad_mesh *m = NULL;
@@ -79,7 +69,7 @@ static long incidence_pairs(const int *tri, int nt, int nv)
  *   pairs, no vertex pair, none coplanar; 6 edges. */
 TEST(mesh_cube_adjacency_matches_hand_count)
 {
-    rad_scene *s = load("scenes/furnace_cube/cube.obj");
+    rad_scene *s = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
     rad_mesh *m = mesh_of(s);
     if (!m) {
         rad_scene_destroy(s);
@@ -119,7 +109,7 @@ TEST(mesh_cube_adjacency_matches_hand_count)
 
 TEST(mesh_tetrahedron_adjacency_matches_hand_count)
 {
-    rad_scene *s = load("scenes/tetrahedron/tetrahedron.obj");
+    rad_scene *s = harness_scene_load("scenes/tetrahedron/tetrahedron.obj", NULL);
     rad_mesh *m = mesh_of(s);
     if (!m) {
         rad_scene_destroy(s);
@@ -140,7 +130,7 @@ TEST(mesh_tetrahedron_adjacency_matches_hand_count)
  * triangle's three edges each meet a neighbour in the same direction). */
 TEST(mesh_orientation_decides_convexity_and_closedness)
 {
-    rad_scene *s = load("scenes/furnace_cube/cube.obj");
+    rad_scene *s = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
     if (!s)
         return;
     int nt = rad_scene_triangle_count(s);
@@ -177,7 +167,7 @@ TEST(mesh_closed_scenes_are_closed)
                             "scenes/sphere/sphere_2.obj", "scenes/sphere/sphere_3.obj",
                             "scenes/many_objects/many_64.obj"};
     for (size_t k = 0; k < sizeof closed / sizeof closed[0]; k++) {
-        rad_scene *s = load(closed[k]);
+        rad_scene *s = harness_scene_load(closed[k], NULL);
         rad_mesh *m = mesh_of(s);
         rad_mesh_info info;
         rad_mesh_get_info(m, &info);
@@ -209,7 +199,7 @@ TEST(mesh_closed_scenes_are_closed)
     const char *open[] = {"scenes/cornell/cornell.obj", "scenes/plates_parallel/plates.obj",
                           "scenes/plates_perpendicular/plates.obj", "scenes/occluder/occluder.obj"};
     for (size_t k = 0; k < sizeof open / sizeof open[0]; k++) {
-        rad_scene *s = load(open[k]);
+        rad_scene *s = harness_scene_load(open[k], NULL);
         rad_mesh *m = mesh_of(s);
         rad_mesh_info info;
         rad_mesh_get_info(m, &info);
@@ -224,7 +214,7 @@ TEST(mesh_closed_scenes_are_closed)
  * touching the shared edge at one end only give vertex pairs. */
 TEST(mesh_perpendicular_plates_pairs)
 {
-    rad_scene *s = load("scenes/plates_perpendicular/plates.obj");
+    rad_scene *s = harness_scene_load("scenes/plates_perpendicular/plates.obj", NULL);
     rad_mesh *m = mesh_of(s);
     rad_mesh_info info;
     rad_mesh_get_info(m, &info);
@@ -279,7 +269,7 @@ static void check_refined(const rad_mesh *coarse, const rad_mesh *fine, int expe
 
 TEST(mesh_uniform_refinement_preserves_area_faces_and_closedness)
 {
-    rad_scene *s = load("scenes/furnace_cube/cube.obj");
+    rad_scene *s = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
     rad_mesh *m = mesh_of(s), *fine = NULL;
     if (!m) {
         rad_scene_destroy(s);
@@ -302,7 +292,7 @@ TEST(mesh_uniform_refinement_preserves_area_faces_and_closedness)
 
 TEST(mesh_max_edge_refinement_bounds_edges_and_conforms)
 {
-    rad_scene *s = load("scenes/cornell/cornell.obj");
+    rad_scene *s = harness_scene_load("scenes/cornell/cornell.obj", NULL);
     rad_mesh *m = mesh_of(s), *fine = NULL;
     if (!m) {
         rad_scene_destroy(s);
@@ -339,7 +329,7 @@ TEST(mesh_max_edge_refinement_bounds_edges_and_conforms)
  * compare. */
 TEST(mesh_ply_and_off_round_trip)
 {
-    rad_scene *s = load("scenes/sphere/sphere_1.obj");
+    rad_scene *s = harness_scene_load("scenes/sphere/sphere_1.obj", NULL);
     rad_mesh *m = mesh_of(s);
     if (!m) {
         rad_scene_destroy(s);

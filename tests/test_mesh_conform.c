@@ -492,8 +492,7 @@ TEST(conform_deep_mismatch_on_one_edge)
  * leaves have some, and keeps the cube's area 6 x 1.25^2 = 9.375. */
 TEST(conform_hier_leaves_of_closed_cube)
 {
-    rad_scene *scene = NULL;
-    CHECK(rad_scene_load(harness_path("scenes/furnace_cube/cube.obj"), NULL, &scene) == RAD_OK);
+    rad_scene *scene = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
     if (!scene)
         return;
     int n = rad_scene_triangle_count(scene);

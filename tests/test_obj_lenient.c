@@ -14,16 +14,6 @@
 #include "harness.h"
 #include "rad_scene.h"
 
-static rad_status load_with(const char *rel, const rad_scene_params *p, rad_scene **s)
-{
-    char path[1024];
-    if (rel[0] == '/')
-        snprintf(path, sizeof path, "%s", rel);
-    else
-        snprintf(path, sizeof path, "%s/%s", harness_root(), rel);
-    return rad_scene_load(path, p, s);
-}
-
 static rad_scene_params strict_params(void)
 {
     rad_scene_params p;
@@ -66,7 +56,7 @@ static const rad_scene_material *material_of_face(const rad_scene *s, int face)
     do {                                                                                     \
         rad_scene *s_ = NULL;                                                                \
         rad_error_clear();                                                                   \
-        rad_status st_ = load_with(rel, params, &s_);                                        \
+        rad_status st_ = harness_scene_load_status(rel, params, &s_);                                        \
         CHECK_MSG(st_ == RAD_EINPUT && s_ == NULL, "%s: status %d", rel, (int)st_);          \
         CHECK_MSG(strstr(rad_error_message(), needle) != NULL, "%s: message '%s' lacks '%s'", \
                   rel, rad_error_message(), needle);                                         \
@@ -84,7 +74,7 @@ TEST(obj_kd_one_is_the_largest_reflectance)
     rad_scene_params p;
     rad_scene_params_default(&p);
     CHECK(p.rho_white == 0.999);
-    CHECK_MSG(load_with("scenes/lenient/white.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/lenient/white.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (!s)
         return;
     const rad_scene_material *white = material_named(s, "white"), *lamp = material_named(s, "lamp"),
@@ -117,7 +107,7 @@ TEST(obj_kd_above_one_or_negative_is_refused)
 TEST(obj_unused_statements_warn_once_per_keyword)
 {
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/lenient/ignored.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/lenient/ignored.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 2);
@@ -197,7 +187,7 @@ TEST(obj_missing_library_takes_the_default_material)
     p.default_rho[1] = 0.375;
     p.default_rho[2] = 0.625;
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/bad/missing_mtl.obj", &p, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/bad/missing_mtl.obj", &p, &s) == RAD_OK, "%s", rad_error_message());
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 1);
@@ -215,7 +205,7 @@ TEST(obj_missing_library_takes_the_default_material)
 TEST(obj_undefined_material_takes_the_default_material)
 {
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/bad/undefined_material.obj", NULL, &s) == RAD_OK, "%s",
+    CHECK_MSG(harness_scene_load_status("scenes/bad/undefined_material.obj", NULL, &s) == RAD_OK, "%s",
               rad_error_message());
     if (s) {
         CHECK(rad_scene_triangle_count(s) == 1);
@@ -226,7 +216,7 @@ TEST(obj_undefined_material_takes_the_default_material)
     }
     rad_scene_destroy(s);
     s = NULL;
-    CHECK_MSG(load_with("scenes/lenient/no_mtllib.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/lenient/no_mtllib.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (s) {
         CHECK(rad_scene_triangle_count(s) == 2);
         CHECK_WARNING(s, "2 usemtl statement(s) name a material no library defines (first 'paint' at ");
@@ -244,7 +234,7 @@ TEST(obj_undefined_material_takes_the_default_material)
 TEST(scene_degenerate_triangles_are_dropped_by_default)
 {
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/bad/zero_area.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/bad/zero_area.obj", NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (s) {
         CHECK(rad_scene_triangle_count(s) == 1 && rad_scene_dropped_count(s) == 1);
         CHECK_WARNING(s, "dropped 1 degenerate (zero-area) triangle(s) (first at ");
@@ -256,7 +246,7 @@ TEST(scene_degenerate_triangles_are_dropped_by_default)
     rad_scene_params_default(&p);
     p.drop_degenerate = 1;
     s = NULL;
-    CHECK(load_with("scenes/bad/zero_area.obj", &p, &s) == RAD_OK);
+    CHECK(harness_scene_load_status("scenes/bad/zero_area.obj", &p, &s) == RAD_OK);
     CHECK(s && rad_scene_dropped_count(s) == 1);
     rad_scene_destroy(s);
     rad_scene_params sp = strict_params();
@@ -369,7 +359,7 @@ TEST(obj_refuses_long_lines_and_binary_data)
     /* A line of exactly the limit (line break not counted) loads. */
     write_file(obj, "v 0 0 0\n# ", 65536 - 2, "\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     rad_scene *s = NULL;
-    CHECK_MSG(load_with(obj, NULL, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status(obj, NULL, &s) == RAD_OK, "%s", rad_error_message());
     rad_scene_destroy(s);
     write_file(obj, "v 0 0 0\n# ", 65536 - 1, "\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     CHECK_REFUSED(obj, NULL, ":2: the line is longer than 65536 bytes");
@@ -437,7 +427,7 @@ TEST(obj_nonconvex_polygon_is_triangulated)
     /* The dart (2,0) (0.5,0.5) (0,2) (0,0): its fan from the first corner
      * folds; the polygon's area is 1 (shoelace). */
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/lenient/nonconvex_polygon.obj", NULL, &s) == RAD_OK, "%s",
+    CHECK_MSG(harness_scene_load_status("scenes/lenient/nonconvex_polygon.obj", NULL, &s) == RAD_OK, "%s",
               rad_error_message());
     if (!s)
         return;

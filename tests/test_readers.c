@@ -36,14 +36,6 @@ static void check_refused_at(int line, const char *rel, const char *needle)
 }
 #define CHECK_REFUSED(rel, needle) check_refused_at(__LINE__, rel, needle)
 
-static rad_scene *load(const char *rel)
-{
-    rad_scene *s = NULL;
-    rad_status st = rad_scene_load(harness_path(rel), NULL, &s);
-    CHECK_MSG(st == RAD_OK, "loading %s: %s", rel, rad_error_message());
-    return s;
-}
-
 /* Total area, and the number of triangles whose normal points along n. */
 static double area_facing(const rad_scene *s, const double n[3], int *facing)
 {
@@ -88,7 +80,7 @@ TEST(readers_point_cloud_is_refused_with_radkits_message)
 TEST(readers_off_triangles_and_quads_load_every_face)
 {
     /* A cube of edge 1.5: 2 triangles and 5 quads are 12 triangles, area 13.5, closed. */
-    rad_scene *s = load("scenes/formats/cube_mixed.off");
+    rad_scene *s = harness_scene_load("scenes/formats/cube_mixed.off", NULL);
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 12);
@@ -112,7 +104,7 @@ TEST(readers_off_non_convex_polygon_is_triangulated)
 {
     /* One L-shaped hexagon (COFF, colours ignored), area 4, wound
      * counter-clockwise seen from +z (shoelace sum +8): every triangle faces +z. */
-    rad_scene *s = load("scenes/formats/l_shape.off");
+    rad_scene *s = harness_scene_load("scenes/formats/l_shape.off", NULL);
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 4);
@@ -129,7 +121,7 @@ TEST(readers_ply_binary_tristrips_load_every_triangle)
      * element after the strips: 2 strips over a 3 x 2 grid of 0.5 x 0.75
      * cells are 12 triangles of area 2.25, all facing the first one's way:
      * (0, 0.75), (0, 0), (0.5, 0.75) winds counter-clockwise about +z. */
-    rad_scene *s = load("scenes/formats/tristrips.ply");
+    rad_scene *s = harness_scene_load("scenes/formats/tristrips.ply", NULL);
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 12);

@@ -13,22 +13,6 @@
 #include "rad_mesh.h"
 #include "rad_scene.h"
 
-
-static rad_status load_with(const char *rel, const rad_scene_params *p, rad_scene **s)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", harness_root(), rel);
-    return rad_scene_load(path, p, s);
-}
-
-static rad_scene *load(const char *rel)
-{
-    rad_scene *s = NULL;
-    rad_status st = load_with(rel, NULL, &s);
-    CHECK_MSG(st == RAD_OK, "loading %s: %s", rel, rad_error_message());
-    return s;
-}
-
 static int find_material(const rad_scene *s, const char *name)
 {
     for (int m = 0; m < rad_scene_material_count(s); m++)
@@ -63,7 +47,7 @@ TEST(scene_every_shipped_scene_loads)
         {"scenes/cornell/cornell.obj", 38, 28, -1},
     };
     for (size_t k = 0; k < sizeof want / sizeof want[0]; k++) {
-        rad_scene *s = load(want[k].path);
+        rad_scene *s = harness_scene_load(want[k].path, NULL);
         if (!s)
             continue;
         rad_scene_summary sum;
@@ -86,7 +70,7 @@ TEST(scene_sphere_levels_converge_to_the_sphere)
     for (int level = 0; level < 4; level++) {
         char path[64];
         snprintf(path, sizeof path, "scenes/sphere/sphere_%d.obj", level);
-        rad_scene *s = load(path);
+        rad_scene *s = harness_scene_load(path, NULL);
         if (!s)
             return;
         rad_scene_summary sum;
@@ -109,7 +93,7 @@ TEST(scene_sphere_levels_converge_to_the_sphere)
 
 TEST(scene_cornell_box_materials_geometry_camera)
 {
-    rad_scene *s = load("scenes/cornell/cornell.obj");
+    rad_scene *s = harness_scene_load("scenes/cornell/cornell.obj", NULL);
     if (!s)
         return;
     int light = find_material(s, "light"), red = find_material(s, "red");
@@ -177,7 +161,7 @@ TEST(scene_scale_changes_units)
     rad_scene_params_default(&p);
     p.scale = 1000.0;
     rad_scene *s = NULL;
-    CHECK(load_with("scenes/cornell/cornell.obj", &p, &s) == RAD_OK);
+    CHECK(harness_scene_load_status("scenes/cornell/cornell.obj", &p, &s) == RAD_OK);
     if (!s)
         return;
     rad_scene_summary sum;
@@ -187,19 +171,19 @@ TEST(scene_scale_changes_units)
     CHECK_NEAR(rad_scene_camera(s)->position[2], -800.0, 1e-15, 0.0);
     rad_scene_destroy(s);
     p.scale = -1.0;
-    CHECK(load_with("scenes/cornell/cornell.obj", &p, &s) == RAD_EINVAL);
+    CHECK(harness_scene_load_status("scenes/cornell/cornell.obj", &p, &s) == RAD_EINVAL);
 }
 
 /* no_cross_check (the default) skips only the Assimp re-read: the scene is
  * the same to the last bit, materials included. */
 TEST(scene_no_cross_check_loads_the_same_scene)
 {
-    rad_scene *a = NULL, *b = load("scenes/cornell/cornell.obj");
+    rad_scene *a = NULL, *b = harness_scene_load("scenes/cornell/cornell.obj", NULL);
     rad_scene_params p;
     rad_scene_params_default(&p);
     CHECK(p.no_cross_check == 1);
     p.no_cross_check = 0;
-    CHECK(load_with("scenes/cornell/cornell.obj", &p, &a) == RAD_OK);
+    CHECK(harness_scene_load_status("scenes/cornell/cornell.obj", &p, &a) == RAD_OK);
     if (a && b) {
         int nv = rad_scene_vertex_count(a), nt = rad_scene_triangle_count(a);
         CHECK(nv == rad_scene_vertex_count(b) && nt == rad_scene_triangle_count(b));
@@ -226,7 +210,7 @@ TEST(scene_ply_from_another_tool)
     p.has_emission = 1;
     p.emission[0] = p.emission[1] = p.emission[2] = 2.385;
     rad_scene *s = NULL;
-    CHECK_MSG(load_with("scenes/formats/quad_tri.ply", &p, &s) == RAD_OK, "%s", rad_error_message());
+    CHECK_MSG(harness_scene_load_status("scenes/formats/quad_tri.ply", &p, &s) == RAD_OK, "%s", rad_error_message());
     if (!s)
         return;
     rad_scene_summary sum;
@@ -242,7 +226,7 @@ TEST(scene_ply_from_another_tool)
     CHECK(sum.emitters == 3 && !has_warning(s, "no emitter"));
     rad_scene_destroy(s);
     /* Without flags: grey 0.5, no emission, and a warning about that. */
-    s = load("scenes/formats/quad_tri.ply");
+    s = harness_scene_load("scenes/formats/quad_tri.ply", NULL);
     if (!s)
         return;
     CHECK(rad_scene_materials(s)[0].rho[0] == 0.5 && rad_scene_materials(s)[0].emission[0] == 0.0);
@@ -252,7 +236,7 @@ TEST(scene_ply_from_another_tool)
 
 TEST(scene_off_from_another_tool)
 {
-    rad_scene *s = load("scenes/formats/tetra.off");
+    rad_scene *s = harness_scene_load("scenes/formats/tetra.off", NULL);
     if (!s)
         return;
     rad_scene_summary sum;
@@ -266,7 +250,7 @@ TEST(scene_off_from_another_tool)
 /* ASCII STL repeats each corner per facet: the importer merges them. */
 TEST(scene_stl_from_another_tool)
 {
-    rad_scene *s = load("scenes/formats/rectangle.stl");
+    rad_scene *s = harness_scene_load("scenes/formats/rectangle.stl", NULL);
     if (!s)
         return;
     rad_scene_summary sum;
@@ -280,7 +264,7 @@ TEST(scene_stl_from_another_tool)
  * KHR_materials_emissive_strength. */
 TEST(scene_gltf_from_another_tool)
 {
-    rad_scene *s = load("scenes/formats/two_triangles.gltf");
+    rad_scene *s = harness_scene_load("scenes/formats/two_triangles.gltf", NULL);
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 2);
@@ -368,7 +352,7 @@ TEST(scene_bad_inputs_are_refused_with_their_place)
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         rad_scene *s = NULL;
         rad_error_clear();
-        rad_status st = load_with(bad[k].path, NULL, &s);
+        rad_status st = harness_scene_load_status(bad[k].path, NULL, &s);
         CHECK_MSG(st == bad[k].st, "%s: status %d", bad[k].path, (int)st);
         CHECK(s == NULL);
         CHECK_MSG(strstr(rad_error_message(), bad[k].needle) != NULL, "%s: message '%s' lacks '%s'",
@@ -383,7 +367,7 @@ TEST(scene_drop_degenerate_counts_and_warns)
     rad_scene_params_default(&p);
     p.drop_degenerate = 1;
     rad_scene *s = NULL;
-    CHECK(load_with("scenes/bad/zero_area.obj", &p, &s) == RAD_OK);
+    CHECK(harness_scene_load_status("scenes/bad/zero_area.obj", &p, &s) == RAD_OK);
     if (!s)
         return;
     CHECK(rad_scene_triangle_count(s) == 1 && rad_scene_dropped_count(s) == 1);
@@ -425,7 +409,7 @@ TEST(scene_create_from_arrays_validates_and_warns)
 
 static rad_status plan_for(const char *rel, const rad_effects_params *ep, rad_effects_plan *plan)
 {
-    rad_scene *s = load(rel);
+    rad_scene *s = harness_scene_load(rel, NULL);
     if (!s)
         return RAD_EINPUT;
     rad_mesh *m = NULL;
@@ -478,7 +462,7 @@ TEST(scene_effects_plan_decisions)
  * when all of one triangle's corners are on or behind the other's plane. */
 TEST(scene_effects_facing_away_count_independent)
 {
-    rad_scene *s = load("scenes/cornell/cornell.obj");
+    rad_scene *s = harness_scene_load("scenes/cornell/cornell.obj", NULL);
     if (!s)
         return;
     rad_mesh *m = NULL;

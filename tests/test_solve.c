@@ -14,11 +14,8 @@
 
 static rad_mesh *load_refined(const char *rel, int levels, rad_scene **scene_out)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", harness_root(), rel);
-    rad_scene *scene = NULL;
+    rad_scene *scene = harness_scene_load(rel, NULL);
     rad_mesh *base = NULL, *mesh = NULL;
-    CHECK(rad_scene_load(path, NULL, &scene) == RAD_OK);
     if (!scene)
         return NULL;
     CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),

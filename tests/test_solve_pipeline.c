@@ -22,10 +22,7 @@ static rad_scene *load(const char *rel, double rho, double E)
             sp.emission[c] = E;
         }
     }
-    rad_scene *s = NULL;
-    CHECK_MSG(rad_scene_load(harness_path(rel), &sp, &s) == RAD_OK, "%s: %s", rel,
-              rad_error_message());
-    return s;
+    return harness_scene_load(rel, &sp);
 }
 
 static rad_solution *run(const rad_scene *scene, const rad_solve_params *p)

@@ -455,11 +455,8 @@ TEST(vis_geom_normal_follows_the_winding_in_every_branch)
  * most pairs are cleared without a plane. */
 TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/scenes/cornell/cornell.obj", harness_root());
-    rad_scene *scene = NULL;
+    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
     rad_mesh *base = NULL, *mesh = NULL;
-    CHECK(rad_scene_load(path, NULL, &scene) == RAD_OK);
     if (!scene)
         return;
     CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
