@@ -101,7 +101,8 @@ static double pt_outer(double s, void *v)
 {
     pt_ctx *c = v;
     c->s = s;
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.rel_tol = 1e-12;
     p.abs_tol = 1e-15;
     rad_quad_result r;
@@ -112,7 +113,8 @@ static double pt_outer(double s, void *v)
 static double point_triangle_quadrature(rad_vec3 x, rad_vec3 n, const rad_vec3 t[3])
 {
     pt_ctx c = {x, n, t[0], t[1], t[2], rad_geom_triangle_normal(t[0], t[1], t[2]), 0.0};
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.rel_tol = 1e-11;
     p.abs_tol = 1e-14;
     rad_quad_result r;
@@ -166,7 +168,8 @@ TEST(ff_log_segment_matches_quadrature_of_its_definition)
     double cases[][3] = {{-0.7, 1.3, 0.4}, {0.2, 2.385, 1e-3}, {-1.1, 0.6, 0.0}, {0.3, 0.9, 0.0}, {-2.0, -0.5, 3.1}};
     for (int k = 0; k < 5; k++) {
         double z0 = cases[k][0], z1 = cases[k][1], h = cases[k][2], zero = 0.0;
-        rad_quad_adapt_params p = rad_quad_adapt_defaults();
+        rad_quad_adapt_params p;
+        rad_quad_adapt_params_default(&p);
         p.rel_tol = 1e-14;
         rad_quad_result r;
         rad_quad_adapt(log_integrand, &h, z0, z1, &zero, 1, &p, &r);

@@ -32,7 +32,8 @@ static double outer_integrand(double x, void *vctx)
     entry_ctx *e = vctx;
     e->x = x;
     rad_quad_result r;
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.rel_tol = 1e-15;
     p.abs_tol = 1e-300;
     rad_quad_adapt(inner_integrand, e, (double)e->c / e->n, (double)(e->c + 1) / e->n, &x, 1, &p, &r);
@@ -44,7 +45,8 @@ static double entry_by_quadrature(const rad_galerkin1d_problem *pb, int n, int a
 {
     entry_ctx e = {pb, n, a, c, alpha, beta, 0.0};
     rad_quad_result r;
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.rel_tol = 1e-14;
     CHECK(rad_quad_adapt(outer_integrand, &e, (double)a / n, (double)(a + 1) / n, NULL, 0, &p, &r) == RAD_OK);
     return r.value;
@@ -65,7 +67,8 @@ static double load_by_quadrature(const rad_galerkin1d_problem *pb, int n, int c,
 {
     load_ctx l = {pb, n, c, alpha};
     rad_quad_result r;
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.rel_tol = 1e-14;
     p.abs_tol = 1e-300;
     CHECK(rad_quad_adapt(load_integrand, &l, (double)c / n, (double)(c + 1) / n, NULL, 0, &p, &r) == RAD_OK);

@@ -64,7 +64,8 @@ static double f_wild(double x, void *ctx) { (void)ctx; return sin(1.0 / (x + 1e-
 TEST(adapt_integrates_reference_integrals)
 {
     rad_quad_result r;
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     CHECK(rad_quad_adapt(f_exp, NULL, 0.0, 1.0, NULL, 0, &p, &r) == RAD_OK);
     CHECK_NEAR(r.value, exp(1.0) - 1.0, 1e-14, 0.0);
     CHECK(r.error >= 0.0 && r.evals >= 15);
@@ -95,7 +96,8 @@ TEST(adapt_reports_failure)
 {
     rad_quad_result r;
     CHECK(rad_quad_adapt(f_nan, NULL, 0.0, 1.0, NULL, 0, NULL, &r) == RAD_ENUMERIC);
-    rad_quad_adapt_params p = rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    rad_quad_adapt_params_default(&p);
     p.max_intervals = 5;
     CHECK(rad_quad_adapt(f_wild, NULL, 0.0, 1.0, NULL, 0, &p, &r) == RAD_ENUMERIC);
     CHECK(isfinite(r.value) && r.error > 0.0);

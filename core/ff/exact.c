@@ -100,7 +100,8 @@ ff_value ff_exact(const ff_pair *pr, const rad_ff_params *params)
             }
         }
     }
-    rad_quad_adapt_params ap = rad_quad_adapt_defaults();
+    rad_quad_adapt_params ap;
+    rad_quad_adapt_params_default(&ap);
     ap.rel_tol = params->exact_rel_tol;
     ap.max_intervals = 400;
     double sum = 0.0, err = 0.0;

@@ -51,17 +51,20 @@ static int qk15(rad_quad_fn f, void *ctx, double a, double b, interval *iv)
     return finite;
 }
 
-rad_quad_adapt_params rad_quad_adapt_defaults(void)
+void rad_quad_adapt_params_default(rad_quad_adapt_params *params)
 {
-    rad_quad_adapt_params p = {.abs_tol = 0.0, .rel_tol = 1e-13, .max_intervals = 1000};
-    return p;
+    *params = (rad_quad_adapt_params){.abs_tol = 0.0, .rel_tol = 1e-13, .max_intervals = 1000};
 }
 
 rad_status rad_quad_adapt(rad_quad_fn f, void *ctx, double a, double b,
                           const double *breaks, int nbreaks,
                           const rad_quad_adapt_params *params, rad_quad_result *out)
 {
-    rad_quad_adapt_params p = params ? *params : rad_quad_adapt_defaults();
+    rad_quad_adapt_params p;
+    if (params)
+        p = *params;
+    else
+        rad_quad_adapt_params_default(&p);
     if (!f || !out || !(a <= b) || !isfinite(a) || !isfinite(b) || nbreaks < 0)
         return RAD_ERROR(RAD_EINVAL, "adaptive quadrature: bad interval [%g, %g]", a, b);
     if (p.max_intervals < 1 || p.max_intervals > RAD_QUAD_ADAPT_MAX_INTERVALS)

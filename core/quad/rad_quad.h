@@ -31,7 +31,7 @@ typedef struct rad_quad_result {
 
 typedef double (*rad_quad_fn)(double x, void *ctx);
 
-/* Parameters of the adaptive integrator; fill with rad_quad_adapt_defaults(). */
+/* Parameters of the adaptive integrator; fill with rad_quad_adapt_params_default. */
 typedef struct rad_quad_adapt_params {
     double abs_tol;    /* absolute tolerance on the integral */
     double rel_tol;    /* relative tolerance on the integral */
@@ -40,7 +40,7 @@ typedef struct rad_quad_adapt_params {
 
 #define RAD_QUAD_ADAPT_MAX_INTERVALS 4096
 
-rad_quad_adapt_params rad_quad_adapt_defaults(void);
+void rad_quad_adapt_params_default(rad_quad_adapt_params *params);
 
 /* Integrate f over [a,b], splitting first at the `nbreaks` breakpoints (points
  * where f or a derivative jumps; those outside (a,b) are ignored).  Bisects the
