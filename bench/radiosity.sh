@@ -14,6 +14,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 MAX_REFINE=${MAX_REFINE:-4}
 TSV="$ROOT/bench/radiosity.tsv"
 tmp=$(mktemp)
+case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
+cd "$ROOT" # scenes are named relative to the repository
 {
   echo "# radiosity bench: $("$RADKIT" --version), Cornell box, $(nproc) cores"
   echo "# pairs_per_s = unordered pairs / assembly seconds (rays included)"
@@ -21,7 +23,7 @@ tmp=$(mktemp)
 } > "$TSV"
 run() { # config refine threads options...
   config=$1 r=$2 t=$3; shift 3
-  OMP_NUM_THREADS=$t OPENBLAS_NUM_THREADS=$t "$RADKIT" solve "$ROOT/scenes/cornell/cornell.obj" \
+  OMP_NUM_THREADS=$t OPENBLAS_NUM_THREADS=$t "$RADKIT" solve scenes/cornell/cornell.obj \
     --refine "$r" --threads "$t" --quiet --out "$tmp" "$@"
   awk -F' = ' -v c="$config" -v r="$r" -v t="$t" '/^# /{ v[substr($1, 3)] = $2 }
     END { n = v["elements"]; a = v["time_assemble_s"]; s = v["time_solve_s"]

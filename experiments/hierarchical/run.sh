@@ -137,4 +137,7 @@ done
    --image-size 512x512)
 
 if command -v gnuplot >/dev/null 2>&1; then gnuplot plot.gp; else echo "hierarchical: no gnuplot, no plots" >&2; fi
+# gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
+# changes only what it measured.
+find . -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
 cat "$dat" "$slopes" "$target"
