@@ -5,9 +5,7 @@
  * waits (sched_yield) for about 2^28 cycles before it sleeps.  On a 2-core
  * machine that is one core taken for the first ~0.1-0.2 s of every run and
  * after every LU solve, exactly when radkit's OpenMP loops (assembly, link
- * estimates) want both cores: perf showed the spinning thread at 19% of a
- * hierarchical solve's samples, and parking it made the solve 15% faster.
- * blas_thread_shutdown_ stops the workers; OpenBLAS starts them again on its
+ * estimates) want both cores.  blas_thread_shutdown_ stops the workers; OpenBLAS starts them again on its
  * next threaded call, so LAPACK keeps its threads where it needs them.  The
  * symbol is weak because other BLAS builds (serial, OpenMP) need not have it. */
 #include "rad_dense.h"

@@ -43,9 +43,9 @@ double rad_sys_peak_rss_bytes(void);
  * bytes up it is aligned to RAD_SYS_HUGE_PAGE and the kernel is asked to back
  * it with transparent huge pages (Linux madvise; elsewhere, or when the kernel
  * declines, ordinary pages).  The first touch of each 4 KB page costs a fault,
- * several microseconds on a virtual machine: hier's link array, grown by
- * doubling, spent a tenth of a Cornell-box solve in them.  NULL when out of
- * memory or bytes is 0. */
+ * several microseconds on a virtual machine, and an array grown by doubling
+ * (hier's links) touches every page of every copy.  NULL when out of memory or
+ * bytes is 0. */
 #define RAD_SYS_HUGE_PAGE ((size_t)2 << 20)
 void *rad_sys_alloc_huge(size_t bytes);
 
