@@ -55,10 +55,8 @@ typedef struct rad_vis_params {
      * stratum, seed): jittered stratified sampling, unbiased, deterministic for
      * any thread count, and symmetric (a triangle's samples do not depend on
      * its partner).  0: the stratum's centroid (a midpoint rule, which aliases
-     * with straight shadow edges).  Measured on the occluder test scene
-     * (blocked fraction 0.43067 exactly), error of the square-to-square
-     * estimate for 2, 4, 8, 12 strata per edge: centroid -0.024, -0.040,
-     * -0.0087, -0.026; jittered -0.087, -0.014, +0.0009, -0.0014.  Default 1. */
+     * with straight shadow edges; papers/dense-radiosity.md compares the two).
+     * Default 1. */
     int jitter;
     unsigned seed;
     /* Threads Embree may use to build the BVH (see the header comment).  Default 1. */
