@@ -1,9 +1,10 @@
 /* rad_dense: dense linear algebra over LAPACKE/OpenBLAS.
  *
  * Matrices are column-major (LAPACK's own order): entry (i,j) of an n x n
- * matrix A is A[i + (size_t)j * n].  For now this holds the LU solve with a
- * condition estimate and the memory check used before any dense allocation;
- * radiosity assembly and the iterative solvers join it with the dense issue. */
+ * matrix A is A[i + (size_t)j * n].  This header holds the LU solve with a
+ * condition estimate, the memory check used before any dense allocation and
+ * the parking of OpenBLAS's threads; the radiosity system and its solvers are
+ * in rad_dense_solve.h, the assembly of G in rad_radiosity.h. */
 #ifndef RAD_DENSE_H
 #define RAD_DENSE_H
 
