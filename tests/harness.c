@@ -141,6 +141,27 @@ rad_status harness_scene_load_status(const char *rel, const rad_scene_params *pa
     return rad_scene_load(harness_path(rel), params, out);
 }
 
+const char *harness_temp_path(const char *name)
+{
+    static char buf[8][512];
+    static int next;
+    char *p = buf[next++ % 8];
+    snprintf(p, sizeof buf[0], "/tmp/radkit-test-%ld-%s", (long)getpid(), name);
+    return p;
+}
+
+const char *harness_write_file_at(const char *file, int line, const char *name, const char *text)
+{
+    const char *path = harness_temp_path(name);
+    FILE *f = fopen(path, "w");
+    int ok = f && fputs(text, f) >= 0;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    if (!ok)
+        harness_fail(file, line, "cannot write %s", path);
+    return path;
+}
+
 rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
                                  const rad_scene_params *params)
 {

@@ -74,6 +74,15 @@ rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
 rad_status harness_scene_load_status(const char *rel, const rad_scene_params *params,
                                      rad_scene **out);
 
+/* The tests' one scene writer: `text` into a file of /tmp named after the
+ * process id and `name` (e.g. "order.obj"), so parallel runs do not collide;
+ * returns its path (harness_temp_path), after recording a check failure at the
+ * caller's line if it could not be written.  The caller removes it. */
+#define harness_write_file(name, text) harness_write_file_at(__FILE__, __LINE__, name, text)
+const char *harness_write_file_at(const char *file, int line, const char *name, const char *text);
+/* The path harness_write_file gives `name`, in one of 8 rotating buffers. */
+const char *harness_temp_path(const char *name);
+
 /* The value of a "# key = value" line of a program's output, copied to buf;
  * NULL when there is no such line. */
 const char *harness_header(const char *out, const char *key, char *buf, size_t size);

@@ -183,14 +183,8 @@ TEST(cli_solve_help_explains_every_option)
 
 TEST(cli_solve_warns_when_nothing_emits)
 {
-    char path[64];
-    snprintf(path, sizeof path, "/tmp/radkit-noemit-%d.obj", (int)getpid());
-    FILE *f = fopen(path, "w");
-    CHECK(f != NULL);
-    if (!f)
-        return;
-    fputs("v 0 0 0\nv 1.3 0 0\nv 0 0.7 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n", f);
-    fclose(f);
+    const char *path = harness_write_file("noemit.obj",
+                                          "v 0 0 0\nv 1.3 0 0\nv 0 0.7 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n");
     char *out, *err, buf[256];
     CHECK(harness_radkit_run("solve", (const char *[]){path, NULL}, &out, &err) == 0);
     CHECK_MSG(strstr(err, "radkit: warning: no emitter") != NULL, "stderr: %s", err);

@@ -144,24 +144,17 @@ TEST(obj_unused_statements_warn_once_per_keyword)
      * refuses; known appearance statements (here in the MTL) still warn. */
     rad_scene_params sp = strict_params();
     CHECK_REFUSED("scenes/lenient/ignored.obj", &sp, "ignored.obj:7: `vp`");
-    char obj[256];
-    snprintf(obj, sizeof obj, "/tmp/radkit-lenient-%d.obj", (int)getpid());
-    FILE *f = fopen(obj, "w");
-    CHECK(f != NULL);
-    if (!f)
-        return;
-    char *mtl = realpath(harness_path("scenes/lenient/ignored.mtl"), NULL);
-    fprintf(f, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n", mtl ? mtl : "?");
+    char *mtl = realpath(harness_path("scenes/lenient/ignored.mtl"), NULL), text[1200];
+    snprintf(text, sizeof text, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
+             mtl ? mtl : "?");
     free(mtl);
-    fclose(f);
+    const char *obj = harness_write_file("lenient.obj", text);
     s = NULL;
     CHECK_MSG(rad_scene_load(obj, &sp, &s) == RAD_OK, "%s", rad_error_message());
     if (s)
         CHECK_WARNING(s, "ignored 2 `Kt` statement(s)");
     rad_scene_destroy(s);
-    f = fopen(obj, "w");
-    fprintf(f, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nfrobnicate\n");
-    fclose(f);
+    obj = harness_write_file("lenient.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nfrobnicate\n");
     s = NULL;
     CHECK(rad_scene_load(obj, &sp, &s) == RAD_EINPUT && s == NULL);
     CHECK_MSG(strstr(rad_error_message(), ":5: `frobnicate` is not a statement radkit knows"),
@@ -275,14 +268,7 @@ TEST(obj_huge_coordinate_names_its_line)
     CHECK_REFUSED("scenes/bad/huge_vertex.obj", NULL, "huge_vertex.obj:3: vertex coordinate 1e+308");
     /* The bound applies after the scale: 1e70 m x 1e10 is refused at its
      * line, 1e80 mm x 1e-10 loads. */
-    char obj[256];
-    snprintf(obj, sizeof obj, "/tmp/radkit-huge-%d.obj", (int)getpid());
-    FILE *f = fopen(obj, "w");
-    CHECK(f != NULL);
-    if (!f)
-        return;
-    fprintf(f, "v 0 0 0\nv 1e70 0 0\nv 0 1e70 1e70\nf 1 2 3\n");
-    fclose(f);
+    const char *obj = harness_write_file("huge.obj", "v 0 0 0\nv 1e70 0 0\nv 0 1e70 1e70\nf 1 2 3\n");
     rad_scene_params p;
     rad_scene_params_default(&p);
     rad_scene *s = NULL;
@@ -293,9 +279,7 @@ TEST(obj_huge_coordinate_names_its_line)
     CHECK(rad_scene_load(obj, &p, &s) == RAD_EINPUT && !s);
     CHECK_MSG(strstr(rad_error_message(), ":2: vertex coordinate 1e+80 (after scale 1e+10)"), "%s",
               rad_error_message());
-    f = fopen(obj, "w");
-    fprintf(f, "v 0 0 0\nv 1e80 0 0\nv 0 1e80 0\nf 1 2 3\n");
-    fclose(f);
+    obj = harness_write_file("huge.obj", "v 0 0 0\nv 1e80 0 0\nv 0 1e80 0\nf 1 2 3\n");
     p.scale = 1e-10;
     s = NULL;
     CHECK_MSG(rad_scene_load(obj, &p, &s) == RAD_OK, "%s", rad_error_message());

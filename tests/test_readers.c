@@ -132,26 +132,15 @@ TEST(readers_ply_binary_tristrips_load_every_triangle)
     rad_scene_destroy(s);
 }
 
-/* A file in /tmp with the given text; its path in buf. */
-static void write_temp(char *buf, size_t size, const char *ext, const char *text)
-{
-    snprintf(buf, size, "/tmp/radkit-readers-%ld-%s", (long)getpid(), ext);
-    FILE *f = fopen(buf, "w");
-    CHECK(f != NULL);
-    if (f) {
-        fputs(text, f);
-        fclose(f);
-    }
-}
-
 TEST(readers_off_double_precision_comments_and_bad_numbers)
 {
-    char path[256];
+    const char *path;
     /* Coordinates beyond float precision survive; comments and blank lines are
      * skipped; the counts may share the keyword's line. */
-    write_temp(path, sizeof path, "a.off",
-               "OFF 3 1 0 # counts on the keyword line\n\n# a comment\n"
-               "0.12345678901234567 0 0\n1.000000000000001 0 0  # trailing\n0 2.385 0\n3 0 1 2\n");
+    path = harness_write_file("readers-a.off",
+                              "OFF 3 1 0 # counts on the keyword line\n\n# a comment\n"
+                              "0.12345678901234567 0 0\n1.000000000000001 0 0  # trailing\n"
+                              "0 2.385 0\n3 0 1 2\n");
     rad_scene *s = NULL;
     CHECK_MSG(rad_scene_load(path, NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (s) {
@@ -159,28 +148,26 @@ TEST(readers_off_double_precision_comments_and_bad_numbers)
         CHECK(x[0] == 0.12345678901234567 && x[3] == 1.000000000000001);
         rad_scene_destroy(s);
     }
-    write_temp(path, sizeof path, "b.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+    path = harness_write_file("readers-b.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
     CHECK(rad_scene_load(path, NULL, &s) == RAD_EINPUT);
     CHECK(strstr(rad_error_message(), "b.off:4: vertex coordinate is NaN") != NULL);
-    write_temp(path, sizeof path, "c.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n");
+    path = harness_write_file("readers-c.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n");
     CHECK(rad_scene_load(path, NULL, &s) == RAD_EINPUT);
     CHECK(strstr(rad_error_message(), "c.off:6:") != NULL);
-    write_temp(path, sizeof path, "d.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n");
+    path = harness_write_file("readers-d.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n");
     CHECK(rad_scene_load(path, NULL, &s) == RAD_EINPUT);
     CHECK(strstr(rad_error_message(), "ends after 3 of the 4 vertices") != NULL);
-    write_temp(path, sizeof path, "e.ply",
-               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-               "0 0 0\n1 0 0\n0 1 0\n255 0 1 2\n");
+    path = harness_write_file("readers-e.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                              "property float y\nproperty float z\nelement face 1\n"
+                              "property list uchar int vertex_indices\nend_header\n"
+                              "0 0 0\n1 0 0\n0 1 0\n255 0 1 2\n");
     CHECK(rad_scene_load(path, NULL, &s) == RAD_EINPUT); /* a list of 255 in a few bytes */
     CHECK(strstr(rad_error_message(), "ends in face 0 of the 1") != NULL);
-    snprintf(path, sizeof path, "/tmp/radkit-readers-%ld-a.off", (long)getpid());
-    unlink(path);
-    for (const char *x = "bcde"; *x; x++) {
-        snprintf(path, sizeof path, "/tmp/radkit-readers-%ld-%c.%s", (long)getpid(), *x,
-                 *x == 'e' ? "ply" : "off");
-        unlink(path);
-    }
+    const char *written[] = {"readers-a.off", "readers-b.off", "readers-c.off", "readers-d.off",
+                             "readers-e.ply"};
+    for (size_t k = 0; k < sizeof written / sizeof written[0]; k++)
+        unlink(harness_temp_path(written[k]));
 }
 
 /* A coordinate beyond 1e75 (where products of coordinates overflow in the

@@ -292,20 +292,14 @@ TEST(scene_gltf_from_another_tool)
 /* Polygons keep their place: an OBJ with interleaved materials. */
 TEST(scene_obj_keeps_input_order_and_materials)
 {
-    /* Files named by the process id: parallel test runs do not collide. */
-    char mtl[64], obj[64], mtllib[80];
-    snprintf(mtl, sizeof mtl, "/tmp/radkit-order-%ld.mtl", (long)getpid());
-    snprintf(obj, sizeof obj, "/tmp/radkit-order-%ld.obj", (long)getpid());
-    snprintf(mtllib, sizeof mtllib, "mtllib radkit-order-%ld.mtl\n", (long)getpid());
-    FILE *f = fopen(mtl, "w");
-    fputs("newmtl a\nKd 0.125 0.25 0.375\nnewmtl b\nKd 0.5 0.5 0.5\nKe 0.75 0.75 0.75\n", f);
-    fclose(f);
-    f = fopen(obj, "w");
-    fputs(mtllib, f);
-    fputs("v 0 0 0\nv 2.385 0 0\nv 2.385 1.5 0\nv 0 1.5 0\nv 0 0 1\nv 0 1.5 1\n"
-          "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 5\nusemtl a\nf 1/1/1 3/2/2 4/3/3\n"
-          "usemtl b\nf -6 -2 -1 -3\n", f);
-    fclose(f);
+    const char *mtl = harness_write_file("order.mtl", "newmtl a\nKd 0.125 0.25 0.375\nnewmtl b\n"
+                                                      "Kd 0.5 0.5 0.5\nKe 0.75 0.75 0.75\n");
+    char text[512];
+    snprintf(text, sizeof text, "mtllib %s\n"
+             "v 0 0 0\nv 2.385 0 0\nv 2.385 1.5 0\nv 0 1.5 0\nv 0 0 1\nv 0 1.5 1\n"
+             "usemtl a\nf 1 2 3\nusemtl b\nf 1 2 5\nusemtl a\nf 1/1/1 3/2/2 4/3/3\n"
+             "usemtl b\nf -6 -2 -1 -3\n", strrchr(mtl, '/') + 1);
+    const char *obj = harness_write_file("order.obj", text);
     rad_scene *s = NULL;
     CHECK_MSG(rad_scene_load(obj, NULL, &s) == RAD_OK, "%s", rad_error_message());
     if (s) {
