@@ -17,7 +17,8 @@ static const char help_head[] =
     "usage: radkit solve SCENE [--method dense|hier|mc] [--rule RULE] [--tol T] [--solver S]\n"
     "                    [--oracle bf|error] [--eps E] [--min-area A] [--edges]\n"
     "                    [--samples N] [--seed S]\n"
-    "                    [--refine K] [--threads N] [--out faces.tsv] [--ply out.ply]\n"
+    "                    [--refine K] [--basis p0|p1|p2] [--threads N] [--out faces.tsv]\n"
+    "                    [--ply out.ply]\n"
     "                    [--png out.png] [--image-size WxH] [--exposure X]\n"
     "                    [--stats stats.json] [--quiet]\n"
     "                    [--solver-tol T] [--max-iter N] [--vis-strata K]\n"
@@ -74,6 +75,9 @@ static const char help_head[] =
     "  --solver-tol T   iterative solvers stop at residual T ||E|| (default 1e-10)\n"
     "  --max-iter N     iterative solvers' sweep cap (default 10000)\n"
     "  --refine K       split every triangle 1 -> 4, K times, before solving (default 0)\n"
+    "  --basis B        dense: the polynomial on each element, p0 (constant, the\n"
+    "                   default), p1 (linear) or p2 (quadratic), discontinuous and\n"
+    "                   orthonormal; the table keeps the per-face averages\n"
     "  --threads N      OpenMP threads for the assembly (hier: for the link\n"
     "                   estimates; mc: for the paths; default: all cores)\n"
     "  --vis-strata K   where a pair's visibility is too complex to clip exactly\n"
@@ -166,7 +170,7 @@ int cli_solve(int argc, char **argv)
     memset(&o, 0, sizeof o);
     cli_scene_options_init(&o.scene_opts);
     /* the command's own options, the shared scene options and the terminator */
-    enum { SOLVE_OWN_OPTIONS = 25 };
+    enum { SOLVE_OWN_OPTIONS = 26 };
     cli_option table[SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1] = {
         {"", &o.scene, NULL, "scene"},
         {"--method", &o.method, NULL, NULL},
@@ -176,6 +180,7 @@ int cli_solve(int argc, char **argv)
         {"--solver-tol", &o.solver_tol, NULL, NULL},
         {"--max-iter", &o.max_iter, NULL, NULL},
         {"--refine", &o.refine, NULL, NULL},
+        {"--basis", &o.basis, NULL, NULL},
         {"--threads", &o.threads, NULL, NULL},
         {"--vis-strata", &o.strata, NULL, NULL},
         {"--out", &o.out, NULL, NULL},

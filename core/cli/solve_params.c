@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "rad_basis.h"
 #include "rad_ff.h"
 #include "solve.h"
 
@@ -40,6 +41,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--vis-strata", o->strata, "d"},  {"--eps", o->eps, "h"},
         {"--min-area", o->min_area, "h"},  {"--oracle", o->oracle, "h"},
         {"--samples", o->samples, "m"},    {"--seed", o->seed, "m"},
+        {"--basis", o->basis, "d"},
     };
     const char code = method == RAD_SOLVE_HIER ? 'h' : method == RAD_SOLVE_MC ? 'm' : 'd';
     for (size_t k = 0; k < sizeof table / sizeof table[0]; k++) {
@@ -81,6 +83,8 @@ static rad_status parse_dense(const solve_options *o, rad_solve_params *p)
         (st = cli_parse_positive_int("solve: --vis-strata", o->strata, 16, &strata)) != RAD_OK)
         return st;
     p->assembly.visible.sample_strata = strata;
+    if (o->basis && rad_basis_parse(o->basis, &p->basis) != RAD_OK)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis must be p0, p1 or p2, got '%s'", o->basis);
     return RAD_OK;
 }
 

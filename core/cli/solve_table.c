@@ -20,8 +20,8 @@ static void print_params(FILE *out, const rad_solution *s)
         rad_ff_rule_format(u->assembly.rule, rule, sizeof rule);
         fprintf(out, "# rule = %s\n# tol = %g\n# solver = %s\n", rule, u->assembly.ff.tol,
                 rad_dense_method_name(u->dense.method));
-        fprintf(out, "# faces = %d\n# elements = %zu\n# refine = %d\n", s->faces, s->elements,
-                u->refine);
+        fprintf(out, "# basis = p%d\n# faces = %d\n# elements = %zu\n# refine = %d\n", u->basis,
+                s->faces, s->elements, u->refine);
         break;
     case RAD_SOLVE_HIER:
         rad_ff_rule_format(u->hier.rule, rule, sizeof rule);

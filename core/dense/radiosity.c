@@ -96,7 +96,7 @@ rad_status rad_dense_system_matrix(int n, const double *G, const double *area, c
 }
 
 static rad_status check_input(int n, const double *G, const double *area, const double *rho,
-                              const double *E)
+                              const double *E, int signed_couplings)
 {
     for (int i = 0; i < n; i++) {
         if (!(area[i] > 0.0) || !isfinite(area[i]))
@@ -113,7 +113,7 @@ static rad_status check_input(int n, const double *G, const double *area, const 
     }
     size_t nn = (size_t)n * (size_t)n;
     for (size_t k = 0; k < nn; k++)
-        if (!isfinite(G[k]) || G[k] < 0.0)
+        if (!isfinite(G[k]) || (G[k] < 0.0 && !signed_couplings))
             return RAD_ERROR(RAD_EINPUT, "dense solve: coupling entry (%zu, %zu) is %g",
                              k % (size_t)n, k / (size_t)n, G[k]);
     return RAD_OK;
@@ -242,8 +242,9 @@ static rad_status solve_iterative(int n, const double *G, const double *area, co
 /* Radiosity is never negative (B = E + rho F B with nothing negative in it).
  * A solution whose entries are non-finite, or negative beyond rounding
  * (1e-9 of the largest), comes from a system too ill-conditioned to solve:
- * RAD_ENUMERIC.  Negatives within rounding are set to 0. */
-static rad_status check_solution(int n, double *B)
+ * RAD_ENUMERIC.  Negatives within rounding are set to 0.  Coefficients of a
+ * polynomial basis (signed couplings) may be negative: only finiteness. */
+static rad_status check_solution(int n, double *B, int signed_couplings)
 {
     double bmax = 0.0;
     for (size_t k = 0; k < 3 * (size_t)n; k++) {
@@ -253,7 +254,7 @@ static rad_status check_solution(int n, double *B)
                              k % (size_t)n);
         bmax = fmax(bmax, fabs(B[k]));
     }
-    for (size_t k = 0; k < 3 * (size_t)n; k++) {
+    for (size_t k = 0; k < 3 * (size_t)n && !signed_couplings; k++) {
         if (B[k] < -1e-9 * bmax)
             return RAD_ERROR(RAD_ENUMERIC, "dense solve: element %zu has a negative radiosity "
                                            "%.3g (the system is too ill-conditioned; is a "
@@ -280,7 +281,7 @@ rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area,
     rad_status status = rad_dense_radiosity_check_size((size_t)n, p.method);
     if (status != RAD_OK)
         return status;
-    if ((status = check_input(n, G, area, rho, E)) != RAD_OK)
+    if ((status = check_input(n, G, area, rho, E, p.signed_couplings)) != RAD_OK)
         return status;
     rad_dense_report rep = {p.method, 0, 0, 0.0, 1.0};
     if (!is_direct(p.method)) {
@@ -330,7 +331,7 @@ rad_status rad_dense_radiosity_solve(int n, const double *G, const double *area,
         }
     }
     if (status == RAD_OK)
-        status = check_solution(n, B);
+        status = check_solution(n, B, p.signed_couplings);
     if (report)
         *report = rep;
     return status;

@@ -70,6 +70,22 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
                                   const rad_radiosity_params *params, double *G, double *areas,
                                   rad_radiosity_stats *stats);
 
+/* The couplings of the orthonormal polynomial basis of `order` (rad_basis.h;
+ * 1 or 2, m = rad_basis_size(order) functions per element) from the P0
+ * couplings G and areas of rad_radiosity_assemble over the same triangles:
+ * K (N x N, N = n m, column-major; unknown k of element i at i m + k) with
+ * K_(ik)(jl) = int_i int_j phi_ik k V phi_jl.  The constants' entries are
+ * G_ij / sqrt(A_i A_j); the others a product rule of degree 2 order + 2 where
+ * the parts of a pair are well apart, recursive splitting (2 + order levels)
+ * where they are not, and the parts' P0 coupling with centroid values at
+ * the deepest level; V by a ray per node pair where the pair's shaft may
+ * hold blockers (vis, params->face_of as for the assembly).  Kernel
+ * evaluations and rays are added to *stats. */
+rad_status rad_radiosity_assemble_basis(const double *xyz, const int *tri, int n,
+                                        const rad_vis *vis, const rad_radiosity_params *params,
+                                        int order, const double *G, const double *areas,
+                                        double *K, rad_radiosity_stats *stats);
+
 #ifdef __cplusplus
 }
 #endif

@@ -54,6 +54,8 @@ typedef struct rad_solve_params {
     rad_radiosity_params assembly; /* rule, ff tolerances, visible-integral parameters */
     rad_dense_params dense;        /* solver, its tolerance and sweep cap */
     int refine;                    /* split every triangle 1 -> 4 this many times (0..12) */
+    int basis;                     /* polynomial order per element (rad_basis.h): 0 (default,
+                                      constants), 1 or 2; dense only for now */
     size_t dense_max_elements;     /* refuse refining beyond this (default 46340: a
                                       46340^2 matrix is 16 GiB) */
     /* hier: hier.min_area < 0 (the default) follows eps: total area times

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rad_basis.h"
 #include "rad_dense.h"
 #include "rad_geom.h"
 #include "rad_io.h"
@@ -90,6 +91,12 @@ static rad_status apply_plan(rad_solution *s)
     rad_solve_params *u = &s->used;
     if (plan->refusal[0])
         return RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan->refusal);
+    if (u->basis != 0 && u->method != RAD_SOLVE_DENSE)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense only (the "
+                                     "hierarchical and Monte Carlo methods use constants)",
+                         u->basis);
+    if (u->basis < 0 || u->basis > RAD_BASIS_MAX_ORDER)
+        return RAD_ERROR(RAD_EINVAL, "solve: basis order %d is not 0, 1 or 2", u->basis);
     if (u->method == RAD_SOLVE_MC) {
         if (plan->facing_away.forced || plan->singular.forced)
             return RAD_ERROR(RAD_EINVAL, "solve: --facing-away and --singular decide how form "
@@ -235,6 +242,59 @@ static rad_status make_vis(const prepared *pr, int needed, double eps_rel, int s
 
 /* ---- dense ---------------------------------------------------------------- */
 
+/* Dense in a polynomial basis: the couplings K of the orthonormal functions
+ * (rad_radiosity_assemble_basis, from the P0 couplings G), the system
+ * b = e + rho K b for the coefficients (e: the emission's projection, E
+ * sqrt(A) on each constant), and per element B = b_0 / sqrt(A), its mean. */
+static rad_status basis_solve(rad_solution *s, const rad_mesh *mesh, const rad_vis *vis,
+                              const double *G, const double *areas, const double *rho,
+                              const double *E, double *B, double t_vis)
+{
+    rad_solve_params *u = &s->used;
+    int n = rad_mesh_face_count(mesh), m = rad_basis_size(u->basis);
+    size_t nn = (size_t)n, N = nn * (size_t)m;
+    if (N > u->dense_max_elements)
+        return RAD_ERROR(RAD_ETOOBIG, "solve: basis p%d on %d elements makes %zu unknowns, "
+                                      "beyond what a dense solve can hold; use fewer elements",
+                         u->basis, n, N);
+    rad_status st = rad_dense_radiosity_check_size(N, u->dense.method);
+    if (st != RAD_OK)
+        return st;
+    double *K = malloc(N * N * sizeof *K), *work = malloc(N * 10 * sizeof *work);
+    if (!K || !work) {
+        free(K);
+        free(work);
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for the %zu x %zu basis couplings", N, N);
+    }
+    double *one = work, *rN = work + N, *eN = work + 4 * N, *bN = work + 7 * N;
+    for (size_t i = 0; i < nn; i++)
+        for (size_t k = 0; k < (size_t)m; k++) {
+            size_t I = i * (size_t)m + k;
+            one[I] = 1.0;
+            for (int c = 0; c < 3; c++) {
+                rN[I + c * N] = rho[i + c * nn];
+                eN[I + c * N] = k == 0 ? E[i + c * nn] * sqrt(areas[i]) : 0.0;
+            }
+        }
+    st = rad_radiosity_assemble_basis(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis,
+                                      &u->assembly, u->basis, G, areas, K, &s->assembly);
+    double t_assembled = rad_sys_seconds();
+    add_phase(s, "assemble", t_assembled - t_vis);
+    if (st == RAD_OK) {
+        rad_dense_params dp = u->dense;
+        dp.signed_couplings = 1;
+        st = rad_dense_radiosity_solve((int)N, K, one, rN, eN, bN, &dp, &s->dense);
+    }
+    add_phase(s, "solve", rad_sys_seconds() - t_assembled);
+    if (st == RAD_OK)
+        for (size_t i = 0; i < nn; i++)
+            for (int c = 0; c < 3; c++)
+                B[i + c * nn] = bN[i * (size_t)m + c * N] / sqrt(areas[i]);
+    free(K);
+    free(work);
+    return st;
+}
+
 static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
 {
     rad_solve_params *u = &s->used;
@@ -292,14 +352,20 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
     u->assembly.threads = u->threads;
     st = rad_radiosity_assemble(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis,
                                 &u->assembly, G, areas, &s->assembly);
-    u->assembly.face_of = NULL; /* borrowed from the mesh, freed below */
     if (st != RAD_OK)
         goto done;
-    double t_assembled = rad_sys_seconds();
-    add_phase(s, "assemble", t_assembled - t_vis);
-    if ((st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &u->dense, &s->dense)) != RAD_OK)
-        goto done;
-    add_phase(s, "solve", rad_sys_seconds() - t_assembled);
+    if (u->basis > 0) {
+        if ((st = basis_solve(s, mesh, vis, G, areas, rho, E, B, t_vis)) != RAD_OK)
+            goto done;
+    } else {
+        double t_assembled = rad_sys_seconds();
+        add_phase(s, "assemble", t_assembled - t_vis);
+        if ((st = rad_dense_radiosity_solve(n, G, areas, rho, E, B, &u->dense, &s->dense)) !=
+            RAD_OK)
+            goto done;
+        add_phase(s, "solve", rad_sys_seconds() - t_assembled);
+    }
+    u->assembly.face_of = NULL; /* borrowed from the mesh, freed below */
     s->elements = nn;
     s->links = s->assembly.pairs - s->assembly.pairs_not_facing;
     s->rays = s->assembly.rays;
@@ -314,6 +380,7 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
         st = display_triangles(s, (size_t)rad_mesh_vertex_count(mesh), rad_mesh_vertices(mesh), nn,
                                rad_mesh_triangles(mesh), material, E, B);
 done:
+    u->assembly.face_of = NULL;
     free(G);
     free(work);
     free(material);
