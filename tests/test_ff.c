@@ -434,7 +434,8 @@ TEST(ff_facing_predicate_matches_compute)
     rad_vec3 *others[] = {above_up, below, coplanar, coplanar_adj};
     for (int k = 0; k < 4; k++)
         CHECK(rad_ff_facing(a, others[k], NULL) == 0);
-    rad_ff_params p = rad_ff_defaults();
+    rad_ff_params p;
+    rad_ff_params_default(&p);
     unsigned seed = 12345u;
     int facing = 0, away = 0;
     for (int trial = 0; trial < 400; trial++) {
@@ -588,7 +589,8 @@ TEST(ff_auto_meets_tolerance_and_reports_choice)
     double tols[] = {1e-3, 1e-4, 1e-5, 1e-6, 1e-9};
     for (int t = 0; t < 5; t++)
         for (int k = 0; k < NPAIRS; k++) {
-            rad_ff_params p = rad_ff_defaults();
+            rad_ff_params p;
+            rad_ff_params_default(&p);
             p.tol = tols[t];
             rad_ff_rule r = {RAD_FF_AUTO, 0};
             rad_ff_result o, ex = ff(P[k][0], P[k][1], "exact");
@@ -616,7 +618,8 @@ TEST(ff_bad_input_and_rules)
     r.scheme = RAD_FF_GAUSS;
     r.order = RAD_FF_MAX_DEGREE + 1;
     CHECK(rad_ff_compute(a, b, r, NULL, &o) == RAD_EINVAL);
-    rad_ff_params p = rad_ff_defaults();
+    rad_ff_params p;
+    rad_ff_params_default(&p);
     p.tol = 0.0;
     r.scheme = RAD_FF_AUTO;
     CHECK(rad_ff_compute(a, b, r, &p, &o) == RAD_EINVAL);
@@ -692,7 +695,8 @@ TEST(ff_auto_meets_tolerance_on_random_pairs)
         if (!(ex.G > 0))
             continue;
         for (int t = 0; t < 3; t++) {
-            rad_ff_params p = rad_ff_defaults();
+            rad_ff_params p;
+            rad_ff_params_default(&p);
             p.tol = tols[t];
             rad_ff_rule r = {RAD_FF_AUTO, 0};
             rad_ff_result o;
@@ -779,7 +783,8 @@ TEST(ff_auto_straddling_pairs_meet_tolerance_by_clipping)
             wall[2] = t;
         }
         rad_ff_rule ex = {RAD_FF_EXACT, 0}, au = {RAD_FF_AUTO, 0};
-        rad_ff_params p = rad_ff_defaults();
+        rad_ff_params p;
+        rad_ff_params_default(&p);
         double tols[2] = {1e-3, 1e-6};
         rad_ff_result re;
         CHECK(rad_ff_compute(floor_t, wall, ex, &p, &re) == RAD_OK);
@@ -816,7 +821,8 @@ TEST(ff_gauss2_far_pairs)
 {
     static const double lo[2] = {1.5, 2.0}, hi[2] = {2.0, 3.0};
     static const double mean_max[2] = {0.003, 0.0012}, p95_max[2] = {0.009, 0.0036};
-    rad_ff_params p = rad_ff_defaults();
+    rad_ff_params p;
+    rad_ff_params_default(&p);
     unsigned seed = 2026u;
     for (int band = 0; band < 2; band++) {
         enum { N = 600 };

@@ -144,7 +144,8 @@ int cli_ff(int argc, char **argv)
         fprintf(stderr, "radkit: ff: --rule: %s\n", rad_error_message());
         return rad_status_exit_code(st);
     }
-    rad_ff_params params = rad_ff_defaults();
+    rad_ff_params params;
+    rad_ff_params_default(&params);
     if (tol_text) {
         char *end = NULL;
         double tol = strtod(tol_text, &end);

@@ -28,23 +28,22 @@
 
 #include "ff_internal.h"
 
-rad_ff_params rad_ff_defaults(void)
+void rad_ff_params_default(rad_ff_params *params)
 {
-    rad_ff_params p = {.adjacency_rel_tol = 1e-10,
-                       .plane_rel_tol = 64 * DBL_EPSILON,
-                       .degenerate_rel_tol = 1e-12,
-                       .exact_rel_tol = 1e-14,
-                       .exact_far_ratio = 5.0,
-                       .exact_retry_rel = 1e-12,
-                       .exact_flag_rel = 1e-10,
-                       .auto_near_ratio = 0.5,
-                       .auto_min_ratio = 0.05,
-                       .auto_exact_cost = 35000,
-                       .auto_safety = 0.1,
-                       .tol = 1e-6,
-                       .skip_facing_away = 1,
-                       .singular_rules = 1};
-    return p;
+    *params = (rad_ff_params){.adjacency_rel_tol = 1e-10,
+                              .plane_rel_tol = 64 * DBL_EPSILON,
+                              .degenerate_rel_tol = 1e-12,
+                              .exact_rel_tol = 1e-14,
+                              .exact_far_ratio = 5.0,
+                              .exact_retry_rel = 1e-12,
+                              .exact_flag_rel = 1e-10,
+                              .auto_near_ratio = 0.5,
+                              .auto_min_ratio = 0.05,
+                              .auto_exact_cost = 35000,
+                              .auto_safety = 0.1,
+                              .tol = 1e-6,
+                              .skip_facing_away = 1,
+                              .singular_rules = 1};
 }
 
 double rad_ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny, long *guarded)
@@ -198,13 +197,22 @@ int rad_ff_facing(const rad_vec3 ti[3], const rad_vec3 tj[3], const rad_ff_param
     ff_pair pr;
     double round;
     normalise_pair(ti, tj, &pr, &round);
-    return pair_faces(&pr, round * (params ? params->plane_rel_tol : rad_ff_defaults().plane_rel_tol));
+    rad_ff_params defaults;
+    if (!params) {
+        rad_ff_params_default(&defaults);
+        params = &defaults;
+    }
+    return pair_faces(&pr, round * params->plane_rel_tol);
 }
 
 rad_status rad_ff_compute(const rad_vec3 ti[3], const rad_vec3 tj[3], rad_ff_rule rule,
                           const rad_ff_params *params, rad_ff_result *out)
 {
-    rad_ff_params p = params ? *params : rad_ff_defaults();
+    rad_ff_params p;
+    if (params)
+        p = *params;
+    else
+        rad_ff_params_default(&p);
     memset(out, 0, sizeof *out);
     out->rel_error = NAN;
     out->used = rule;

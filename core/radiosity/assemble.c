@@ -29,7 +29,7 @@ void rad_radiosity_params_default(rad_radiosity_params *params)
     memset(params, 0, sizeof *params);
     params->rule.scheme = RAD_FF_AUTO;
     params->rule.order = 0;
-    params->ff = rad_ff_defaults();
+    rad_ff_params_default(&params->ff);
     rad_vis_visible_params_default(&params->visible);
 }
 
