@@ -106,7 +106,7 @@ static rad_status check_input(int n, const double *G, const double *area, const 
             if (!(r >= 0.0 && r < 1.0))
                 return RAD_ERROR(RAD_EINPUT, "dense solve: face %d has reflectance %g in channel "
                                  "%d, outside [0, 1)", i, r, c);
-            if (!(e >= 0.0) || !isfinite(e))
+            if (!(e >= 0.0 || signed_couplings) || !isfinite(e))
                 return RAD_ERROR(RAD_EINPUT, "dense solve: face %d has emission %g in channel %d",
                                  i, e, c);
         }

@@ -245,7 +245,8 @@ rad_status rad_radiosity_assemble_basis(const double *xyz, const int *tri, int n
                                                                                            : NULL;
             x.p = &p;
             part whole = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
-            integrate(&x, &whole, areas[i], &whole, areas[j], 0);
+            if (m > 1) /* order 0: the constants' entry alone */
+                integrate(&x, &whole, areas[i], &whole, areas[j], 0);
             evals += x.evals;
             rays += x.rays;
             if (x.st != RAD_OK) {

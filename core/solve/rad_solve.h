@@ -56,6 +56,12 @@ typedef struct rad_solve_params {
     int refine;                    /* split every triangle 1 -> 4 this many times (0..12) */
     int basis;                     /* polynomial order per element (rad_basis.h): 0 (default,
                                       constants), 1 or 2; dense only for now */
+    /* An emission field instead of the materials' constants (dense only; NULL
+     * by default): the emitted exitance of channel c at point x of input
+     * face f, projected on each element's basis (a symmetric rule of degree
+     * 2 basis + 6).  For manufactured solutions and studies of smooth light. */
+    double (*emission)(int face, rad_vec3 x, int channel, void *ctx);
+    void *emission_ctx;
     size_t dense_max_elements;     /* refuse refining beyond this (default 46340: a
                                       46340^2 matrix is 16 GiB) */
     /* hier: hier.min_area < 0 (the default) follows eps: total area times
@@ -90,6 +96,13 @@ typedef struct rad_solution {
     double *face_area;      /* per input triangle */
     double *face_B;         /* faces x 3, column-major: the area-average radiosity */
     double *face_se;        /* mc: its standard error (same shape); NULL otherwise */
+    /* dense: per element its corners (9 doubles each, n x 9), input face and
+     * the coefficients of its radiosity in the orthonormal basis of order
+     * used.basis (m = rad_basis_size functions; coefficient k of element i in
+     * channel c at element_coef[(i m + k) + c n m]) */
+    double *element_corners;
+    int *element_face;
+    double *element_coef;
     /* the work */
     size_t elements;        /* dense: elements; hier: leaves; mc: faces */
     long long links;        /* dense: pairs coupled (facing); hier: live links; mc: 0 */

@@ -54,6 +54,9 @@ void rad_solution_destroy(rad_solution *s)
         return;
     free(s->face_area);
     free(s->face_se);
+    free(s->element_corners);
+    free(s->element_face);
+    free(s->element_coef);
     free(s->display_xyz);
     free(s->display_tri);
     free(s->display_material);
@@ -95,6 +98,8 @@ static rad_status apply_plan(rad_solution *s)
         return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense only (the "
                                      "hierarchical and Monte Carlo methods use constants)",
                          u->basis);
+    if (u->emission && u->method != RAD_SOLVE_DENSE)
+        return RAD_ERROR(RAD_EINVAL, "solve: an emission field applies to the dense method only");
     if (u->basis < 0 || u->basis > RAD_BASIS_MAX_ORDER)
         return RAD_ERROR(RAD_EINVAL, "solve: basis order %d is not 0, 1 or 2", u->basis);
     if (u->method == RAD_SOLVE_MC) {
@@ -242,13 +247,45 @@ static rad_status make_vis(const prepared *pr, int needed, double eps_rel, int s
 
 /* ---- dense ---------------------------------------------------------------- */
 
+/* The elements' corners and input faces, for callers that evaluate the
+ * solution's polynomials (element_coef). */
+static rad_status element_arrays(rad_solution *s, const rad_mesh *mesh)
+{
+    size_t n = (size_t)rad_mesh_face_count(mesh);
+    s->element_corners = malloc(n * 9 * sizeof *s->element_corners);
+    s->element_face = malloc(n * sizeof *s->element_face);
+    if (!s->element_corners || !s->element_face)
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu elements", n);
+    const double *xyz = rad_mesh_vertices(mesh);
+    const int *tri = rad_mesh_triangles(mesh);
+    for (size_t i = 0; i < n; i++)
+        for (int v = 0; v < 3; v++)
+            memcpy(s->element_corners + 9 * i + 3 * v, xyz + 3 * (size_t)tri[3 * i + (size_t)v],
+                   3 * sizeof *xyz);
+    memcpy(s->element_face, rad_mesh_input_faces(mesh), n * sizeof *s->element_face);
+    return RAD_OK;
+}
+
+/* The emission field of face f, channel c, as rad_basis_project takes it. */
+typedef struct emission_at {
+    const rad_solve_params *u;
+    int face, channel;
+} emission_at;
+
+static double emission_value(rad_vec3 x, void *ctx)
+{
+    const emission_at *e = ctx;
+    return e->u->emission(e->face, x, e->channel, e->u->emission_ctx);
+}
+
 /* Dense in a polynomial basis: the couplings K of the orthonormal functions
  * (rad_radiosity_assemble_basis, from the P0 couplings G), the system
  * b = e + rho K b for the coefficients (e: the emission's projection, E
- * sqrt(A) on each constant), and per element B = b_0 / sqrt(A), its mean. */
+ * sqrt(A) on each constant, or the field's), and per element B = b_0 /
+ * sqrt(A), its mean; the coefficients stay in the solution. */
 static rad_status basis_solve(rad_solution *s, const rad_mesh *mesh, const rad_vis *vis,
-                              const double *G, const double *areas, const double *rho,
-                              const double *E, double *B, double t_vis)
+                              const double *G, const double *areas, const double *rho, double *E,
+                              double *B, double t_vis)
 {
     rad_solve_params *u = &s->used;
     int n = rad_mesh_face_count(mesh), m = rad_basis_size(u->basis);
@@ -260,14 +297,17 @@ static rad_status basis_solve(rad_solution *s, const rad_mesh *mesh, const rad_v
     rad_status st = rad_dense_radiosity_check_size(N, u->dense.method);
     if (st != RAD_OK)
         return st;
-    double *K = malloc(N * N * sizeof *K), *work = malloc(N * 10 * sizeof *work);
-    if (!K || !work) {
+    double *K = malloc(N * N * sizeof *K), *work = malloc(N * 7 * sizeof *work);
+    s->element_coef = malloc(N * 3 * sizeof *s->element_coef);
+    if (!K || !work || !s->element_coef) {
         free(K);
         free(work);
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for the %zu x %zu basis couplings", N, N);
     }
-    double *one = work, *rN = work + N, *eN = work + 4 * N, *bN = work + 7 * N;
-    for (size_t i = 0; i < nn; i++)
+    double *one = work, *rN = work + N, *eN = work + 4 * N, *bN = s->element_coef;
+    const double *xyz = rad_mesh_vertices(mesh);
+    const int *tri = rad_mesh_triangles(mesh), *parent = rad_mesh_input_faces(mesh);
+    for (size_t i = 0; i < nn && st == RAD_OK; i++) {
         for (size_t k = 0; k < (size_t)m; k++) {
             size_t I = i * (size_t)m + k;
             one[I] = 1.0;
@@ -276,8 +316,29 @@ static rad_status basis_solve(rad_solution *s, const rad_mesh *mesh, const rad_v
                 eN[I + c * N] = k == 0 ? E[i + c * nn] * sqrt(areas[i]) : 0.0;
             }
         }
-    st = rad_radiosity_assemble_basis(rad_mesh_vertices(mesh), rad_mesh_triangles(mesh), n, vis,
-                                      &u->assembly, u->basis, G, areas, K, &s->assembly);
+        if (!u->emission)
+            continue;
+        rad_vec3 t[3];
+        for (int v = 0; v < 3; v++) {
+            const double *q = xyz + 3 * (size_t)tri[3 * i + (size_t)v];
+            t[v] = rad_vec3_make(q[0], q[1], q[2]);
+        }
+        for (int c = 0; c < 3 && st == RAD_OK; c++) {
+            emission_at at = {u, parent[i], c};
+            double coef[RAD_BASIS_MAX_SIZE];
+            st = rad_basis_project(u->basis, t, emission_value, &at, 2 * u->basis + 6, coef);
+            for (int k = 0; k < m; k++)
+                eN[i * (size_t)m + (size_t)k + c * N] = coef[k];
+            E[i + c * nn] = coef[0] / sqrt(areas[i]);
+            if (st == RAD_OK && !(E[i + c * nn] >= 0.0 && isfinite(E[i + c * nn])))
+                st = RAD_ERROR(RAD_EINPUT, "solve: the emission field's mean on element %zu "
+                                           "(face %d) is %g: not a finite exitance >= 0",
+                               i, parent[i], E[i + c * nn]);
+        }
+    }
+    if (st == RAD_OK)
+        st = rad_radiosity_assemble_basis(xyz, tri, n, vis, &u->assembly, u->basis, G, areas, K,
+                                          &s->assembly);
     double t_assembled = rad_sys_seconds();
     add_phase(s, "assemble", t_assembled - t_vis);
     if (st == RAD_OK) {
@@ -354,7 +415,7 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
                                 &u->assembly, G, areas, &s->assembly);
     if (st != RAD_OK)
         goto done;
-    if (u->basis > 0) {
+    if (u->basis > 0 || u->emission) {
         if ((st = basis_solve(s, mesh, vis, G, areas, rho, E, B, t_vis)) != RAD_OK)
             goto done;
     } else {
@@ -366,6 +427,8 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
         add_phase(s, "solve", rad_sys_seconds() - t_assembled);
     }
     u->assembly.face_of = NULL; /* borrowed from the mesh, freed below */
+    if ((st = element_arrays(s, mesh)) != RAD_OK)
+        goto done;
     s->elements = nn;
     s->links = s->assembly.pairs - s->assembly.pairs_not_facing;
     s->rays = s->assembly.rays;
