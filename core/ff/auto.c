@@ -31,9 +31,9 @@
  *    auto_near_ratio, measured on the pieces) and settles.  Near pieces are
  *    left to exact: the analytic ladder on clipped pieces accepted two
  *    agreeing orders 2.5x outside the tolerance on 2 of 80 random straddling
- *    pairs (tests/test_ff.c).  Measured on the Cornell box refined twice:
- *    28% of the facing pairs straddle; exact on all of them took 85% of the
- *    kernel work, and only 977 of them still need it.
+ *    pairs (tests/test_ff.c).  Straddling pairs are common in rooms, which
+ *    is why they get this step rather than exact (papers/quadrature.md,
+ *    section 6).
  * 6. Everything else (near-touching, tighter tolerances on adjacent pairs,
  *    pieces that touch, a ladder that did not settle): exact, whose own error
  *    estimate is reported.  Measured cost (bench/ff.tsv): exact on an
