@@ -263,3 +263,42 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
     }
     rad_scene_destroy(scene);
 }
+
+/* The display shows the polynomial: each element as 4^p triangles carrying
+ * the polynomial at their centroids; for p1 their mean is the element's
+ * mean exactly (a linear function's mean is its value at the centroid), and
+ * they differ from one another (the picture is not flat). */
+TEST(basis_display_shows_the_polynomial)
+{
+    rad_scene *scene = load_furnace("scenes/plates_perpendicular/plates.obj", 0.5);
+    rad_solve_params p;
+    rad_solve_params_default(&p);
+    p.basis = 1;
+    p.refine = 1;
+    p.display = 1;
+    rad_solution *s = NULL;
+    CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
+    if (s) {
+        CHECK(s->display_nt == 4 * s->elements);
+        size_t n = s->elements;
+        double worst = 0.0, spread = 0.0;
+        for (size_t e = 0; e < n; e++) {
+            const double *c = s->element_corners + 9 * e;
+            rad_vec3 t[3] = {{c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}};
+            double mean = s->element_coef[e * 3] / sqrt(rad_geom_triangle_area(t[0], t[1], t[2]));
+            double sum = 0.0, lo = INFINITY, hi = -INFINITY;
+            for (size_t k = 0; k < 4; k++) {
+                double b = s->display_B[4 * e + k];
+                sum += 0.25 * b;
+                lo = fmin(lo, b);
+                hi = fmax(hi, b);
+            }
+            worst = fmax(worst, fabs(sum - mean) / mean);
+            spread = fmax(spread, (hi - lo) / mean);
+        }
+        CHECK_MSG(worst < 1e-12, "sub-triangle mean against element mean: %g", worst);
+        CHECK_MSG(spread > 1e-3, "the polynomial varies within elements: %g", spread);
+    }
+    rad_solution_destroy(s);
+    rad_scene_destroy(scene);
+}

@@ -247,6 +247,72 @@ static rad_status make_vis(const prepared *pr, int needed, double eps_rel, int s
 
 /* ---- dense ---------------------------------------------------------------- */
 
+/* The display of a polynomial solution: each element as a grid of 4^p
+ * triangles (p the basis order) over its own (2^p + 1)(2^p + 2) / 2 points,
+ * each triangle with the polynomial at its centroid: smooth shading shows
+ * the polynomial within an element, and its jumps between elements. */
+static rad_status display_basis(rad_solution *s, const int *material, const double *E)
+{
+    int order = s->used.basis, m = rad_basis_size(order), k = 1 << order;
+    size_t n = s->elements, N = n * (size_t)m;
+    size_t pts = (size_t)(k + 1) * (size_t)(k + 2) / 2, sub = (size_t)k * (size_t)k;
+    size_t nv = n * pts, nt = n * sub;
+    s->display_nv = nv;
+    s->display_nt = nt;
+    s->display_xyz = malloc(nv * 3 * sizeof *s->display_xyz);
+    s->display_tri = malloc(nt * 3 * sizeof *s->display_tri);
+    s->display_material = malloc(nt * sizeof *s->display_material);
+    s->display_E = malloc(nt * 3 * sizeof *s->display_E);
+    s->display_B = malloc(nt * 3 * sizeof *s->display_B);
+    if (s->used.edges)
+        s->display_corners = malloc(nt * 9 * sizeof *s->display_corners);
+    if (!s->display_xyz || !s->display_tri || !s->display_material || !s->display_E ||
+        !s->display_B || (s->used.edges && !s->display_corners))
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+    for (size_t e = 0; e < n; e++) {
+        const double *c = s->element_corners + 9 * e;
+        rad_vec3 t[3] = {{c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}};
+        double area = rad_geom_triangle_area(t[0], t[1], t[2]);
+        /* grid point (a, b), a + b <= k, at local (a / k, b / k) */
+        size_t base = e * pts, v = 0;
+        for (int b = 0; b <= k; b++)
+            for (int a = 0; a + b <= k; a++, v++) {
+                rad_vec3 x = rad_geom_triangle_point(t[0], t[1], t[2], (double)a / k, (double)b / k);
+                double *o = s->display_xyz + 3 * (base + v);
+                o[0] = x.x;
+                o[1] = x.y;
+                o[2] = x.z;
+            }
+        size_t f = e * sub;
+        for (int b = 0; b < k; b++)
+            for (int a = 0; a + b < k; a++) {
+                /* index of grid point (a, b): rows of k + 1, k, ... points */
+#define GRID(A, B) (base + (size_t)((B) * (k + 1) - (B) * ((B) - 1) / 2 + (A)))
+                int up[3] = {(int)GRID(a, b), (int)GRID(a + 1, b), (int)GRID(a, b + 1)};
+                int down[3] = {(int)GRID(a + 1, b), (int)GRID(a + 1, b + 1), (int)GRID(a, b + 1)};
+#undef GRID
+                for (int w = 0; w < 2; w++) {
+                    if (w == 1 && a + b + 1 >= k)
+                        break;
+                    const int *q = w ? down : up;
+                    double cs = w ? (a + 2.0 / 3.0) / k : (a + 1.0 / 3.0) / k;
+                    double ct = w ? (b + 2.0 / 3.0) / k : (b + 1.0 / 3.0) / k;
+                    memcpy(s->display_tri + 3 * f, q, 3 * sizeof *q);
+                    s->display_material[f] = material[e];
+                    for (int ch = 0; ch < 3; ch++) {
+                        s->display_E[f + ch * nt] = E[e + ch * n];
+                        s->display_B[f + ch * nt] = rad_basis_value(
+                            order, area, s->element_coef + e * (size_t)m + ch * N, cs, ct);
+                    }
+                    if (s->display_corners)
+                        memcpy(s->display_corners + 9 * f, c, 9 * sizeof *c);
+                    f++;
+                }
+            }
+    }
+    return RAD_OK;
+}
+
 /* The elements' corners and input faces, for callers that evaluate the
  * solution's polynomials (element_coef). */
 static rad_status element_arrays(rad_solution *s, const rad_mesh *mesh)
@@ -439,7 +505,9 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
     s->systems = s->dense.factorizations > 0 ? s->dense.factorizations : 3;
     if ((st = face_answer(s, nn, parent, areas, B)) != RAD_OK)
         goto done;
-    if (u->display)
+    if (u->display && s->element_coef && u->basis > 0)
+        st = display_basis(s, material, E);
+    else if (u->display)
         st = display_triangles(s, (size_t)rad_mesh_vertex_count(mesh), rad_mesh_vertices(mesh), nn,
                                rad_mesh_triangles(mesh), material, E, B);
 done:
