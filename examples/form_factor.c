@@ -15,7 +15,8 @@
 static int compute(const char *text, const rad_vec3 t1[3], const rad_vec3 t2[3], rad_ff_result *out)
 {
     rad_ff_rule rule;
-    rad_ff_params params = rad_ff_defaults();
+    rad_ff_params params;
+    rad_ff_params_default(&params);
     if (rad_ff_rule_parse(text, &rule) != RAD_OK || rad_ff_compute(t1, t2, rule, &params, out) != RAD_OK) {
         fprintf(stderr, "form_factor: %s: %s\n", text, rad_error_message());
         return 1;

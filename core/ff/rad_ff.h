@@ -126,14 +126,6 @@ typedef struct rad_ff_params {
 } rad_ff_params;
 
 void rad_ff_params_default(rad_ff_params *params);
-/* The former, returning form of rad_ff_params_default, kept only until
- * core/hier/tree.c and examples/form_factor.c use that. */
-static inline rad_ff_params rad_ff_defaults(void)
-{
-    rad_ff_params p;
-    rad_ff_params_default(&p);
-    return p;
-}
 
 typedef struct rad_ff_result {
     double F12, F21;     /* F_ij = G / A_i and F_ji = G / A_j */

@@ -46,7 +46,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->use_rule = 0;
     params->rule.scheme = RAD_FF_ANALYTIC;
     params->rule.order = 6;
-    params->ff = rad_ff_defaults();
+    rad_ff_params_default(&params->ff);
     params->link_share = 0.5;
     params->far_ratio = 3.0;
     params->singular = 1;
