@@ -1,0 +1,30 @@
+# experiments/bases: error against unknowns and time (Cornell box, against
+# the Monte Carlo reference) and the manufactured case's convergence.
+set terminal pngcairo size 900,600 enhanced font 'DejaVu Sans,11'
+set datafile separator '\t'
+set logscale xy
+set grid
+set key top right
+
+set output 'figures/cornell_unknowns.png'
+set title 'Cornell box, dense: error against unknowns (reference: Monte Carlo)'
+set xlabel 'unknowns (elements x basis functions)'
+set ylabel 'area-weighted L1 error / mean reflected radiosity'
+plot 'data/cornell.dat' using (strcol(1) eq 'p0' ? $4 : 1/0):6 with linespoints lw 2 title 'p0', \
+     '' using (strcol(1) eq 'p1' ? $4 : 1/0):6 with linespoints lw 2 title 'p1', \
+     '' using (strcol(1) eq 'p2' ? $4 : 1/0):6 with linespoints lw 2 title 'p2'
+
+set output 'figures/cornell_time.png'
+set title 'Cornell box, dense: error against wall time (2 cores)'
+set xlabel 'time (s)'
+plot 'data/cornell.dat' using (strcol(1) eq 'p0' ? $5 : 1/0):6 with linespoints lw 2 title 'p0', \
+     '' using (strcol(1) eq 'p1' ? $5 : 1/0):6 with linespoints lw 2 title 'p1', \
+     '' using (strcol(1) eq 'p2' ? $5 : 1/0):6 with linespoints lw 2 title 'p2'
+
+set output 'figures/manufactured.png'
+set title 'Manufactured solution (parallel plates): L2 error against elements'
+set xlabel 'elements'
+set ylabel 'L2 error'
+plot 'data/manufactured.dat' using (strcol(1) eq 'p0' ? $3 : 1/0):5 with linespoints lw 2 title 'p0 (theory: order 1)', \
+     '' using (strcol(1) eq 'p1' ? $3 : 1/0):5 with linespoints lw 2 title 'p1 (order 2)', \
+     '' using (strcol(1) eq 'p2' ? $3 : 1/0):5 with linespoints lw 2 title 'p2 (order 3)'
