@@ -24,9 +24,7 @@ static rad_scene *load_furnace(const char *rel, double rho)
         sp.rho[c] = rho;
         sp.emission[c] = 1.0;
     }
-    rad_scene *s = NULL;
-    CHECK_MSG(rad_scene_load(harness_path(rel), &sp, &s) == RAD_OK, "%s", rad_error_message());
-    return s;
+    return harness_scene_load(rel, &sp);
 }
 
 /* B = E / (1 - rho) at every face: the worst and the area-mean relative error. */
@@ -236,8 +234,7 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
         sp.rho[c] = 0.5;
         sp.emission[c] = 0.0;
     }
-    rad_scene *scene = NULL;
-    CHECK(rad_scene_load(harness_path("scenes/plates_parallel/plates.obj"), &sp, &scene) == RAD_OK);
+    rad_scene *scene = harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
     if (!scene)
         return;
     for (int order = 0; order <= 2; order++) {
