@@ -76,6 +76,7 @@ static const fuzz_option options[] = {
     {"--min-area", {"-1", "nan", "inf", "x", "", "1e300", "0", "-0"}},
     {"--tol", {"0", "-1", "nan", "2", "x", "", "1e-300", "inf"}},
     {"--max-iter", {"0", "-1", "x", "", "1.5", "99999999999", "1", "2"}},
+    {"--basis", {"p3", "x", "", "p1", "P1", "p0", "-1", "p1 "}},
 };
 enum { NOPTIONS = sizeof options / sizeof options[0] };
 
