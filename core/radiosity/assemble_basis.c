@@ -13,8 +13,10 @@
  *    2 + order (the centroid values below err by the square of a part's size
  *    times the basis' curvature); parts still close there take their P0
  *    coupling (rad_ff auto at CLOSE_TOL: the singular rules where they touch)
- *    with the basis functions at their centroids.  Where something may block the pair, V is a ray between the
- *    two nodes (rad_vis_segment_blocked); elsewhere 1.
+ *    with the basis functions at their centroids.
+ *    Where the shaft of two parts holds a possible blocker (rad_vis_blockers
+ *    on the parts), V is a ray between the two nodes
+ *    (rad_vis_segment_blocked); elsewhere 1, with no ray.
  * 3. K is symmetric by construction (each unordered pair once, both blocks
  *    written), and the self-couplings of flat elements vanish. */
 #include "rad_radiosity.h"
@@ -102,6 +104,16 @@ static void product(pair_ctx *x, const part *qa, double Aa, const part *qb, doub
                     double M[RAD_BASIS_MAX_SIZE][RAD_BASIS_MAX_SIZE], double *g00)
 {
     *g00 = 0.0;
+    /* rays only where the two parts' own shaft holds a possible blocker */
+    const rad_vis *pair_vis = x->vis;
+    if (pair_vis) {
+        rad_vec3 ta[3], tb[3];
+        int none[1];
+        part_corners(x->pa, qa, ta);
+        part_corners(x->pb, qb, tb);
+        if (rad_vis_blockers(pair_vis, ta, x->face_a, tb, x->face_b, none, 0) == 0)
+            x->vis = NULL;
+    }
     for (int i = 0; i < x->np; i++) {
         double sa, ta, phia[RAD_BASIS_MAX_SIZE];
         part_point(qa, x->rs[i], x->rt[i], &sa, &ta);
@@ -123,6 +135,7 @@ static void product(pair_ctx *x, const part *qa, double Aa, const part *qb, doub
                     M[r][c] += w * phia[r] * phib[c];
         }
     }
+    x->vis = pair_vis;
 }
 
 /* Parts still close at the deepest level: their P0 coupling (rad_ff auto,
