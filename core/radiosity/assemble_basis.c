@@ -9,8 +9,8 @@
  * 2. Every other entry of a coupled pair (G_ij > 0) comes from a product of
  *    symmetric rules of degree 2 order + 2 on the two elements, where they
  *    are well apart (centroids farther than the sum of their longest edges);
- *    closer parts are split 1 -> 4 on both sides, recursively, to depth
- *    2 + order (the centroid values below err by the square of a part's size
+ *    closer parts are split 1 -> 4, the larger first, recursively, each to
+ *    depth 2 + order (the centroid values below err by the square of a part's size
  *    times the basis' curvature); parts still close there take their P0
  *    coupling (rad_ff auto at CLOSE_TOL: the singular rules where they touch)
  *    with the basis functions at their centroids.
@@ -170,8 +170,11 @@ static void close_parts(pair_ctx *x, const part *qa, const part *qb)
             x->M[i][j] += r.G * phia[i] * phib[j];
 }
 
-static void integrate(pair_ctx *x, const part *qa, double Aa, const part *qb, double Ab,
-                      int depth)
+/* Parts qa (area Aa, split da times) and qb: the product rule where they
+ * are well apart, else the larger part split 1 -> 4 (the other when the
+ * larger may not be split further), and close_parts when neither may. */
+static void integrate(pair_ctx *x, const part *qa, double Aa, int da, const part *qb, double Ab,
+                      int db)
 {
     if (x->st != RAD_OK)
         return;
@@ -186,16 +189,21 @@ static void integrate(pair_ctx *x, const part *qa, double Aa, const part *qb, do
         product(x, qa, Aa, qb, Ab, x->M, &g00);
         return;
     }
-    if (depth >= 2 + x->order) {
+    int max_depth = 2 + x->order, can_a = da < max_depth, can_b = db < max_depth;
+    if (!can_a && !can_b) {
         close_parts(x, qa, qb);
         return;
     }
-    part cha[4], chb[4];
-    split(qa, cha);
-    split(qb, chb);
-    for (int i = 0; i < 4; i++)
+    part ch[4];
+    if (can_a && (ha >= hb || !can_b)) {
+        split(qa, ch);
+        for (int i = 0; i < 4; i++)
+            integrate(x, &ch[i], 0.25 * Aa, da + 1, qb, Ab, db);
+    } else {
+        split(qb, ch);
         for (int j = 0; j < 4; j++)
-            integrate(x, &cha[i], 0.25 * Aa, &chb[j], 0.25 * Ab, depth + 1);
+            integrate(x, qa, Aa, da, &ch[j], 0.25 * Ab, db + 1);
+    }
 }
 
 static void load_triangle(const double *xyz, const int *tri, int k, rad_vec3 t[3])
@@ -259,7 +267,7 @@ rad_status rad_radiosity_assemble_basis(const double *xyz, const int *tri, int n
             x.p = &p;
             part whole = {{{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}}};
             if (m > 1) /* order 0: the constants' entry alone */
-                integrate(&x, &whole, areas[i], &whole, areas[j], 0);
+                integrate(&x, &whole, areas[i], 0, &whole, areas[j], 0);
             evals += x.evals;
             rays += x.rays;
             if (x.st != RAD_OK) {
