@@ -7,19 +7,23 @@ set grid
 set key top right
 
 set output 'figures/cornell_unknowns.png'
-set title 'Cornell box, dense: error against unknowns (reference: Monte Carlo)'
+set title 'Cornell box: error against unknowns (reference: Monte Carlo)'
 set xlabel 'unknowns (elements x basis functions)'
 set ylabel 'area-weighted L1 error / mean reflected radiosity'
 plot 'data/cornell.dat' using (strcol(1) eq 'p0' ? $4 : 1/0):6 with linespoints lw 2 title 'p0', \
      '' using (strcol(1) eq 'p1' ? $4 : 1/0):6 with linespoints lw 2 title 'p1', \
-     '' using (strcol(1) eq 'p2' ? $4 : 1/0):6 with linespoints lw 2 title 'p2'
+     '' using (strcol(1) eq 'p2' ? $4 : 1/0):6 with linespoints lw 2 title 'p2', \
+     '../hierarchical/data/runs.dat' using (strcol(1) eq 'hier-error' ? $3 : 1/0):5 \
+        with linespoints lw 2 dashtype 2 title 'hier p0 (leaves; experiments/hierarchical)'
 
 set output 'figures/cornell_time.png'
-set title 'Cornell box, dense: error against wall time (2 cores)'
+set title 'Cornell box: error against wall time (2 cores), dense p0, p1, p2 and hierarchical p0'
 set xlabel 'time (s)'
 plot 'data/cornell.dat' using (strcol(1) eq 'p0' ? $5 : 1/0):6 with linespoints lw 2 title 'p0', \
      '' using (strcol(1) eq 'p1' ? $5 : 1/0):6 with linespoints lw 2 title 'p1', \
-     '' using (strcol(1) eq 'p2' ? $5 : 1/0):6 with linespoints lw 2 title 'p2'
+     '' using (strcol(1) eq 'p2' ? $5 : 1/0):6 with linespoints lw 2 title 'p2', \
+     '../hierarchical/data/runs.dat' using (strcol(1) eq 'hier-error' ? $6 : 1/0):5 \
+        with linespoints lw 2 dashtype 2 title 'hier p0 (experiments/hierarchical)'
 
 set output 'figures/manufactured.png'
 set title 'Manufactured solution (parallel plates): L2 error against elements'
