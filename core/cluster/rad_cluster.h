@@ -1,0 +1,65 @@
+/* rad_cluster: a cluster hierarchy over the input triangles (issue 17's
+ * first part: the hierarchy itself; the cluster links, transfer models and
+ * their error bounds come with the clustered solver, which does not exist
+ * yet — nothing in radkit calls this module so far).
+ *
+ * A binary bounding-volume hierarchy built top-down: a node's triangles are
+ * split at the median of their centroids along the longest axis of the
+ * centroids' bounding box, until a node holds at most leaf_size triangles.
+ * Why this choice: the median split is deterministic (the same tree for the
+ * same input, whatever the thread count), balanced (depth ceil(log2 n)), and
+ * O(n log^2 n); a cluster link's error grows with the cluster's extent over
+ * its distance, and the median split along the longest axis keeps sibling
+ * clusters compact where objects are spread evenly.  Where objects are
+ * clumped, a surface-area heuristic would give tighter boxes; the node's
+ * bounds and normal cone are what the transfer bounds will read, so a
+ * better split only tightens them.
+ *
+ * Each node keeps what a cluster transfer needs: its bounding box, total
+ * area, area-weighted mean normal (length 1 for a flat cluster, less as
+ * orientations spread) and the cone of its normals. */
+#ifndef RAD_CLUSTER_H
+#define RAD_CLUSTER_H
+
+#include <stddef.h>
+
+#include "rad_error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct rad_cluster_node {
+    double lo[3], hi[3]; /* bounding box of its triangles */
+    double area;         /* their total area */
+    double normal[3];    /* sum of area x unit normal, over area: |normal| <= 1 */
+    double cone_cos;     /* every unit normal n below has n . axis >= cone_cos, axis =
+                            normal / |normal|; -1 when no such cone is narrower than
+                            the whole sphere (|normal| = 0 or normals spread too far) */
+    int child[2];        /* children (node indices), -1 for a leaf */
+    int parent;          /* -1 for the root (node 0) */
+    int first, count;    /* its triangles: rad_cluster_order()[first .. first + count) */
+    int depth;           /* 0 at the root */
+} rad_cluster_node;
+
+typedef struct rad_cluster_tree rad_cluster_tree;
+
+/* The hierarchy over triangles tri[3k..3k+2] (k < ntris) of vertices xyz;
+ * leaves hold at most leaf_size >= 1 triangles.  RAD_EINVAL for no
+ * triangles, a bad leaf size or an index out of range (nverts), RAD_EINPUT
+ * for a non-finite coordinate or a degenerate (zero-area) triangle, naming
+ * it; RAD_ENOMEM. */
+rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, size_t ntris,
+                             int leaf_size, rad_cluster_tree **out);
+void rad_cluster_destroy(rad_cluster_tree *t);
+
+size_t rad_cluster_node_count(const rad_cluster_tree *t);
+const rad_cluster_node *rad_cluster_nodes(const rad_cluster_tree *t);
+/* The triangles in leaf order: each node's triangles are a contiguous range. */
+const int *rad_cluster_order(const rad_cluster_tree *t);
+int rad_cluster_max_depth(const rad_cluster_tree *t);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,160 @@
+/* rad_cluster: the hierarchy's invariants checked by brute force over its
+ * triangles (every triangle once, ranges nested, boxes holding their
+ * triangles, areas summing, cones holding every normal), its depth
+ * ceil(log2 n), determinism, and bad input refused. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "rad_cluster.h"
+#include "rad_geom.h"
+
+/* n small random triangles in the unit cube, random orientations */
+static void random_soup(size_t n, unsigned seed, double *xyz, int *tri)
+{
+    unsigned long long s = seed * 0x9e3779b97f4a7c15ull + 1;
+    for (size_t k = 0; k < 9 * n; k++) {
+        s = s * 6364136223846793005ull + 1442695040888963407ull;
+        double u = (double)(s >> 11) * 0x1.0p-53;
+        xyz[k] = (k % 9 < 3) ? u : xyz[k - k % 9 + k % 3] + 0.05 * (u - 0.5);
+    }
+    for (size_t k = 0; k < 3 * n; k++)
+        tri[k] = (int)k;
+}
+
+static rad_vec3 vertex(const double *xyz, const int *tri, int t, int v)
+{
+    const double *p = xyz + 3 * (size_t)tri[3 * t + v];
+    return rad_vec3_make(p[0], p[1], p[2]);
+}
+
+static void check_tree(const rad_cluster_tree *t, const double *xyz, const int *tri, size_t n,
+                       int leaf_size)
+{
+    const rad_cluster_node *nd = rad_cluster_nodes(t);
+    const int *order = rad_cluster_order(t);
+    size_t nn = rad_cluster_node_count(t);
+    CHECK(nd && order && nn >= 1);
+    CHECK(nd[0].parent == -1 && nd[0].first == 0 && (size_t)nd[0].count == n);
+    int *seen = calloc(n, sizeof *seen);
+    for (size_t i = 0; i < n; i++)
+        seen[order[i]]++;
+    int once = 1;
+    for (size_t i = 0; i < n; i++)
+        once &= seen[i] == 1;
+    CHECK_MSG(once, "every triangle appears once in the order");
+    free(seen);
+    int leaves = 0, bad_box = 0, bad_area = 0, bad_cone = 0, bad_nest = 0;
+    for (size_t k = 0; k < nn; k++) {
+        const rad_cluster_node *x = &nd[k];
+        double area = 0.0;
+        rad_vec3 axis = rad_vec3_make(x->normal[0], x->normal[1], x->normal[2]);
+        double len = rad_vec3_norm(axis);
+        for (int i = x->first; i < x->first + x->count; i++) {
+            int tr = order[i];
+            rad_vec3 p[3] = {vertex(xyz, tri, tr, 0), vertex(xyz, tri, tr, 1), vertex(xyz, tri, tr, 2)};
+            area += rad_geom_triangle_area(p[0], p[1], p[2]);
+            for (int v = 0; v < 3; v++) {
+                double c[3] = {p[v].x, p[v].y, p[v].z};
+                for (int a = 0; a < 3; a++)
+                    bad_box += c[a] < x->lo[a] || c[a] > x->hi[a];
+            }
+            if (len > 1e-12) {
+                rad_vec3 nrm = rad_geom_triangle_normal(p[0], p[1], p[2]);
+                bad_cone += rad_vec3_dot(nrm, rad_vec3_scale(axis, 1.0 / len)) < x->cone_cos - 1e-12;
+            }
+        }
+        bad_area += fabs(area - x->area) > 1e-12 * area;
+        if (x->child[0] < 0) {
+            leaves++;
+            bad_nest += x->count > leaf_size || x->count < 1;
+        } else {
+            const rad_cluster_node *l = &nd[x->child[0]], *r = &nd[x->child[1]];
+            bad_nest += l->parent != (int)k || r->parent != (int)k || l->first != x->first ||
+                        r->first != l->first + l->count || l->count + r->count != x->count ||
+                        l->depth != x->depth + 1;
+        }
+    }
+    CHECK_MSG(bad_box == 0 && bad_area == 0 && bad_cone == 0 && bad_nest == 0,
+              "boxes %d, areas %d, cones %d, nesting %d", bad_box, bad_area, bad_cone, bad_nest);
+    CHECK((size_t)leaves == (nn + 1) / 2);
+    /* balanced: depth ceil(log2(n / leaf_size)) */
+    int want = (int)ceil(log2((double)n / leaf_size) - 1e-12);
+    CHECK_MSG(rad_cluster_max_depth(t) == (want > 0 ? want : 0), "depth %d, want %d",
+              rad_cluster_max_depth(t), want);
+}
+
+TEST(cluster_hierarchy_invariants_on_random_soups)
+{
+    const size_t sizes[3] = {1, 37, 5000};
+    const int leaves[3] = {1, 1, 4};
+    for (int c = 0; c < 3; c++) {
+        size_t n = sizes[c];
+        double *xyz = malloc(9 * n * sizeof *xyz);
+        int *tri = malloc(3 * n * sizeof *tri);
+        random_soup(n, (unsigned)c + 1, xyz, tri);
+        rad_cluster_tree *t = NULL;
+        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], &t) == RAD_OK);
+        if (t)
+            check_tree(t, xyz, tri, n, leaves[c]);
+        /* the same input gives the same tree */
+        rad_cluster_tree *u = NULL;
+        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], &u) == RAD_OK);
+        if (t && u) {
+            CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
+            CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
+            CHECK(memcmp(rad_cluster_nodes(t), rad_cluster_nodes(u),
+                         rad_cluster_node_count(t) * sizeof(rad_cluster_node)) == 0);
+        }
+        rad_cluster_destroy(t);
+        rad_cluster_destroy(u);
+        free(xyz);
+        free(tri);
+    }
+}
+
+/* A flat cluster: the normals agree, the mean normal has length 1 and the
+ * cone is a line; a closed cube: the mean normal vanishes (cone_cos -1),
+ * while each face's pair of triangles is flat. */
+TEST(cluster_normals_and_cones)
+{
+    rad_scene *s = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
+    if (!s)
+        return;
+    size_t n = (size_t)rad_scene_triangle_count(s);
+    rad_cluster_tree *t = NULL;
+    CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
+                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+    if (t) {
+        check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
+        const rad_cluster_node *root = rad_cluster_nodes(t);
+        double len = sqrt(root->normal[0] * root->normal[0] + root->normal[1] * root->normal[1] +
+                          root->normal[2] * root->normal[2]);
+        CHECK_MSG(len < 1e-12 && root->cone_cos == -1.0, "closed cube: |mean normal| %g", len);
+        int flat = 0;
+        for (size_t k = 0; k < rad_cluster_node_count(t); k++) {
+            const rad_cluster_node *x = &rad_cluster_nodes(t)[k];
+            if (x->count == 1)
+                flat += fabs(x->cone_cos - 1.0) < 1e-12;
+        }
+        CHECK(flat == (int)n);
+    }
+    rad_cluster_destroy(t);
+    rad_scene_destroy(s);
+}
+
+TEST(cluster_bad_input_refused)
+{
+    double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    int tri[3] = {0, 1, 2}, bad[3] = {0, 1, 3}, same[3] = {0, 1, 1};
+    rad_cluster_tree *t = (rad_cluster_tree *)1;
+    CHECK(rad_cluster_build(xyz, 3, tri, 0, 1, &t) == RAD_EINVAL && t == NULL);
+    CHECK(rad_cluster_build(xyz, 3, tri, 1, 0, &t) == RAD_EINVAL);
+    CHECK(rad_cluster_build(xyz, 3, bad, 1, 1, &t) == RAD_EINVAL);
+    CHECK(strstr(rad_error_message(), "vertex index 3") != NULL);
+    CHECK(rad_cluster_build(xyz, 3, same, 1, 1, &t) == RAD_EINPUT);
+    xyz[4] = NAN;
+    CHECK(rad_cluster_build(xyz, 3, tri, 1, 1, &t) == RAD_EINPUT);
+    CHECK(rad_cluster_build(NULL, 3, tri, 1, 1, &t) == RAD_EINVAL);
+}
