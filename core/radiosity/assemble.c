@@ -41,6 +41,73 @@ static void load_triangle(const double *xyz, const int *tri, int k, rad_vec3 t[3
     }
 }
 
+/* One pair's work, counted: steps 2 and 3 above. */
+typedef struct pair_count {
+    long long not_facing, tested, sampled, out_of_range, evals;
+    unsigned long long rays;
+    double vis_err, vis_G;
+} pair_count;
+
+static rad_status pair_coupling(const double *xyz, const int *tri, int i, int j,
+                                const rad_vis *vis, const rad_radiosity_params *p, double *G,
+                                pair_count *c)
+{
+    rad_vec3 ti[3], tj[3];
+    load_triangle(xyz, tri, i, ti);
+    load_triangle(xyz, tri, j, tj);
+    rad_ff_result r;
+    rad_status s = rad_ff_compute(ti, tj, p->rule, &p->ff, &r);
+    double g = r.G;
+    if (s == RAD_OK && vis && g > 0.0) {
+        rad_vis_visible_result vr;
+        s = rad_vis_pair_visible(vis, ti, p->face_of ? p->face_of[i] : i, tj,
+                                 p->face_of ? p->face_of[j] : j, g, &p->visible, &vr);
+        if (s == RAD_OK && vr.blockers > 0) {
+            g = vr.G;
+            c->tested++;
+            c->sampled += vr.status == RAD_VIS_VISIBLE_SAMPLED;
+            c->evals += vr.evals;
+            c->rays += (unsigned long long)vr.rays;
+            c->vis_err += vr.error;
+            c->vis_G += vr.G;
+        }
+    }
+    if (s == RAD_OK && !isfinite(g))
+        s = RAD_ERROR(RAD_ENUMERIC, "assembly: the coupling of triangles %d and %d is not "
+                                    "finite", i, j);
+    c->not_facing += (r.flags & RAD_FF_FLAG_NOT_FACING) != 0;
+    c->out_of_range += (r.flags & RAD_FF_FLAG_OUT_OF_RANGE) != 0;
+    c->evals += r.evals;
+    *G = s == RAD_OK ? g : 0.0;
+    return s;
+}
+
+rad_status rad_radiosity_pair(const double *xyz, const int *tri, int i, int j, const rad_vis *vis,
+                              const rad_radiosity_params *params, double *G,
+                              rad_radiosity_stats *stats)
+{
+    rad_radiosity_params p;
+    if (params)
+        p = *params;
+    else
+        rad_radiosity_params_default(&p);
+    if (!xyz || !tri || !G || i < 0 || j < 0 || i == j)
+        return RAD_ERROR(RAD_EINVAL, "assembly: bad pair (%d, %d)", i, j);
+    pair_count c = {0, 0, 0, 0, 0, 0, 0.0, 0.0};
+    /* the smaller index first, as the assembly does: G_ij and G_ji agree to the bit */
+    rad_status st = pair_coupling(xyz, tri, i < j ? i : j, i < j ? j : i, vis, &p, G, &c);
+    if (stats) {
+        stats->pairs++;
+        stats->pairs_not_facing += c.not_facing;
+        stats->pairs_occlusion_tested += c.tested;
+        stats->pairs_sampled += c.sampled;
+        stats->pairs_out_of_range += c.out_of_range;
+        stats->kernel_evals += c.evals;
+        stats->rays += c.rays;
+    }
+    return st;
+}
+
 rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
                                   const rad_radiosity_params *params, double *G, double *areas,
                                   rad_radiosity_stats *stats)
@@ -84,30 +151,10 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) \
     reduction(+ : not_facing, tested, sampled, out_of_range, evals, rays, vis_err, vis_G)
     for (int i = 0; i < n; i++) {
-        rad_vec3 ti[3], tj[3];
-        load_triangle(xyz, tri, i, ti);
-        int fi = p.face_of ? p.face_of[i] : i;
         for (int j = i + 1; j < n; j++) {
-            load_triangle(xyz, tri, j, tj);
-            rad_ff_result r;
-            rad_status s = rad_ff_compute(ti, tj, p.rule, &p.ff, &r);
-            double g = r.G;
-            if (s == RAD_OK && vis && g > 0.0) {
-                rad_vis_visible_result vr;
-                s = rad_vis_pair_visible(vis, ti, fi, tj, p.face_of ? p.face_of[j] : j, g,
-                                         &p.visible, &vr);
-                if (s == RAD_OK && vr.blockers > 0) {
-                    g = vr.G;
-                    tested++;
-                    sampled += vr.status == RAD_VIS_VISIBLE_SAMPLED;
-                    evals += vr.evals;
-                    rays += (unsigned long long)vr.rays;
-                    vis_err += vr.error;
-                    vis_G += vr.G;
-                }
-            }
-            if (s == RAD_OK && !isfinite(g))
-                s = RAD_ENUMERIC;
+            pair_count c = {0, 0, 0, 0, 0, 0, 0.0, 0.0};
+            double g = 0.0;
+            rad_status s = pair_coupling(xyz, tri, i, j, vis, &p, &g, &c);
             if (s != RAD_OK) {
 #pragma omp critical(rad_radiosity_error)
                 if (first_error == RAD_OK) {
@@ -116,11 +163,15 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
                     bad_j = j;
                     snprintf(bad_message, sizeof bad_message, "%s", rad_error_message());
                 }
-                g = 0.0;
             }
-            not_facing += (r.flags & RAD_FF_FLAG_NOT_FACING) != 0;
-            out_of_range += (r.flags & RAD_FF_FLAG_OUT_OF_RANGE) != 0;
-            evals += r.evals;
+            not_facing += c.not_facing;
+            tested += c.tested;
+            sampled += c.sampled;
+            out_of_range += c.out_of_range;
+            evals += c.evals;
+            rays += c.rays;
+            vis_err += c.vis_err;
+            vis_G += c.vis_G;
             G[(size_t)i + (size_t)j * nn] = g;
             G[(size_t)j + (size_t)i * nn] = g;
         }

@@ -70,6 +70,14 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
                                   const rad_radiosity_params *params, double *G, double *areas,
                                   rad_radiosity_stats *stats);
 
+/* One pair's coupling G_ij (= G_ji) exactly as rad_radiosity_assemble
+ * computes it (the smaller index first, so either order gives the same
+ * bits), for callers that distribute the pairs (radkit-mpi); its work is
+ * added to *stats (may be NULL), all but visibility_error and seconds. */
+rad_status rad_radiosity_pair(const double *xyz, const int *tri, int i, int j, const rad_vis *vis,
+                              const rad_radiosity_params *params, double *G,
+                              rad_radiosity_stats *stats);
+
 /* The couplings of the orthonormal polynomial basis of `order` (rad_basis.h;
  * 1 or 2, m = rad_basis_size(order) functions per element) from the P0
  * couplings G and areas of rad_radiosity_assemble over the same triangles:
