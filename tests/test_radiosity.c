@@ -268,3 +268,43 @@ TEST(radiosity_occluded_closed_rooms_rows_sum_to_one)
         rad_scene_destroy(scene);
     }
 }
+
+/* rad_radiosity_pair gives every pair's coupling to the bit as the assembly
+ * does, in either order, with visibility (the Cornell box's blocks). */
+TEST(radiosity_pair_equals_the_assembly)
+{
+    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
+    if (!scene)
+        return;
+    int n = rad_scene_triangle_count(scene);
+    const double *xyz = rad_scene_vertices(scene);
+    const int *tri = rad_scene_triangles(scene);
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(xyz, (size_t)rad_scene_vertex_count(scene), tri, (size_t)n, &vp, &vis) ==
+          RAD_OK);
+    double *G = malloc((size_t)n * (size_t)n * sizeof *G), *areas = malloc((size_t)n * sizeof *areas);
+    rad_radiosity_stats st;
+    CHECK(rad_radiosity_assemble(xyz, tri, n, vis, NULL, G, areas, &st) == RAD_OK);
+    rad_radiosity_stats ps;
+    memset(&ps, 0, sizeof ps);
+    int differ = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            if (i == j)
+                continue;
+            double g = -1.0;
+            CHECK(rad_radiosity_pair(xyz, tri, i, j, vis, NULL, &g, j > i ? &ps : NULL) == RAD_OK);
+            differ += g != G[(size_t)i + (size_t)j * (size_t)n];
+        }
+    CHECK_MSG(differ == 0, "%d pairs differ from the assembly", differ);
+    CHECK(ps.pairs == st.pairs && ps.pairs_not_facing == st.pairs_not_facing &&
+          ps.pairs_occlusion_tested == st.pairs_occlusion_tested && ps.kernel_evals == st.kernel_evals);
+    double g;
+    CHECK(rad_radiosity_pair(xyz, tri, 3, 3, vis, NULL, &g, NULL) == RAD_EINVAL);
+    free(G);
+    free(areas);
+    rad_vis_destroy(vis);
+    rad_scene_destroy(scene);
+}
