@@ -98,7 +98,8 @@ MANDIR     ?= $(PREFIX)/share/man
 INSTALL    ?= install
 
 # ---- targets ---------------------------------------------------------------
-.PHONY: all deps test demo experiments bench fuzz clean echo help install uninstall examples
+.PHONY: all deps test demo experiments bench fuzz clean echo help install uninstall examples \
+        deps-mpi mpi test-mpi
 all: $(RADKIT)
 
 deps:
@@ -200,6 +201,23 @@ examples: deps
 	rm -rf $(BUILD)/stage
 	$(MAKE) --no-print-directory install DESTDIR=$(abspath $(BUILD)/stage) PREFIX=/usr/local
 	sh scripts/examples.sh $(abspath $(BUILD)/stage)/usr/local $(abspath $(BUILD)/examples)
+
+# radkit-mpi (issue 18): dense radiosity over MPI ranks with ScaLAPACK.  Its
+# own packages, its own target: the plain build and `make test` never need MPI.
+MPI_PKGS   := openmpi-bin libopenmpi-dev libscalapack-openmpi-dev
+RADKIT_MPI := $(BUILD)/radkit-mpi
+deps-mpi:
+	@sh scripts/deps.sh $(MPI_PKGS)
+
+mpi: deps-mpi $(RADKIT_MPI)
+
+$(RADKIT_MPI): mpi/radkit_mpi.c $(LIB) $(filter-out %/radkit.o,$(CLI_OBJ)) | deps-mpi
+	mpicc $(CPPFLAGS) -Icore/cli $(CFLAGS) mpi/radkit_mpi.c $(filter-out %/radkit.o,$(CLI_OBJ)) \
+	  $(LIB) -lscalapack-openmpi $(LDLIBS) -lstdc++ $(LDFLAGS) -o $@
+
+# 1, 2 and 4 ranks on this machine against the serial program's tables.
+test-mpi: mpi $(RADKIT)
+	sh scripts/test_mpi.sh $(abspath $(RADKIT)) $(abspath $(RADKIT_MPI))
 
 clean:
 	rm -rf build
