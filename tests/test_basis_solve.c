@@ -14,6 +14,7 @@
 #include "rad_quad.h"
 #include "rad_radiosity.h"
 #include "rad_solve.h"
+#include "../experiments/bases/manufactured_case.h"
 
 static rad_scene *load_furnace(const char *rel, double rho)
 {
@@ -168,65 +169,15 @@ TEST(basis_options_checked)
     free(b);
 }
 
-/* ---- a manufactured solution ----------------------------------------------
- * Two unit squares facing each other at distance 1 (scenes/plates_parallel):
- * the kernel between them is 1 / (pi r^4) in closed form.  Choose the
- * radiosity B*(x) = 2 + sin(2x + y + 3z) on both, reflectance 0.5, and
- * emit E = B* - 0.5 K B*, with K B* integrated here by a 48 x 48
- * Gauss-Legendre product rule on the other square (the kernel is smooth at
- * distance 1: converged to rounding).  The Galerkin solution of order p
+/* A manufactured solution (experiments/bases/manufactured_case.h: the
+ * parallel plates, B* = 2 + sin(2x + y + 3z), E = B* - rho K B* with K B*
+ * integrated independently of radkit): the Galerkin solution of order p
  * converges to B* like h^(p+1) in L2. */
-
-typedef struct manufactured {
-    double x[48], w[48];
-} manufactured;
-
-static double b_star(double x, double y, double z) { return 2.0 + sin(2.0 * x + y + 3.0 * z); }
-
-static double emission_field(int face, rad_vec3 p, int channel, void *ctx)
-{
-    (void)channel;
-    const manufactured *m = ctx;
-    double z = face < 2 ? 1.0 : 0.0, g = 0.0; /* the other square's height */
-    for (int i = 0; i < 48; i++)
-        for (int j = 0; j < 48; j++) {
-            double dx = m->x[i] - p.x, dy = m->x[j] - p.y, r2 = dx * dx + dy * dy + 1.0;
-            g += m->w[i] * m->w[j] * b_star(m->x[i], m->x[j], z) / (RAD_PI * r2 * r2);
-        }
-    return b_star(p.x, p.y, p.z) - 0.5 * g;
-}
-
-/* The L2 error of the solution's polynomials against B* (channel 0). */
-static double l2_error(const rad_solution *s)
-{
-    double rs[RAD_QUAD_TRI_MAX_POINTS], rt[RAD_QUAD_TRI_MAX_POINTS], rw[RAD_QUAD_TRI_MAX_POINTS];
-    int np = 0, m = rad_basis_size(s->used.basis);
-    CHECK(rad_quad_tri_symmetric(10, rs, rt, rw, &np) == RAD_OK);
-    double sum = 0.0;
-    for (size_t i = 0; i < s->elements; i++) {
-        const double *c = s->element_corners + 9 * i;
-        rad_vec3 t[3] = {{c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}};
-        double area = rad_geom_triangle_area(t[0], t[1], t[2]);
-        for (int k = 0; k < np; k++) {
-            rad_vec3 x = rad_geom_triangle_point(t[0], t[1], t[2], rs[k], rt[k]);
-            double bh = rad_basis_value(s->used.basis, area, s->element_coef + i * (size_t)m,
-                                        rs[k], rt[k]);
-            double d = bh - b_star(x.x, x.y, x.z);
-            sum += area * rw[k] * d * d;
-        }
-    }
-    return sqrt(sum);
-}
 
 TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
 {
-    manufactured m;
-    double gx[48], gw[48];
-    CHECK(rad_quad_gauss_legendre(48, gx, gw) == RAD_OK);
-    for (int i = 0; i < 48; i++) { /* on [0, 1], weights summing to 1 */
-        m.x[i] = gx[i];
-        m.w[i] = gw[i];
-    }
+    manufactured_rule m;
+    CHECK(manufactured_rule_init(&m));
     rad_scene_params sp;
     rad_scene_params_default(&sp);
     sp.has_rho = sp.has_emission = 1;
@@ -244,12 +195,12 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
             rad_solve_params_default(&p);
             p.basis = order;
             p.refine = r;
-            p.emission = emission_field;
+            p.emission = manufactured_emission;
             p.emission_ctx = &m;
             rad_solution *s = NULL;
             CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "p%d refine %d: %s", order, r,
                       rad_error_message());
-            err[r - 1] = s ? l2_error(s) : NAN;
+            err[r - 1] = s ? manufactured_l2_error(s) : NAN;
             rad_solution_destroy(s);
         }
         double o1 = log2(err[0] / err[1]), o2 = log2(err[1] / err[2]);

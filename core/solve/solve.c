@@ -195,16 +195,16 @@ static rad_status face_answer(rad_solution *s, size_t n, const int *face_of, con
     return st == RAD_OK ? check_answer(rad_solve_method_name(s->method), faces, s->face_B) : st;
 }
 
-/* The display of per-triangle values on the triangles themselves (dense's
- * elements, mc's faces): copies, so that the solution owns them. */
-static rad_status display_triangles(rad_solution *s, size_t nv, const double *xyz, size_t nt,
-                                    const int *tri, const int *material, const double *E,
-                                    const double *B)
+/* Room for a display of nv vertices and nt triangles (corners with edges);
+ * vertices and triangles already made (hier's conforming mesh) are kept. */
+static rad_status display_alloc(rad_solution *s, size_t nv, size_t nt)
 {
     s->display_nv = nv;
     s->display_nt = nt;
-    s->display_xyz = malloc(nv * 3 * sizeof *s->display_xyz);
-    s->display_tri = malloc(nt * 3 * sizeof *s->display_tri);
+    if (!s->display_xyz)
+        s->display_xyz = malloc(nv * 3 * sizeof *s->display_xyz);
+    if (!s->display_tri)
+        s->display_tri = malloc(nt * 3 * sizeof *s->display_tri);
     s->display_material = malloc(nt * sizeof *s->display_material);
     s->display_E = malloc(nt * 3 * sizeof *s->display_E);
     s->display_B = malloc(nt * 3 * sizeof *s->display_B);
@@ -213,6 +213,18 @@ static rad_status display_triangles(rad_solution *s, size_t nv, const double *xy
     if (!s->display_xyz || !s->display_tri || !s->display_material || !s->display_E ||
         !s->display_B || (s->used.edges && !s->display_corners))
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+    return RAD_OK;
+}
+
+/* The display of per-triangle values on the triangles themselves (dense's
+ * elements, mc's faces): copies, so that the solution owns them. */
+static rad_status display_triangles(rad_solution *s, size_t nv, const double *xyz, size_t nt,
+                                    const int *tri, const int *material, const double *E,
+                                    const double *B)
+{
+    rad_status st = display_alloc(s, nv, nt);
+    if (st != RAD_OK)
+        return st;
     memcpy(s->display_xyz, xyz, nv * 3 * sizeof *xyz);
     memcpy(s->display_tri, tri, nt * 3 * sizeof *tri);
     memcpy(s->display_material, material, nt * sizeof *material);
@@ -257,18 +269,9 @@ static rad_status display_basis(rad_solution *s, const int *material, const doub
     size_t n = s->elements, N = n * (size_t)m;
     size_t pts = (size_t)(k + 1) * (size_t)(k + 2) / 2, sub = (size_t)k * (size_t)k;
     size_t nv = n * pts, nt = n * sub;
-    s->display_nv = nv;
-    s->display_nt = nt;
-    s->display_xyz = malloc(nv * 3 * sizeof *s->display_xyz);
-    s->display_tri = malloc(nt * 3 * sizeof *s->display_tri);
-    s->display_material = malloc(nt * sizeof *s->display_material);
-    s->display_E = malloc(nt * 3 * sizeof *s->display_E);
-    s->display_B = malloc(nt * 3 * sizeof *s->display_B);
-    if (s->used.edges)
-        s->display_corners = malloc(nt * 9 * sizeof *s->display_corners);
-    if (!s->display_xyz || !s->display_tri || !s->display_material || !s->display_E ||
-        !s->display_B || (s->used.edges && !s->display_corners))
-        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+    rad_status st = display_alloc(s, nv, nt);
+    if (st != RAD_OK)
+        return st;
     for (size_t e = 0; e < n; e++) {
         const double *c = s->element_corners + 9 * e;
         rad_vec3 t[3] = {{c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}};
@@ -539,18 +542,10 @@ static rad_status hier_display(rad_solution *s, const rad_hier *h, const prepare
         free(corners);
         return st;
     }
-    s->display_nv = nv;
-    s->display_nt = nt;
-    s->display_material = malloc(nt * sizeof *s->display_material);
-    s->display_E = malloc(nt * 3 * sizeof *s->display_E);
-    s->display_B = malloc(nt * 3 * sizeof *s->display_B);
-    if (s->used.edges)
-        s->display_corners = malloc(nt * 9 * sizeof *s->display_corners);
-    if (!s->display_material || !s->display_E || !s->display_B ||
-        (s->used.edges && !s->display_corners)) {
+    if ((st = display_alloc(s, nv, nt)) != RAD_OK) {
         free(corners);
         free(leaf);
-        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu display triangles", nt);
+        return st;
     }
     const int *tri_mat = rad_scene_triangle_materials(pr->scene);
     size_t faces = (size_t)pr->faces;
