@@ -179,12 +179,7 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
     manufactured_rule m;
     CHECK(manufactured_rule_init(&m));
     rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = sp.has_emission = 1;
-    for (int c = 0; c < 3; c++) {
-        sp.rho[c] = 0.5;
-        sp.emission[c] = 0.0;
-    }
+    manufactured_scene_params(&sp);
     rad_scene *scene = harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
     if (!scene)
         return;
@@ -192,11 +187,7 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
         double err[3];
         for (int r = 1; r <= 3; r++) {
             rad_solve_params p;
-            rad_solve_params_default(&p);
-            p.basis = order;
-            p.refine = r;
-            p.emission = manufactured_emission;
-            p.emission_ctx = &m;
+            manufactured_solve_params(&p, order, r, &m);
             rad_solution *s = NULL;
             CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "p%d refine %d: %s", order, r,
                       rad_error_message());

@@ -23,12 +23,7 @@ int main(int argc, char **argv)
     if (!manufactured_rule_init(&m))
         return 1;
     rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = sp.has_emission = 1;
-    for (int c = 0; c < 3; c++) {
-        sp.rho[c] = 0.5;
-        sp.emission[c] = 0.0;
-    }
+    manufactured_scene_params(&sp);
     rad_scene *scene = NULL;
     if (rad_scene_load(argv[1], &sp, &scene) != RAD_OK) {
         fprintf(stderr, "manufactured: %s\n", rad_error_message());
@@ -39,11 +34,7 @@ int main(int argc, char **argv)
         int max_refine = atoi(argv[2 + order]);
         for (int r = 0; r <= max_refine; r++) {
             rad_solve_params p;
-            rad_solve_params_default(&p);
-            p.basis = order;
-            p.refine = r;
-            p.emission = manufactured_emission;
-            p.emission_ctx = &m;
+            manufactured_solve_params(&p, order, r, &m);
             rad_solution *s = NULL;
             if (rad_solve_run(scene, &p, &s) != RAD_OK) {
                 fprintf(stderr, "manufactured: p%d refine %d: %s\n", order, r, rad_error_message());

@@ -45,6 +45,28 @@ static inline double manufactured_emission(int face, rad_vec3 p, int channel, vo
     return manufactured_b_star(p.x, p.y, p.z) - 0.5 * g;
 }
 
+/* The scene's parameters (every face reflecting 0.5; the emission comes from
+ * the field) and a dense solve of order `order` at refinement `refine`. */
+static inline void manufactured_scene_params(rad_scene_params *sp)
+{
+    rad_scene_params_default(sp);
+    sp->has_rho = sp->has_emission = 1;
+    for (int c = 0; c < 3; c++) {
+        sp->rho[c] = 0.5;
+        sp->emission[c] = 0.0;
+    }
+}
+
+static inline void manufactured_solve_params(rad_solve_params *p, int order, int refine,
+                                             manufactured_rule *m)
+{
+    rad_solve_params_default(p);
+    p->basis = order;
+    p->refine = refine;
+    p->emission = manufactured_emission;
+    p->emission_ctx = m;
+}
+
 /* The L2 error of a dense solution's polynomials against B* (channel 0),
  * by the symmetric degree-10 rule on every element; NAN if it is missing. */
 static inline double manufactured_l2_error(const rad_solution *s)
