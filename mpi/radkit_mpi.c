@@ -50,7 +50,7 @@ void pdgesv_(const int *n, const int *nrhs, double *a, const int *ia, const int 
 
 static const char help[] =
     "usage: mpirun -np N radkit-mpi solve SCENE [--refine K] [--rule RULE] [--tol T]\n"
-    "                    [--block NB] [--out FILE] [--quiet] [scene options]\n"
+    "                    [--block NB] [--out FILE] [--stats FILE] [--quiet] [scene options]\n"
     "\n"
     "Dense Galerkin radiosity (as radkit solve --method dense --solver lu) with the\n"
     "coupling matrix distributed block-cyclically over the MPI ranks and solved by\n"
@@ -58,7 +58,9 @@ static const char help[] =
     "radkit solve's, with '# ranks' and '# memory_peak_bytes_per_rank' (the\n"
     "largest rank's).\n"
     "\n"
-    "  --block NB       the block size of the distribution (default 64)\n";
+    "  --block NB       the block size of the distribution (default 64)\n"
+    "  --stats FILE     radkit solve's JSON with top-level ranks and\n"
+    "                   memory_peak_bytes_per_rank\n";
 
 /* global index of local index l in a block-cyclic dimension */
 static int global_index(int l, int nb, int p, int np) { return (l / nb) * np * nb + p * nb + l % nb; }
@@ -97,13 +99,13 @@ int main(int argc, char **argv)
     memset(&m, 0, sizeof m);
     solve_options *o = &m.o;
     cli_scene_options_init(&o->scene_opts);
-    enum { OWN = 9 };
+    enum { OWN = 10 };
     cli_option table[OWN + CLI_SCENE_OPTION_COUNT + 1] = {
         {"", &o->scene, NULL, "scene"},      {"--refine", &o->refine, NULL, NULL},
         {"--rule", &o->rule, NULL, NULL},    {"--tol", &o->tol, NULL, NULL},
         {"--block", &m.block, NULL, NULL},   {"--out", &o->out, NULL, NULL},
         {"--quiet", NULL, &o->quiet, NULL},  {"--help", NULL, &o->help, NULL},
-        {"-h", NULL, &o->help, NULL},
+        {"-h", NULL, &o->help, NULL},        {"--stats", &o->stats, NULL, NULL},
     };
     int nopt = OWN + cli_scene_options_add(&o->scene_opts, table + OWN);
     table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
@@ -392,6 +394,14 @@ int main(int argc, char **argv)
             st = rad_io_output_commit(&out);
         }
         rad_io_output_discard(&out);
+        if (st == RAD_OK && o->stats) {
+            sol.solver_name = "scalapack-pdgesv";
+            sol.solver_residual = residual;
+            sol.links = tot[0] - tot[1];
+            sol.rays = rays_tot;
+            sol.kernel_evals = tot[3];
+            st = solve_write_stats_ranks(o->stats, &sol, 0.0, ranks, mem_max);
+        }
         free(sol.face_area);
     }
 grid_done:

@@ -53,6 +53,11 @@ echo "peak memory per rank, Cornell refine 3: 1 rank $m1 bytes, 4 ranks $m4 byte
 awk -v a="$m1" -v b="$m4" 'BEGIN { exit !(a > 0 && b > 0 && a - b > 0.6 * 2 * 8 * 2432 * 2432 * 0.75) }' ||
   { echo "FAIL: 4 ranks should hold about a quarter of the matrices each"; fails=$((fails + 1)); }
 check "cornell refine 3, 4 ranks against 1" "$tmp/mem1.tsv" "$tmp/mem4.tsv"
+# the stats: top-level ranks and the largest rank's memory
+run 4 scenes/occluder/occluder.obj --quiet --out "$tmp/s.tsv" --stats "$tmp/s.json" || fails=$((fails + 1))
+if grep -q '"ranks": 4' "$tmp/s.json" && grep -q '"memory_peak_bytes_per_rank"' "$tmp/s.json"; then
+  echo "stats: ranks and memory per rank: ok"
+else echo "FAIL: stats lack ranks or memory_peak_bytes_per_rank"; fails=$((fails + 1)); fi
 # bad input: one message, exit 2
 out=$(run 2 "$tmp/missing.obj" 2>&1); code=$?
 lines=$(printf '%s\n' "$out" | grep -c '^radkit: ')

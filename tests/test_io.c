@@ -355,7 +355,7 @@ TEST(io_stats_json_has_the_design_keys_and_parses)
                                 {"colour", "grey", "all reflectances grey \x01"}};
     rad_io_figure details[2] = {{"links_partial", 17}, {"max_depth", 4}};
     rad_io_stats st = {"dense", 12, 48, 1128, 123456789012LL, 99, phases, 2, 1.3125,
-                       1.5e8, effects, 2, "lu", 0, 3.5e-16, details, 2};
+                       1.5e8, effects, 2, "lu", 0, 3.5e-16, details, 2, 0, 0.0};
     const char *path = tmp_path("stats.json");
     CHECK(rad_io_write_stats_json(path, &st) == RAD_OK);
     char *s = slurp(path, NULL);
@@ -556,4 +556,24 @@ TEST(io_face_error_by_hand)
     CHECK(rad_io_face_error(2, area, E, B, dark, NULL, &e) == RAD_EINPUT);
     B[3] = NAN;
     CHECK(rad_io_face_error(2, area, E, B, ref, NULL, &e) == RAD_EINPUT);
+}
+
+/* Runs over MPI ranks add two top-level keys; other runs do not have them. */
+TEST(io_stats_json_ranks_only_when_given)
+{
+    rad_io_phase phases[1] = {{"solve", 0.5}};
+    rad_io_stats st = {"dense", 4, 4, 6, 0, 9, phases, 1, 0.5, 1e6, NULL, 0, "lu", 0, 1e-16,
+                       NULL, 0, 0, 0.0};
+    const char *path = tmp_path("ranks.json");
+    CHECK(rad_io_write_stats_json(path, &st) == RAD_OK);
+    char *text = harness_read_file(path);
+    CHECK(text && !strstr(text, "\"ranks\"") && !strstr(text, "per_rank"));
+    free(text);
+    st.ranks = 4;
+    st.memory_peak_bytes_per_rank = 2.5e7;
+    CHECK(rad_io_write_stats_json(path, &st) == RAD_OK);
+    text = harness_read_file(path);
+    CHECK(text && strstr(text, "\"ranks\": 4") && strstr(text, "\"memory_peak_bytes_per_rank\": 25000000"));
+    free(text);
+    remove(path);
 }

@@ -65,5 +65,9 @@ rad_status solve_parse_params(const solve_options *o, const rad_effects_params *
 void solve_print_table(FILE *out, const solve_options *o, const rad_scene *scene,
                        const rad_solution *s);
 rad_status solve_write_stats(const char *path, const rad_solution *s, double render_s);
+/* The same for a run over MPI ranks: top-level ranks and the largest rank's
+ * peak memory (radkit-mpi). */
+rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, double render_s,
+                                   int ranks, double memory_per_rank);
 
 #endif

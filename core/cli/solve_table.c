@@ -108,6 +108,12 @@ void solve_print_table(FILE *out, const solve_options *o, const rad_scene *scene
 
 rad_status solve_write_stats(const char *path, const rad_solution *s, double render_s)
 {
+    return solve_write_stats_ranks(path, s, render_s, 0, 0.0);
+}
+
+rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, double render_s,
+                                   int ranks, double memory_per_rank)
+{
     rad_io_effect effects[RAD_EFFECT_COUNT];
     solve_effects_json(&s->plan, effects);
     rad_io_phase phases[RAD_SOLVE_MAX_PHASES + 1];
@@ -150,7 +156,8 @@ rad_status solve_write_stats(const char *path, const rad_solution *s, double ren
         .total_seconds = s->total_seconds + render_s,
         .memory_peak_bytes = rad_sys_peak_rss_bytes(), .effects = effects,
         .neffects = RAD_EFFECT_COUNT, .solver_name = s->solver_name,
-        .solver_iterations = s->solver_iterations, .solver_residual = s->solver_residual};
+        .solver_iterations = s->solver_iterations, .solver_residual = s->solver_residual,
+        .ranks = ranks, .memory_peak_bytes_per_rank = memory_per_rank};
     if (s->method == RAD_SOLVE_HIER) {
         js.details = hier_details;
         js.ndetails = sizeof hier_details / sizeof hier_details[0];

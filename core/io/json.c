@@ -147,6 +147,10 @@ rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *s)
     rad_io_json_number(&j, "total", s->total_seconds);
     rad_io_json_end(&j);
     rad_io_json_number(&j, "memory_peak_bytes", s->memory_peak_bytes);
+    if (s->ranks > 0) {
+        rad_io_json_integer(&j, "ranks", s->ranks);
+        rad_io_json_number(&j, "memory_peak_bytes_per_rank", s->memory_peak_bytes_per_rank);
+    }
     rad_io_json_object(&j, "effects");
     for (size_t k = 0; k < s->neffects; k++) {
         rad_io_json_object(&j, s->effects[k].name);

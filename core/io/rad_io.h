@@ -196,6 +196,10 @@ typedef struct rad_io_stats {
        object "details": {name: value}; may be empty */
     const rad_io_figure *details;
     size_t ndetails;
+    /* runs over MPI ranks (radkit-mpi): top-level "ranks" and
+       "memory_peak_bytes_per_rank" (the largest rank's), when ranks > 0 */
+    int ranks;
+    double memory_peak_bytes_per_rank;
 } rad_io_stats;
 
 rad_status rad_io_write_stats_json(const char *path, const rad_io_stats *stats);
