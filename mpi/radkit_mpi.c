@@ -10,8 +10,10 @@
  * near-square BLACS grid; the matrix K = I - diag(rho / A) G is distributed
  * block-cyclically (blocks NB x NB, default 64) and each rank computes only
  * the couplings of its own blocks (rad_radiosity_pair, the serial assembly's
- * own function, so every entry is bit for bit the serial one).  pdgesv solves
- * each group of channels sharing a reflectance; the solution is summed onto
+ * own function, so every entry is bit for bit the serial one), only the
+ * lower triangle: each pair once.  pdposv solves the symmetric form
+ * S = diag(A / rho) - G (as radkit solve --solver cholesky) for each group of
+ * channels sharing a reflectance; the solution is summed onto
  * every rank (MPI_Allreduce), and rank 0 prints the same table as
  * `radkit solve` (solve_table.c) with `# ranks` and the largest rank's peak
  * memory.  Memory per rank: about 8 n^2 / ranks bytes for the matrix, twice
@@ -44,17 +46,18 @@ void Cblacs_gridexit(int ctx);
 int numroc_(const int *n, const int *nb, const int *iproc, const int *isrc, const int *nprocs);
 void descinit_(int *desc, const int *m, const int *n, const int *mb, const int *nb,
                const int *irsrc, const int *icsrc, const int *ctx, const int *lld, int *info);
-void pdgesv_(const int *n, const int *nrhs, double *a, const int *ia, const int *ja,
-             const int *desca, int *ipiv, double *b, const int *ib, const int *jb,
+void pdposv_(const char *uplo, const int *n, const int *nrhs, double *a, const int *ia,
+             const int *ja, const int *desca, double *b, const int *ib, const int *jb,
              const int *descb, int *info);
 
 static const char help[] =
     "usage: mpirun -np N radkit-mpi solve SCENE [--refine K] [--rule RULE] [--tol T]\n"
     "                    [--block NB] [--out FILE] [--stats FILE] [--quiet] [scene options]\n"
     "\n"
-    "Dense Galerkin radiosity (as radkit solve --method dense --solver lu) with the\n"
-    "coupling matrix distributed block-cyclically over the MPI ranks and solved by\n"
-    "ScaLAPACK's pdgesv; each rank computes only its own blocks.  The table is\n"
+    "Dense Galerkin radiosity (as radkit solve --method dense --solver cholesky)\n"
+    "with the coupling matrix distributed block-cyclically over the MPI ranks and\n"
+    "solved by ScaLAPACK's pdposv; each rank computes only the lower triangle of\n"
+    "its own blocks, each pair once.  The table is\n"
     "radkit solve's, with '# ranks' and '# memory_peak_bytes_per_rank' (the\n"
     "largest rank's).\n"
     "\n"
@@ -140,7 +143,6 @@ int main(int argc, char **argv)
     rad_solution sol;
     memset(&sol, 0, sizeof sol);
     double *work = NULL, *Gloc = NULL, *Kloc = NULL, *Bloc = NULL, *x = NULL;
-    int *ipiv = NULL;
     if (!o->scene)
         st = RAD_ERROR(RAD_EINVAL, "solve: no scene given");
     if (st == RAD_OK)
@@ -234,10 +236,9 @@ int main(int argc, char **argv)
     size_t local = (size_t)lld * (size_t)(nloc > 0 ? nloc : 1);
     Gloc = calloc(local, sizeof *Gloc);
     Kloc = malloc(local * sizeof *Kloc);
-    ipiv = malloc((size_t)(mloc + nb) * sizeof *ipiv);
     x = malloc(nn * 3 * sizeof *x);
     Bloc = calloc((size_t)lld * 3, sizeof *Bloc);
-    if (!Gloc || !Kloc || !ipiv || !x || !Bloc)
+    if (!Gloc || !Kloc || !x || !Bloc)
         st = RAD_ERROR(RAD_ENOMEM, "solve: rank %d: no memory for its %d x %d blocks", rank, mloc,
                        nloc);
     if ((st = agree(st)) != RAD_OK)
@@ -252,7 +253,7 @@ int main(int argc, char **argv)
         int j = global_index(lj, nb, mycol, npcol);
         for (int li = 0; li < mloc; li++) {
             int i = global_index(li, nb, myrow, nprow);
-            if (i == j)
+            if (i <= j) /* the lower triangle: each unordered pair once */
                 continue;
             rad_radiosity_stats ps;
             memset(&ps, 0, sizeof ps);
@@ -263,11 +264,9 @@ int main(int argc, char **argv)
                 first = first == RAD_OK ? s : first;
             }
             Gloc[(size_t)li + (size_t)lj * (size_t)lld] = g;
-            if (i < j) { /* each unordered pair counted once, by the rank holding i < j */
-                pairs++;
-                not_facing += ps.pairs_not_facing;
-                tested += ps.pairs_occlusion_tested;
-            }
+            pairs++;
+            not_facing += ps.pairs_not_facing;
+            tested += ps.pairs_occlusion_tested;
             evals += ps.kernel_evals;
             rays += ps.rays;
         }
@@ -276,11 +275,22 @@ int main(int argc, char **argv)
         goto grid_done;
     double t_assembled = rad_sys_seconds();
 
-    /* ---- solve: one pdgesv per group of channels sharing a reflectance ---- */
+    /* ---- solve: the symmetric form, one pdposv per group of channels ----
+     * For a reflecting face i, B = E + rho G B / A reads
+     *   (A_i / rho_i) B_i - sum_{j reflecting} G_ij B_j
+     *       = (A_i / rho_i) E_i + sum_{z not reflecting} G_iz E_z,
+     * and B_z = E_z for the others: S = diag(A / rho) - G on the reflecting
+     * faces (symmetric positive definite: rows of G sum to at most A), the
+     * identity elsewhere.  Only S's lower triangle is read, as computed. */
     int descA[9], descB[9], three = 3;
     descinit_(descA, &n, &n, &nb, &nb, &izero, &izero, &ctx, &lld, &info);
     descinit_(descB, &n, &three, &nb, &nb, &izero, &izero, &ctx, &lld, &info);
     int done_c[3] = {0, 0, 0}, factorizations = 0;
+    double *y = malloc(nn * 3 * sizeof *y);
+    if ((st = agree(y ? RAD_OK : RAD_ERROR(RAD_ENOMEM, "solve: no memory"))) != RAD_OK) {
+        free(y);
+        goto grid_done;
+    }
     memset(x, 0, nn * 3 * sizeof *x);
     for (int c = 0; c < 3 && st == RAD_OK; c++) {
         if (done_c[c])
@@ -295,29 +305,53 @@ int main(int argc, char **argv)
                 done_c[d] = 1;
             }
         }
+        const double *rc = rho + (size_t)c * nn;
+        /* S's local entries, and this rank's share of the known faces' light */
+        memset(y, 0, nn * 3 * sizeof *y);
         for (int lj = 0; lj < nloc; lj++) {
             int j = global_index(lj, nb, mycol, npcol);
             for (int li = 0; li < mloc; li++) {
                 int i = global_index(li, nb, myrow, nprow);
                 size_t k = (size_t)li + (size_t)lj * (size_t)lld;
-                Kloc[k] = (i == j ? 1.0 : 0.0) - rho[(size_t)i + (size_t)c * nn] * Gloc[k] / area[i];
+                double g = Gloc[k];
+                if (i == j)
+                    Kloc[k] = rc[i] > 0.0 ? area[i] / rc[i] : 1.0;
+                else if (i > j)
+                    Kloc[k] = rc[i] > 0.0 && rc[j] > 0.0 ? -g : 0.0;
+                else
+                    Kloc[k] = 0.0;
+                if (i > j && g != 0.0)
+                    for (int r = 0; r < nc; r++) {
+                        const double *e = E + (size_t)chans[r] * nn;
+                        if (rc[i] > 0.0 && !(rc[j] > 0.0))
+                            y[(size_t)i + (size_t)r * nn] += g * e[j];
+                        if (rc[j] > 0.0 && !(rc[i] > 0.0))
+                            y[(size_t)j + (size_t)r * nn] += g * e[i];
+                    }
             }
         }
+        MPI_Allreduce(MPI_IN_PLACE, y, (int)(3 * nn), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
         /* the right-hand sides live in the first process column */
         memset(Bloc, 0, (size_t)lld * 3 * sizeof *Bloc);
         if (mycol == 0)
             for (int li = 0; li < mloc; li++) {
                 int i = global_index(li, nb, myrow, nprow);
-                for (int r = 0; r < nc; r++)
-                    Bloc[(size_t)li + (size_t)r * (size_t)lld] = E[(size_t)i + (size_t)chans[r] * nn];
+                for (int r = 0; r < nc; r++) {
+                    double e = E[(size_t)i + (size_t)chans[r] * nn];
+                    Bloc[(size_t)li + (size_t)r * (size_t)lld] =
+                        rc[i] > 0.0 ? area[i] / rc[i] * e + y[(size_t)i + (size_t)r * nn] : e;
+                }
             }
-        pdgesv_(&n, &nc, Kloc, &ione, &ione, descA, ipiv, Bloc, &ione, &ione, descB, &info);
+        pdposv_("L", &n, &nc, Kloc, &ione, &ione, descA, Bloc, &ione, &ione, descB, &info);
         factorizations++;
-        if (info != 0) /* pdgesv's info is the same on every rank */
-            st = RAD_ERROR(RAD_ENUMERIC, "solve: pdgesv failed (info %d): the system is singular",
+        if (info != 0) /* pdposv's info is the same on every rank */
+            st = RAD_ERROR(RAD_ENUMERIC, "solve: pdposv failed (info %d): the system is not "
+                                         "positive definite (a reflectance too close to 1?)",
                            info);
-        if ((st = agree(st)) != RAD_OK)
+        if ((st = agree(st)) != RAD_OK) {
+            free(y);
             goto grid_done;
+        }
         if (mycol == 0)
             for (int li = 0; li < mloc; li++) {
                 int i = global_index(li, nb, myrow, nprow);
@@ -325,16 +359,22 @@ int main(int argc, char **argv)
                     x[(size_t)i + (size_t)chans[r] * nn] = Bloc[(size_t)li + (size_t)r * (size_t)lld];
             }
     }
+    free(y);
     MPI_Allreduce(x, B, (int)(3 * nn), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-    /* the residual from the definition: r = E + rho G B / A - B, row sums gathered */
+    /* the residual from the definition: r = E + rho G B / A - B, row sums
+       gathered (each stored G_ij, i > j, serves rows i and j) */
     memset(x, 0, nn * 3 * sizeof *x);
     for (int lj = 0; lj < nloc; lj++) {
         int j = global_index(lj, nb, mycol, npcol);
         for (int li = 0; li < mloc; li++) {
             int i = global_index(li, nb, myrow, nprow);
             double g = Gloc[(size_t)li + (size_t)lj * (size_t)lld];
-            for (int c = 0; c < 3; c++)
+            if (i <= j || g == 0.0)
+                continue;
+            for (int c = 0; c < 3; c++) {
                 x[(size_t)i + (size_t)c * nn] += g * B[(size_t)j + (size_t)c * nn];
+                x[(size_t)j + (size_t)c * nn] += g * B[(size_t)i + (size_t)c * nn];
+            }
         }
     }
     MPI_Allreduce(MPI_IN_PLACE, x, (int)(3 * nn), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
@@ -366,7 +406,7 @@ int main(int argc, char **argv)
         as.kernel_evals = tot[3];
         as.rays = rays_tot;
         sol.assembly = as;
-        sol.dense.method = RAD_DENSE_LU;
+        sol.dense.method = RAD_DENSE_CHOLESKY;
         sol.dense.factorizations = factorizations;
         sol.dense.residual = residual;
         sol.dense.rcond = NAN; /* pdgecon is not run */
@@ -395,7 +435,7 @@ int main(int argc, char **argv)
         }
         rad_io_output_discard(&out);
         if (st == RAD_OK && o->stats) {
-            sol.solver_name = "scalapack-pdgesv";
+            sol.solver_name = "scalapack-pdposv";
             sol.solver_residual = residual;
             sol.links = tot[0] - tot[1];
             sol.rays = rays_tot;
@@ -412,7 +452,6 @@ done:
     free(Gloc);
     free(Kloc);
     free(Bloc);
-    free(ipiv);
     free(x);
     rad_vis_destroy(vis);
     rad_mesh_destroy(mesh);
