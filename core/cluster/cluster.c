@@ -90,7 +90,7 @@ static rad_status add_node(rad_cluster_tree *t, int *index)
 static rad_status build(rad_cluster_tree *t, const tri_info *ti, keyed *scratch, int first,
                         int count, int parent, int depth, int leaf_size, int *out)
 {
-    int k;
+    int k = -1;
     rad_status st = add_node(t, &k);
     if (st != RAD_OK)
         return st;
@@ -182,7 +182,7 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
         }
         t->order[k] = (int)k;
     }
-    int root;
+    int root = -1;
     if ((st = build(t, ti, scratch, 0, (int)ntris, -1, 0, leaf_size, &root)) != RAD_OK)
         goto fail;
     free(ti);
