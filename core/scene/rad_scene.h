@@ -15,6 +15,12 @@
  *     single precision, which is not enough for convergence studies).
  *   - glTF 2.0 (.gltf, .glb): baseColorFactor is the reflectance, emissiveFactor
  *     times KHR_materials_emissive_strength (when present) the emission.
+ *   - MGF (.mgf, radkit's reader, import_mgf.c): `rd` with its colour is the
+ *     reflectance, `ed` the emitted exitance, CIE xy converted to RGB with
+ *     Radiance's primaries balanced for the equal-energy white (a neutral
+ *     colour gives equal channels); transforms, arrays and includes (relative
+ *     to the including file, at most 16 deep, no loops); the curved primitives
+ *     (sph, cyl, cone, ring, torus, prism) tessellated within curve_tol.
  *   - PLY, OFF (radkit's readers), STL and anything else Assimp reads: geometry only; every face
  *     gets the reflectance and emission of the parameters (--rho, --emission).
  * Polygons are triangulated in their plane (the fan when it does not fold,
@@ -90,6 +96,8 @@ typedef struct rad_scene_params {
     size_t max_file_bytes;     /* refuse scene files (and material libraries) above it */
     size_t max_line_bytes;     /* refuse OBJ/MTL lines longer than this (line break not
                                   counted): memory stays bounded on any input */
+    double curve_tol;          /* MGF curved primitives: largest distance from the true
+                                  surface to its facets, relative to the radius; in (0, 1) */
     int no_cross_check;        /* 0: also re-read an OBJ with Assimp and warn when its
                                   triangle count differs.  Default 1: Assimp's OBJ
                                   reader runs in this process and dereferences null
@@ -102,7 +110,7 @@ typedef struct rad_scene_params {
  * 0.5 grey, at most 50 million triangles, Kd = 1 taken as 0.999 (errors are
  * then amplified at most 1000 times, well inside the effects plan's limit of
  * 10^6: white walls stay solvable at modest cost), files up to 2 GiB, lines
- * up to 64 KiB. */
+ * up to 64 KiB, MGF curve tolerance 0.0125 (20 segments a circle). */
 void rad_scene_params_default(rad_scene_params *params);
 
 /* Import a scene file (format by extension, see above) and validate it.

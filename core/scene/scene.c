@@ -49,6 +49,7 @@ void rad_scene_params_default(rad_scene_params *p)
     p->rho_white = 0.999;
     p->max_file_bytes = (size_t)1 << 31;
     p->max_line_bytes = 65536;
+    p->curve_tol = 0.0125;
 }
 
 rad_scene *scene_new(const char *source)
@@ -595,6 +596,7 @@ rad_status rad_scene_load(const char *path, const rad_scene_params *params, rad_
     st = has_extension(path, ".obj")   ? scene_import_obj(s, path, params)
          : has_extension(path, ".off") ? scene_import_off(s, path, params)
          : has_extension(path, ".ply") ? scene_import_ply(s, path, params)
+         : has_extension(path, ".mgf") ? scene_import_mgf(s, path, params)
                                        : scene_import_assimp(s, path, params);
     if (st == RAD_OK)
         st = scene_finish(s, params);

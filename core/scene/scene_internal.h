@@ -50,6 +50,11 @@ rad_status scene_import_assimp(rad_scene *s, const char *path, const rad_scene_p
 /* radkit's own OFF and PLY readers (import_off.c, import_ply.c). */
 rad_status scene_import_off(rad_scene *s, const char *path, const rad_scene_params *p);
 rad_status scene_import_ply(rad_scene *s, const char *path, const rad_scene_params *p);
+/* radkit's MGF reader (import_mgf.c). */
+rad_status scene_import_mgf(rad_scene *s, const char *path, const rad_scene_params *p);
+/* Segments per full circle of the MGF reader's curved primitives for a
+ * curve tolerance (rad_scene_params.curve_tol); -1 outside (0, 1). */
+int scene_mgf_segments(double tol);
 /* The whole of a regular file of at most max_bytes, NUL-terminated (free it). */
 rad_status scene_read_file(const char *path, size_t max_bytes, char **data, size_t *size);
 /* Import `path` with Assimp only to count its triangles and materials (the
