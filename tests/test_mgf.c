@@ -60,7 +60,7 @@ TEST(mgf_entities_and_contexts)
      * an alias made with `v id = template`, continuation lines, comments */
     snprintf(text, sizeof text,
              "# comment\n%s v d =\n p 1.25 2.5 0\nm grey =\n c\n rd .4\n ed 1\n"
-             "f a b d \\\n  c\nv e = a\np 0 0 1\nf e b c\nv a\n p 0 0 2\nf a b c\n",
+             "f a b d \\\r\n  c\r\nv e = a\np 0 0 1\nf e b c\nv a\n p 0 0 2\nf a b c\n",
              VERTS);
     rad_scene *s = load_text("ent.mgf", text, NULL);
     if (!s)

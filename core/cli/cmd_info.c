@@ -17,7 +17,7 @@ static const char help_head[] =
     "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
     "                         [--facing-away M] [--singular M] [--reflectance M]\n"
     "\n"
-    "Load SCENE (OBJ+MTL, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
+    "Load SCENE (OBJ+MTL, MGF, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
     "\n"
     "  --assimp-check     OBJ: also read the file with Assimp and warn when its\n"
     "                     triangle count differs (an independent reader; it runs\n"

@@ -1171,6 +1171,8 @@ static rad_status next_entity(mgf_reader *r, int *argc)
         size_t n = 0;
         while (f->p < f->end) {
             char c = *f->p++;
+            if (c == '\r' && f->p < f->end && *f->p == '\n')
+                continue; /* CRLF: so that a backslash before it still continues */
             if (c == '\n') {
                 f->next_line++;
                 if (n > 0 && r->logical[n - 1] == '\\') {
