@@ -1,7 +1,7 @@
 /* A deterministic mutation fuzzer over radkit's scene formats and options.
  *
  * Each case takes a seed scene from scenes/ (OBJ with its MTL, OFF, PLY ascii
- * and binary, STL, glTF), applies one to four mutations to one of its files
+ * and binary, STL, glTF, MGF with its include), applies one to four mutations to one of its files
  * (bit flips, hostile bytes, deleted, duplicated or swapped chunks and lines,
  * numbers replaced by hostile tokens, truncation, and for OBJ and MTL whole
  * statements real files carry: unused, unusual or borderline ones), sometimes adds a hostile
@@ -49,6 +49,7 @@ static const fuzz_seed seeds[] = {
     {"scenes/formats/tristrips.ply", NULL},
     {"scenes/formats/rectangle.stl", NULL},
     {"scenes/formats/two_triangles.gltf", NULL},
+    {"scenes/mgf/cornell.mgf", "scenes/mgf/cornell_blocks.mgf"},
 };
 enum { NSEEDS = sizeof seeds / sizeof seeds[0] };
 
