@@ -201,6 +201,22 @@ TEST(mgf_include_depth_and_loops)
     const char *p3 = harness_write_file("self.mgf", text);
     snprintf(needle, sizeof needle, "%s:1: include loop", p3);
     HARNESS_EXPECT_USAGE_ERROR("info", (const char *const[]){p3, NULL}, needle);
+    /* an include bomb: 17 files each including the next 4 times (4^16 reads) */
+    for (int k = 0; k < 17; k++) {
+        snprintf(name, sizeof name, "bomb%d.mgf", k);
+        snprintf(next, sizeof next, "radkit-test-%ld-bomb%d.mgf", (long)getpid(), k + 1);
+        if (k < 16)
+            snprintf(text, sizeof text, "i %s\ni %s\ni %s\ni %s\n", next, next, next, next);
+        else
+            snprintf(text, sizeof text, "# the end\n");
+        harness_write_file(name, text);
+    }
+    HARNESS_EXPECT_USAGE_ERROR("info", (const char *const[]){harness_temp_path("bomb0.mgf"), NULL},
+                               "more than 65536 file reads");
+    for (int k = 0; k < 17; k++) {
+        snprintf(name, sizeof name, "bomb%d.mgf", k);
+        remove(harness_temp_path(name));
+    }
     /* a missing include names the line that asks for it */
     const char *p4 = harness_write_file("missing.mgf", "\ni no-such-file.mgf\n");
     snprintf(needle, sizeof needle, "%s:2: cannot include", p4);

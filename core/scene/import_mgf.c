@@ -33,9 +33,11 @@
  *     negative scale) reverses every polygon's corner order, so that front
  *     sides stay front sides.  An `xf` or `o` must end in the file that opened
  *     it; one left open, or an end without an open context, is an error
- *     naming the line.  Arrays may make at most MGF_MAX_INSTANCES instances
- *     of any entity, and the triangles may not exceed max_triangles: the work
- *     is bounded by the file sizes.
+ *     naming the line.  The work is bounded whatever the input: arrays make
+ *     at most MGF_MAX_INSTANCES instances of any entity, files are read at
+ *     most MGF_MAX_READS times in all, at most MGF_MAX_STATEMENTS entities
+ *     are executed (replays counted), and the triangles may not exceed
+ *     max_triangles.
  *  4. Geometry.  `f v1 v2 v3 ...` goes through scene_add_polygon (the fan
  *     when it does not fold, else ear clipping; self-intersecting polygons
  *     are refused), as in every reader.  The curved primitives are
@@ -100,8 +102,13 @@ enum {
     MGF_MAX_DEPTH = 16,           /* include nesting */
     MGF_MAX_INSTANCES = 1000000,  /* product of the array counts in force */
     MGF_MAX_XF_OPS = 256,         /* transform arguments of one xf */
-    MGF_MAX_SEGMENTS = 4096       /* circle segments, whatever the tolerance */
+    MGF_MAX_SEGMENTS = 4096,      /* circle segments, whatever the tolerance */
+    MGF_MAX_READS = 65536         /* file reads in all (includes, and their array instances) */
 };
+
+/* Entities executed in all, array replays and includes counted: a bound on
+ * the time any input can take (a real scene within max_triangles needs fewer). */
+static const long long MGF_MAX_STATEMENTS = 400000000LL;
 
 /* ---- names -------------------------------------------------------------- */
 
@@ -279,6 +286,7 @@ typedef struct mgf_reader {
     mgf_note notes[NOTE_COUNT];
     mgf_note unknown[32];
     int nunknown;
+    long long reads, statements;
 } mgf_reader;
 
 static const affine AFFINE_IDENTITY = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {0, 0, 0}};
@@ -1363,6 +1371,9 @@ static rad_status read_file(mgf_reader *r, const char *path)
         for (int d = 0; d <= r->depth && r->files[d]; d++)
             if (r->files[d]->dev == sb.st_dev && r->files[d]->ino == sb.st_ino)
                 return bad(r, "include loop: '%s' is already being read", path);
+    if (++r->reads > MGF_MAX_READS)
+        return bad(r, "more than %d file reads (includes, with their array instances)",
+                   MGF_MAX_READS);
     mgf_file f = {path, NULL, NULL, NULL, 0, 1, sb.st_dev, sb.st_ino};
     size_t size;
     rad_status st = scene_read_file(path, r->p->max_file_bytes, &f.data, &size);
@@ -1379,7 +1390,10 @@ static rad_status read_file(mgf_reader *r, const char *path)
     r->files[depth] = &f;
     int argc;
     while (st == RAD_OK && (st = next_entity(r, &argc)) == RAD_OK && argc > 0)
-        st = entity(r, argc);
+        st = ++r->statements > MGF_MAX_STATEMENTS
+                 ? bad(r, "more than %lld entities read (array instances and includes counted)",
+                       MGF_MAX_STATEMENTS)
+                 : entity(r, argc);
     if (st == RAD_OK && r->nxf && r->xf[r->nxf - 1].depth == depth)
         st = RAD_ERROR(RAD_EINPUT, "%s:%d: `xf` is not ended in this file (the file ends at line %d)",
                        path, r->xf[r->nxf - 1].line, f.next_line - 1);
