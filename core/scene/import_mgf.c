@@ -714,7 +714,7 @@ static rad_status emit(mgf_reader *r, const double *pts, int n, int flip)
     if (r->s->nt + n > (long long)r->p->max_triangles + 2)
         return RAD_ERROR(RAD_ETOOBIG, "%s:%d: more than %zu triangles", cur(r)->path,
                          cur(r)->line, r->p->max_triangles);
-    int mat;
+    int mat = 0;
     rad_status st = material_index(r, &mat);
     if (st == RAD_OK)
         st = add_points(r, pts, n);
@@ -840,7 +840,7 @@ static rad_status ent_face(mgf_reader *r, int argc)
     if (!pts)
         return no_memory(r);
     for (int i = 1; i < argc; i++) {
-        const mgf_vertex *vx;
+        const mgf_vertex *vx = NULL;
         rad_status st = vertex_ref(r, r->argv[i], &vx);
         if (st != RAD_OK)
             return st;
@@ -865,7 +865,7 @@ static rad_status ent_prism(mgf_reader *r, int argc)
         return no_memory(r);
     double *top = base + 3 * (size_t)n, N[3] = {0, 0, 0};
     for (int i = 0; i < n && st == RAD_OK; i++) {
-        const mgf_vertex *vx;
+        const mgf_vertex *vx = NULL;
         if ((st = vertex_ref(r, r->argv[1 + i], &vx)) == RAD_OK)
             memcpy(base + 3 * i, vx->p, sizeof vx->p);
     }
@@ -904,7 +904,7 @@ static rad_status ent_curved(mgf_reader *r, int argc)
 {
     const char *e = r->argv[0];
     rad_status st;
-    const mgf_vertex *a, *b = NULL;
+    const mgf_vertex *a = NULL, *b = NULL;
     double r1, r2 = 0, c[3], w[3] = {0, 0, 1};
     int n = r->segments;
     if (strcmp(e, "sph") == 0) {
