@@ -33,33 +33,38 @@ TEST(basis_dense_furnaces_p1_p2)
 {
     const char *scenes[3] = {"scenes/furnace_cube/cube.obj", "scenes/furnace_room/room_box.obj",
                              "scenes/furnace_room/room_hair.obj"};
-    for (int k = 0; k < 3; k++) {
-        rad_scene *scene = load_furnace(scenes[k], 0.9);
-        for (int order = 1; order <= 2; order++) {
-            rad_solve_params p;
-            rad_solve_params_default(&p);
-            p.basis = order;
-            rad_solution *s = NULL;
-            CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "%s p%d: %s", scenes[k], order,
-                      rad_error_message());
-            if (!s)
-                continue;
-            double worst = 0.0, sum = 0.0, area = 0.0;
-            for (int i = 0; i < s->faces; i++)
-                for (int c = 0; c < 3; c++) {
-                    double e = fabs(s->face_B[i + c * s->faces] - 10.0) / 10.0;
-                    worst = fmax(worst, e);
-                    sum += s->face_area[i] * e / 3.0;
-                    area += s->face_area[i] / 3.0;
-                }
-            printf("# furnace %s rho 0.9 --basis p%d: max %.2e, area-mean %.2e\n", scenes[k],
-                   order, worst, sum / area);
-            CHECK_MSG(worst < 1e-2 && sum / area < 2e-3, "%s p%d: max %g, mean %g", scenes[k],
-                      order, worst, sum / area);
-            rad_solution_destroy(s);
+    /* defaults; rho 0.99 amplifies a row's error 99 times: the 3% */
+    const double rhos[2] = {0.9, 0.99}, worst_max[2] = {1e-2, 3e-2}, mean_max[2] = {2e-3, 1e-2};
+    for (int q = 0; q < 2; q++)
+        for (int k = 0; k < 3; k++) {
+            rad_scene *scene = load_furnace(scenes[k], rhos[q]);
+            double want = 1.0 / (1.0 - rhos[q]);
+            for (int order = 1; order <= 2; order++) {
+                rad_solve_params p;
+                rad_solve_params_default(&p);
+                p.basis = order;
+                rad_solution *s = NULL;
+                CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "%s p%d: %s", scenes[k], order,
+                          rad_error_message());
+                if (!s)
+                    continue;
+                double worst = 0.0, sum = 0.0, area = 0.0;
+                for (int i = 0; i < s->faces; i++)
+                    for (int c = 0; c < 3; c++) {
+                        double e = fabs(s->face_B[i + c * s->faces] - want) / want;
+                        worst = fmax(worst, e);
+                        sum += s->face_area[i] * e / 3.0;
+                        area += s->face_area[i] / 3.0;
+                    }
+                printf("# furnace %s rho %g --basis p%d: max %.2e, area-mean %.2e\n", scenes[k],
+                       rhos[q], order, worst, sum / area);
+                CHECK_MSG(worst < worst_max[q] && sum / area < mean_max[q],
+                          "%s rho %g p%d: max %g, mean %g", scenes[k], rhos[q], order, worst,
+                          sum / area);
+                rad_solution_destroy(s);
+            }
+            rad_scene_destroy(scene);
         }
-        rad_scene_destroy(scene);
-    }
 }
 
 /* The couplings are symmetric, the constants' block is P0's G over

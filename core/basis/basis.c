@@ -1,8 +1,8 @@
 /* rad_basis: the orthonormal polynomials q_k on the unit triangle (rad_basis.h).
  * Gram-Schmidt of 1, s, t, s^2, st, t^2 in the mean over the triangle, with
  * the moments mean(s^a t^b) = 2 a! b! / (a + b + 2)!, in exact arithmetic;
- * the squared norms before normalization were 1, 1/18, 1/24, 1/300, 1/900 and
- * 1/540. */
+ * the squared norms before normalization are 1, 1/18, 1/24, 1/300, 1/900 and
+ * 1/540 (hence the square roots below). */
 #include "rad_basis.h"
 
 #include <math.h>

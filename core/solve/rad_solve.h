@@ -74,7 +74,7 @@ typedef struct rad_solve_params {
      * conforming leaf mesh, mc's input triangles; with edges = 1 each display
      * triangle also gets the corners of its element.  Default 0. */
     int display, edges;
-    /* 1: assembly.ff.tol and dense.tol were chosen by the caller and are kept;
+    /* 1: assembly.ff.tol and dense.tol are the caller's and are kept;
      * 0 (default): they are the defaults, tightened near reflectance 1 */
     int keep_tol, keep_solver_tol;
 } rad_solve_params;
