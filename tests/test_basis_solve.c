@@ -155,8 +155,6 @@ TEST(basis_options_checked)
 {
     const char *cube = harness_path("scenes/furnace_cube/cube.obj");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--basis", "p3", NULL}, "--basis");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--basis", "p1", "--method", "hier",
-                               NULL}, "--basis");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--basis", "p1", "--method", "mc",
                                NULL}, "--basis");
     /* p0 is today's answer, to the bit */

@@ -41,7 +41,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--vis-strata", o->strata, "d"},  {"--eps", o->eps, "h"},
         {"--min-area", o->min_area, "h"},  {"--oracle", o->oracle, "h"},
         {"--samples", o->samples, "m"},    {"--seed", o->seed, "m"},
-        {"--basis", o->basis, "d"},
+        {"--basis", o->basis, "dh"},
     };
     const char code = method == RAD_SOLVE_HIER ? 'h' : method == RAD_SOLVE_MC ? 'm' : 'd';
     for (size_t k = 0; k < sizeof table / sizeof table[0]; k++) {
@@ -83,8 +83,6 @@ static rad_status parse_dense(const solve_options *o, rad_solve_params *p)
         (st = cli_parse_positive_int("solve: --vis-strata", o->strata, 16, &strata)) != RAD_OK)
         return st;
     p->assembly.visible.sample_strata = strata;
-    if (o->basis && rad_basis_parse(o->basis, &p->basis) != RAD_OK)
-        return RAD_ERROR(RAD_EINVAL, "solve: --basis must be p0, p1 or p2, got '%s'", o->basis);
     return RAD_OK;
 }
 
@@ -156,6 +154,8 @@ rad_status solve_parse_params(const solve_options *o, const rad_effects_params *
                                      : parse_dense(o, p);
     if (st != RAD_OK)
         return st;
+    if (o->basis && rad_basis_parse(o->basis, &p->basis) != RAD_OK)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis must be p0, p1 or p2, got '%s'", o->basis);
     p->display = o->ply || o->png;
     p->edges = o->edges;
     return RAD_OK;

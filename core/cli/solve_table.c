@@ -29,8 +29,9 @@ static void print_params(FILE *out, const rad_solution *s)
                      "# solver_tol = %g\n",
                 rad_hier_oracle_name(u->hier.oracle), rule, u->hier.ff.tol, u->hier.eps,
                 u->hier.min_area, u->hier.tol);
-        fprintf(out, "# faces = %d\n# elements = %zu\n# nodes = %zu\n# max_depth = %d\n", s->faces,
-                s->hier.elements, s->hier.nodes, s->hier.max_depth);
+        fprintf(out, "# basis = p%d\n# faces = %d\n# elements = %zu\n# nodes = %zu\n"
+                     "# max_depth = %d\n",
+                u->basis, s->faces, s->hier.elements, s->hier.nodes, s->hier.max_depth);
         break;
     case RAD_SOLVE_MC:
         fprintf(out, "# samples = %lld\n# seed = %llu\n# batches = %d\n# faces = %d\n"

@@ -11,6 +11,7 @@
 #include "rad_basis.h"
 #include "rad_dense.h"
 #include "rad_geom.h"
+#include "rad_hierp.h"
 #include "rad_io.h"
 #include "rad_mesh.h"
 #include "rad_sys.h"
@@ -94,9 +95,9 @@ static rad_status apply_plan(rad_solution *s)
     rad_solve_params *u = &s->used;
     if (plan->refusal[0])
         return RAD_ERROR(RAD_ENUMERIC, "solve: %s", plan->refusal);
-    if (u->basis != 0 && u->method != RAD_SOLVE_DENSE)
-        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense only (the "
-                                     "hierarchical and Monte Carlo methods use constants)",
+    if (u->basis != 0 && u->method == RAD_SOLVE_MC)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense and hier (the "
+                                     "Monte Carlo method estimates per-face means)",
                          u->basis);
     if (u->emission && u->method != RAD_SOLVE_DENSE)
         return RAD_ERROR(RAD_EINVAL, "solve: an emission field applies to the dense method only");
@@ -565,6 +566,66 @@ static rad_status hier_display(rad_solution *s, const rad_hier *h, const prepare
     return RAD_OK;
 }
 
+/* hier with polynomial elements (rad_hierp): the leaves' coefficients are
+ * the solution's elements, shown as dense's are. */
+static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
+{
+    rad_solve_params *u = &s->used;
+    rad_hierp *h = NULL;
+    int *material = NULL;
+    double *leaf = NULL, *E = NULL;
+    rad_status st = rad_hierp_create(rad_scene_vertices(pr->scene),
+                                     (size_t)rad_scene_vertex_count(pr->scene),
+                                     rad_scene_triangles(pr->scene), (size_t)pr->faces, pr->rho,
+                                     pr->E, vis, &u->hier, u->basis, &h);
+    if (st == RAD_OK)
+        st = rad_hierp_solve(h);
+    if (st != RAD_OK)
+        goto done;
+    rad_hierp_get_stats(h, &s->hier);
+    add_phase(s, "link", s->hier.time_link_s);
+    add_phase(s, "refine", s->hier.time_refine_s);
+    add_phase(s, "solve", s->hier.time_solve_s);
+    size_t n = rad_hierp_leaf_count(h), m = (size_t)rad_basis_size(u->basis);
+    leaf = malloc(n * 4 * sizeof *leaf);
+    E = malloc(n * 3 * sizeof *E);
+    material = malloc(n * sizeof *material);
+    s->element_corners = malloc(n * 9 * sizeof *s->element_corners);
+    s->element_face = malloc(n * sizeof *s->element_face);
+    s->element_coef = malloc(n * m * 3 * sizeof *s->element_coef);
+    if (!leaf || !E || !material || !s->element_corners || !s->element_face ||
+        !s->element_coef) {
+        st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu elements", n);
+        goto done;
+    }
+    double *area = leaf, *B = leaf + n;
+    rad_hierp_leaves(h, s->element_face, area, s->element_corners, B, s->element_coef);
+    const int *tri_mat = rad_scene_triangle_materials(pr->scene);
+    size_t faces = (size_t)pr->faces;
+    for (size_t i = 0; i < n; i++) {
+        size_t f = (size_t)s->element_face[i];
+        material[i] = tri_mat[f];
+        for (int c = 0; c < 3; c++)
+            E[i + c * n] = pr->E[f + c * faces];
+    }
+    s->elements = n;
+    s->links = (long long)s->hier.links;
+    s->rays = s->hier.rays;
+    s->kernel_evals = s->hier.kernel_evals;
+    s->solver_name = "jacobi-push-pull";
+    s->solver_iterations = s->hier.iterations;
+    s->solver_residual = s->hier.residual;
+    s->systems = 3;
+    if ((st = face_answer(s, n, s->element_face, area, B)) == RAD_OK && u->display)
+        st = display_basis(s, material, E);
+done:
+    free(leaf);
+    free(E);
+    free(material);
+    rad_hierp_destroy(h);
+    return st;
+}
+
 static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
 {
     rad_solve_params *u = &s->used;
@@ -585,6 +646,11 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     if (st != RAD_OK)
         return st;
     add_phase(s, "visibility", rad_sys_seconds() - t_setup);
+    if (u->basis > 0) {
+        st = run_hierp(s, pr, vis);
+        rad_vis_destroy(vis);
+        return st;
+    }
     st = rad_hier_create(rad_scene_vertices(pr->scene), (size_t)rad_scene_vertex_count(pr->scene),
                          rad_scene_triangles(pr->scene), (size_t)pr->faces, pr->rho, pr->E, vis,
                          &u->hier, &h);

@@ -1,0 +1,135 @@
+/* Internal to rad_hierp: elements, links and what the module's files share
+ * (tree.c: elements, creation, read-out; link.c: a link's couplings and
+ * errors; solve.c: gather / push-pull and the error estimate; refine.c: the
+ * oracle and the rounds). */
+#ifndef HIERP_INTERNAL_H
+#define HIERP_INTERNAL_H
+
+#include <stddef.h>
+
+#include "rad_basis.h"
+#include "rad_geom.h"
+#include "rad_hierp.h"
+
+#define HP_M RAD_BASIS_MAX_SIZE
+#define HP_MAX_NODES 25
+
+typedef struct hp_elem {
+    rad_vec3 p[3];
+    rad_vec3 c;              /* centroid */
+    double area;
+    double size;             /* longest edge */
+    int parent, first_child; /* -1 for none; children first_child .. + 3 */
+    int face, depth;
+    int child;               /* which of its parent's children (0..3) */
+    double B[3][HP_M];       /* radiosity coefficients per channel */
+    double H[3][HP_M];       /* irradiance its own links gather (coefficients) */
+    double dep[3], dep1[3];           /* the departure of the irradiance its links bring from
+                                its polynomial, times rho (pointwise, W/m^2); on a
+                                leaf, summed with its ancestors'; dep1 the same
+                                in the mean over the element */
+    double detail[3];        /* the oracle's measure of the detail below: on a leaf
+                                0, on an inner element the largest of its children's
+                                departure from its B plus their detail */
+    double dev[3];           /* how far the radiosity below departs from B (a bound
+                                over the element: on a leaf its dep, on an inner
+                                element its children's departure from its B plus
+                                theirs) */
+    double row[HP_M];        /* leaf: the irradiance of B = 1 everywhere (its row) */
+    double q[3];             /* the errors its own links bring (W/m^2); on a leaf after
+                                the estimate, summed with its ancestors' */
+    double T[3], Tg[3];      /* the transported error (mean value) and its gather */
+} hp_elem;
+
+/* A link joins a and b both ways; its m x m couplings live in rad_hierp.K at
+ * the link's index. */
+typedef struct hp_link {
+    int a, b;         /* a = -1: refined (dead) */
+    double G;         /* the constants' coupling int_a int_b K V */
+    double dG;        /* its integration error */
+    double fa, fb;    /* the point form factor's departure from its projection over a
+                         (over b): per unit B of the other side */
+    double fa1, fb1;  /* the same departures' mean over the element */
+    double ka, kb;    /* the kernel's departure from its projection over the source,
+                         seen from a (from b), in the mean over both elements, times
+                         the source's area: per unit of the source's mean departure
+                         from its polynomial (the estimate) */
+    double kma, kmb;  /* the same, the largest over the receiver's nodes (the oracle) */
+    unsigned char vis;     /* 0 clear, 1 blockers but open, 2 partly hidden, 3 hidden */
+    unsigned char unknown; /* faces but every value 0: refine while possible */
+} hp_link;
+
+struct rad_hierp {
+    rad_hier_params p;
+    int order, m;
+    const rad_vis *vis;
+    int use_vis;
+    unsigned char *can_block;
+    rad_vec3 *normal;
+    size_t nroots;
+    double *rho, *E;
+    double E_max, rho_max;
+    double *face_scale;  /* per input triangle, the oracle's threshold scale (refine.c) */
+    hp_elem *el;
+    size_t nel, capel;
+    hp_link *ln;
+    double *K; /* m * m per link */
+    size_t nln, capln;
+    rad_hier_stats st;
+    double last_change;
+    /* the nodes of the coupling rule and the basis at them */
+    double rs[HP_MAX_NODES], rt[HP_MAX_NODES], rw[HP_MAX_NODES];
+    double rq[HP_MAX_NODES][HP_M];
+    int nodes;
+    /* push: child coefficients = P[child] parent coefficients (order 2's; the
+       lower orders are its leading blocks) */
+    double P[4][HP_M][HP_M];
+    /* the largest |q_k| over a triangle */
+    double qmax[HP_M];
+    long long limited;  /* the positivity limiter's actions in the last step (solve.c) */
+};
+
+/* tree.c */
+rad_status hp_grow_elems(rad_hierp *h, size_t extra);
+rad_status hp_reserve_links(rad_hierp *h, size_t extra);
+int hp_can_split(const rad_hierp *h, int e);
+rad_status hp_split(rad_hierp *h, int e);
+/* A bound of |f| over a triangle of area A for coefficients v[0..m). */
+double hp_poly_bound(const rad_hierp *h, const double *v, double area);
+/* The positivity limiter (solve.c): v's non-constant part scaled so that
+ * the function is >= 0 at the rule's nodes, its mean kept; a negative mean
+ * is raised to 0.  Returns 1 when it changed v. */
+int hp_limit(const rad_hierp *h, double *v);
+
+/* link.c */
+typedef struct hp_job {
+    int a, b;
+} hp_job;
+rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n);
+
+/* solve.c */
+void hp_rows(rad_hierp *h);
+rad_status hp_solve_links(rad_hierp *h, double tol);
+void hp_pull_dev(rad_hierp *h);
+double hp_reflected(const rad_hierp *h);
+rad_status hp_estimate_error(rad_hierp *h);
+/* What a link brings its receivers per channel (W/m^2; any pointer may be
+ * NULL): ea, eb the errors of the transport, which reach a receiver's mean
+ * (the constants' integration error, the source's unresolved detail);
+ * da, db the departure from the receiver's polynomial, pointwise only, da1,
+ * db1 its mean over the receiver. */
+void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double eb[3],
+                    double da[3], double db[3], double da1[3], double db1[3]);
+
+/* The oracle's errors of a link on a and on b (the largest channel): the
+ * receiver's departure and the constants' integration error at the largest
+ * source value, and the source's detail below the link. */
+void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob);
+
+/* refine.c */
+rad_status hp_refine(rad_hierp *h, long long *refined);
+/* Quarter the scale of the input triangles whose estimated error exceeds
+ * eps R; how many (0: none, or none may be tightened further). */
+int hp_tighten_failing(rad_hierp *h);
+
+#endif

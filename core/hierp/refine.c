@@ -1,0 +1,149 @@
+/* rad_hierp: the oracle and the refinement rounds.
+ *
+ * eps targets the error of each input triangle's mean radiosity relative to
+ * the mean reflected radiosity R, as rad_hier's ERROR oracle: a link's
+ * errors on its receivers (hp_link_errors), each times the receiver's share
+ * of its input triangle's area, are compared with link_share x eps R x the
+ * triangle's scale.  A link above is replaced by four, between the children
+ * of one element and the other: the element whose split removes more of the
+ * errors (a: its own departure as a receiver, f_a, and the detail it hides
+ * as a source, k_b dev_a; b alike), the larger one when the integration
+ * error dG is the larger part or nothing tells them apart, the other one
+ * when the first may not be split.  The new links are estimated in parallel
+ * and examined in the same pass.  When a pass refines nothing, the triangles
+ * whose estimated error (solve.c) still exceeds eps R have their scale
+ * quartered, at most max_tighten times, and refinement goes on: the error
+ * goes down where it is largest, and links do not multiply where it is
+ * already small.  A link the oracle would refine but whose elements may no
+ * longer be split (min_area, max_depth) is counted in links_bound. */
+#include "hierp_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "rad_sys.h"
+
+/* Which element of link l to split (-1: neither may be). */
+static int choose(const rad_hierp *h, const hp_link *l)
+{
+    const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    size_t n = h->nroots;
+    double sa = 0.0, sb = 0.0, sg = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double Ba = hp_poly_bound(h, a->B[c], a->area), Bb = hp_poly_bound(h, b->B[c], b->area);
+        double ra = h->rho[(size_t)a->face + (size_t)c * n];
+        double rb = h->rho[(size_t)b->face + (size_t)c * n];
+        sa = rad_dmax(sa, ra * l->fa * Bb + rb * l->kmb * a->detail[c]);
+        sb = rad_dmax(sb, rb * l->fb * Ba + ra * l->kma * b->detail[c]);
+        sg = rad_dmax(sg, rad_dmax(ra * l->dG / a->area * Bb, rb * l->dG / b->area * Ba));
+    }
+    int first = a->area >= b->area ? l->a : l->b;
+    if (!l->unknown && sa != sb && rad_dmax(sa, sb) > sg)
+        first = sa > sb ? l->a : l->b;
+    int second = first == l->a ? l->b : l->a;
+    return hp_can_split(h, first) ? first : hp_can_split(h, second) ? second : -1;
+}
+
+rad_status hp_refine(rad_hierp *h, long long *refined)
+{
+    double t0 = rad_sys_seconds();
+    *refined = 0;
+    rad_status st = RAD_OK;
+    long long count = 0;
+    hp_job *jobs = NULL;
+    size_t capj = 0;
+    hp_pull_dev(h);
+    double target = h->p.eps * hp_reflected(h) * h->p.link_share;
+    h->st.links_bound = 0;
+    size_t begin = 0, end = h->E_max > 0.0 ? h->nln : 0;
+    while (begin < end) {
+        size_t nj = 0;
+        for (size_t k = begin; k < end; k++) {
+            hp_link l = h->ln[k];
+            if (l.a < 0)
+                continue;
+            const hp_elem *ea = &h->el[l.a], *eb = &h->el[l.b];
+            double ca, cb;
+            hp_link_oracle(h, &l, &ca, &cb);
+            ca *= ea->area / h->el[ea->face].area;
+            cb *= eb->area / h->el[eb->face].area;
+            if (!(ca > target * h->face_scale[ea->face]) &&
+                !(cb > target * h->face_scale[eb->face]) && !l.unknown)
+                continue;
+            int split = choose(h, &l);
+            if (split < 0) {
+                h->st.links_bound += !l.unknown;
+                continue;
+            }
+            if ((st = hp_split(h, split)) != RAD_OK)
+                goto done;
+            if (nj + 4 > capj) {
+                size_t cap = capj ? 2 * capj : 1024;
+                hp_job *grown = realloc(jobs, cap * sizeof *jobs);
+                if (!grown) {
+                    st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu new links", cap);
+                    goto done;
+                }
+                jobs = grown;
+                capj = cap;
+            }
+            h->ln[k].a = -1;
+            int first = h->el[split].first_child, other = split == l.a ? l.b : l.a;
+            for (int c4 = 0; c4 < 4; c4++)
+                jobs[nj++] = (hp_job){first + c4, other};
+            count++;
+        }
+        if ((st = hp_estimate_batch(h, jobs, nj)) != RAD_OK)
+            goto done;
+        begin = end;
+        end = h->nln;
+    }
+done:
+    free(jobs);
+    {
+        /* drop the replaced links, keeping the order */
+        size_t w = 0, mm = (size_t)(h->m * h->m);
+        for (size_t k = 0; k < h->nln; k++)
+            if (h->ln[k].a >= 0) {
+                if (w != k) {
+                    h->ln[w] = h->ln[k];
+                    for (size_t i = 0; i < mm; i++)
+                        h->K[w * mm + i] = h->K[k * mm + i];
+                }
+                w++;
+            }
+        h->nln = w;
+    }
+    h->st.refinements += count;
+    if (count > 0)
+        h->st.rounds++;
+    h->st.time_refine_s += rad_sys_seconds() - t0;
+    *refined = count;
+    return st;
+}
+
+int hp_tighten_failing(rad_hierp *h)
+{
+    size_t n = h->nroots;
+    double *sum = calloc(2 * n, sizeof *sum);
+    if (!sum)
+        return 0;
+    double target = h->p.eps * hp_reflected(h);
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        sum[x->face] += x->area * rad_dmax(x->T[0], rad_dmax(x->T[1], x->T[2]));
+        sum[n + (size_t)x->face] += x->area;
+    }
+    int tightened = 0;
+    for (size_t f = 0; f < n; f++) {
+        double b = sum[n + f] > 0.0 ? sum[f] / sum[n + f] : 0.0;
+        if (b > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
+            h->face_scale[f] *= 0.25;
+            tightened++;
+        }
+    }
+    free(sum);
+    return tightened;
+}

@@ -1,0 +1,472 @@
+/* rad_hierp: gather / push-pull, the rows, and the error estimate.
+ *
+ * 1. Step (Jacobi): every element gathers H = sum over its links of K b_s
+ *    (K^T for the link's other end), with the old coefficients; push: in
+ *    index order (a parent comes before its children) an element adds its
+ *    parent's H restricted to it (P[child]); a leaf takes b = e + rho H, e
+ *    the emission's coefficients (E sqrt(A) on the constant); pull: in
+ *    reverse order a parent takes the projection of its children's
+ *    functions, sum_c P[c]^T b_c (exact: the parent's functions restricted to
+ *    a child lie in the child's space).
+ * 2. Rows: the same gather and push with B = 1 everywhere gives each leaf
+ *    its row, the irradiance a uniform unit radiosity would bring (1
+ *    everywhere, exactly, in a scene whose every point sees only front
+ *    faces).  In such a sealed scene each leaf's irradiance is corrected to
+ *    H + (u - row) H_0 / row_0 (u the unit function): a uniform radiosity
+ *    then gathers exactly itself, so the hierarchy's approximations move
+ *    light around without creating or losing any, which reflectance near 1
+ *    would amplify.  Elsewhere a row whose mean exceeds 1 is scaled back to
+ *    1 (no point sees more than its hemisphere), so the step contracts.
+ * 3. The error estimate: each link brings its receivers the errors of
+ *    hp_link_errors (W/m^2, per channel); a leaf's local error q sums those
+ *    of the links at it and at its ancestors; T = q + rho F T is solved by
+ *    the same gather / push-pull on the constants (to bound_tol), which
+ *    carries each local error through every bounce (up to 1 / (1 - rho)).
+ *    A leaf's T bounds its pointwise error, an input triangle's area-weighted
+ *    mean of T the error of its mean; reported relative to R, the
+ *    area-weighted mean reflected radiosity. */
+#include "hierp_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_sys.h"
+
+static void gather(rad_hierp *h, int unit)
+{
+    int m = h->m;
+    size_t mm = (size_t)(m * m);
+    for (size_t e = 0; e < h->nel; e++)
+        memset(h->el[e].H, 0, sizeof h->el[e].H);
+    for (size_t k = 0; k < h->nln; k++) {
+        const hp_link *l = &h->ln[k];
+        const double *K = h->K + k * mm;
+        hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        if (unit) {
+            /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
+            double ua = sqrt(a->area), ub = sqrt(b->area);
+            for (int r = 0; r < m; r++) {
+                a->H[0][r] += K[r * m] * ub;
+                b->H[0][r] += K[r] * ua;
+            }
+            continue;
+        }
+        for (int c = 0; c < 3; c++) {
+            const double *bb = b->B[c], *ba = a->B[c];
+            for (int r = 0; r < m; r++) {
+                double sa = 0.0, sb = 0.0;
+                for (int s = 0; s < m; s++) {
+                    sa += K[r * m + s] * bb[s];
+                    sb += K[s * m + r] * ba[s];
+                }
+                a->H[c][r] += sa;
+                b->H[c][r] += sb;
+            }
+        }
+    }
+    /* push: parents first */
+    int channels = unit ? 1 : 3;
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        if (x->parent < 0)
+            continue;
+        const hp_elem *p = &h->el[x->parent];
+        for (int c = 0; c < channels; c++)
+            for (int r = 0; r < m; r++) {
+                double v = 0.0;
+                for (int s = 0; s < m; s++)
+                    v += h->P[x->child][r][s] * p->H[c][s];
+                x->H[c][r] += v;
+            }
+    }
+}
+
+int hp_limit(const rad_hierp *h, double *v)
+{
+    double lo = INFINITY;
+    for (int i = 0; i < h->nodes; i++) {
+        double f = 0.0;
+        for (int k = 0; k < h->m; k++)
+            f += v[k] * h->rq[i][k];
+        lo = rad_dmin(lo, f);
+    }
+    if (!(lo < 0.0))
+        return 0;
+    if (!(v[0] > 0.0)) {
+        for (int k = 0; k < h->m; k++)
+            v[k] = 0.0;
+        return 1;
+    }
+    double theta = v[0] / (v[0] - lo); /* q_0 = 1: the mean's coefficient */
+    for (int k = 1; k < h->m; k++)
+        v[k] *= theta;
+    return 1;
+}
+
+static void pull(rad_hierp *h)
+{
+    int m = h->m;
+    for (size_t e = h->nel; e-- > 0;) {
+        hp_elem *x = &h->el[e];
+        if (x->first_child < 0)
+            continue;
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < m; r++) {
+                double v = 0.0;
+                for (int ch = 0; ch < 4; ch++) {
+                    const hp_elem *y = &h->el[x->first_child + ch];
+                    for (int s = 0; s < m; s++)
+                        v += h->P[ch][s][r] * y->B[c][s];
+                }
+                x->B[c][r] = v;
+            }
+    }
+}
+
+void hp_rows(rad_hierp *h)
+{
+    gather(h, 1);
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        memcpy(x->row, x->H[0], sizeof x->row);
+    }
+}
+
+/* One Jacobi step; the largest change of a leaf's mean and the largest mean. */
+static void step(rad_hierp *h, double *change, double *vmax)
+{
+    gather(h, 0);
+    int m = h->m;
+    h->limited = 0;
+    size_t n = h->nroots;
+    *change = 0.0;
+    *vmax = 0.0;
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        double sa = sqrt(x->area), r0 = x->row[0];
+        for (int c = 0; c < 3; c++) {
+            double t[HP_M];
+            memcpy(t, x->H[c], sizeof t);
+            if (h->p.sealed && r0 > 0.0) {
+                double s = t[0] / r0;
+                for (int k = 0; k < m; k++)
+                    t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
+            } else if (r0 > sa) {
+                for (int k = 0; k < m; k++)
+                    t[k] *= sa / r0;
+            }
+            if (m > 1 || t[0] < 0.0)
+                h->limited += hp_limit(h, t);
+            size_t f = (size_t)x->face + (size_t)c * n;
+            double rho = h->rho[f];
+            double old = x->B[c][0];
+            for (int k = 0; k < m; k++)
+                x->B[c][k] = rho * t[k];
+            x->B[c][0] += h->E[f] * sa;
+            double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
+            *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
+            *vmax = rad_dmax(*vmax, v);
+        }
+    }
+    pull(h);
+}
+
+rad_status hp_solve_links(rad_hierp *h, double tol)
+{
+    double t0 = rad_sys_seconds();
+    rad_status st = RAD_OK;
+    for (int it = 0;; it++) {
+        if (it >= h->p.max_iterations) {
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
+                                         "(last change %.3g of the largest radiosity)",
+                           h->p.max_iterations, h->last_change);
+            break;
+        }
+        double change, vmax;
+        step(h, &change, &vmax);
+        h->st.iterations++;
+        if (!isfinite(change) || !isfinite(vmax)) {
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after %d steps", it + 1);
+            break;
+        }
+        h->last_change = vmax > 0.0 ? change / vmax : 0.0;
+        if (change <= tol * vmax)
+            break;
+    }
+    h->st.residual = h->last_change;
+    h->st.time_solve_s += rad_sys_seconds() - t0;
+    return st;
+}
+
+/* What an error of the form factor between receiver r and source s is
+ * multiplied by (a bound over s): s's B, or in a sealed scene, where every
+ * row is normalized so that such an error only moves light between the
+ * sources of a receiver, how far s's B lies from r's irradiance. */
+static double weight(const rad_hierp *h, const hp_elem *r, const hp_elem *s, int c)
+{
+    double v[HP_M];
+    memcpy(v, s->B[c], sizeof v);
+    size_t f = (size_t)r->face + (size_t)c * h->nroots;
+    double rho = h->rho[f];
+    if (h->p.sealed && rho > 0.0)
+        v[0] -= (r->B[c][0] / sqrt(r->area) - h->E[f]) / rho * sqrt(s->area);
+    return hp_poly_bound(h, v, s->area);
+}
+
+void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double eb[3],
+                    double da[3], double db[3], double da1[3], double db1[3])
+{
+    const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    size_t n = h->nroots;
+    for (int c = 0; c < 3; c++) {
+        double wb = weight(h, a, b, c), wa = weight(h, b, a, c);
+        double ra = h->rho[(size_t)a->face + (size_t)c * n];
+        double rb = h->rho[(size_t)b->face + (size_t)c * n];
+        if (ea)
+            ea[c] = ra * (l->dG / a->area * wb + l->ka * b->dev[c]);
+        if (eb)
+            eb[c] = rb * (l->dG / b->area * wa + l->kb * a->dev[c]);
+        if (da)
+            da[c] = ra * l->fa * wb;
+        if (db)
+            db[c] = rb * l->fb * wa;
+        if (da1)
+            da1[c] = ra * l->fa1 * wb;
+        if (db1)
+            db1[c] = rb * l->fb1 * wa;
+    }
+}
+
+void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob)
+{
+    const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    size_t n = h->nroots;
+    *oa = *ob = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double wb = weight(h, a, b, c), wa = weight(h, b, a, c);
+        double ra = h->rho[(size_t)a->face + (size_t)c * n];
+        double rb = h->rho[(size_t)b->face + (size_t)c * n];
+        *oa = rad_dmax(*oa, ra * ((l->fa + l->dG / a->area) * wb + l->kma * b->detail[c]));
+        *ob = rad_dmax(*ob, rb * ((l->fb + l->dG / b->area) * wa + l->kmb * a->detail[c]));
+    }
+}
+
+void hp_pull_dev(rad_hierp *h)
+{
+    int m = h->m;
+    /* a leaf departs from its polynomial by the departures its links and its
+       ancestors' bring (dep, pushed down) */
+    for (size_t e = 0; e < h->nel; e++) {
+        memset(h->el[e].dep, 0, sizeof h->el[e].dep);
+        memset(h->el[e].dep1, 0, sizeof h->el[e].dep1);
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hp_link *l = &h->ln[k];
+        double da[3], db[3], da1[3], db1[3];
+        hp_link_errors(h, l, NULL, NULL, da, db, da1, db1);
+        for (int c = 0; c < 3; c++) {
+            h->el[l->a].dep[c] += da[c];
+            h->el[l->b].dep[c] += db[c];
+            h->el[l->a].dep1[c] += da1[c];
+            h->el[l->b].dep1[c] += db1[c];
+        }
+    }
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        if (x->parent >= 0)
+            for (int c = 0; c < 3; c++) {
+                x->dep[c] += h->el[x->parent].dep[c];
+                x->dep1[c] += h->el[x->parent].dep1[c];
+            }
+    }
+    for (size_t e = h->nel; e-- > 0;) {
+        hp_elem *x = &h->el[e];
+        if (x->first_child < 0) {
+            memcpy(x->dev, x->dep1, sizeof x->dev);
+            memset(x->detail, 0, sizeof x->detail);
+            continue;
+        }
+        for (int c = 0; c < 3; c++) {
+            double d = 0.0, dd = 0.0;
+            for (int ch = 0; ch < 4; ch++) {
+                const hp_elem *y = &h->el[x->first_child + ch];
+                double r[HP_M];
+                for (int k = 0; k < m; k++) {
+                    double v = 0.0;
+                    for (int t = 0; t < m; t++)
+                        v += h->P[ch][k][t] * x->B[c][t];
+                    r[k] = y->B[c][k] - v;
+                }
+                double b = hp_poly_bound(h, r, y->area);
+                d += 0.25 * (b + y->dev[c]);
+                dd = rad_dmax(dd, b + y->detail[c]);
+            }
+            x->dev[c] = d;
+            x->detail[c] = dd;
+        }
+    }
+}
+
+double hp_reflected(const rad_hierp *h)
+{
+    double num = 0.0, den = 0.0;
+    size_t n = h->nroots;
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        double sa = sqrt(x->area);
+        for (int c = 0; c < 3; c++)
+            num += x->area * (x->B[c][0] / sa - h->E[(size_t)x->face + (size_t)c * n]);
+        den += 3.0 * x->area;
+    }
+    double R = den > 0.0 ? num / den : 0.0;
+    return R > 0.0 ? R : h->E_max;
+}
+
+rad_status hp_estimate_error(rad_hierp *h)
+{
+    double t0 = rad_sys_seconds();
+    hp_pull_dev(h);
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        x->q[0] = x->q[1] = x->q[2] = 0.0;
+        x->T[0] = x->T[1] = x->T[2] = 0.0;
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        double ea[3], eb[3];
+        const hp_link *l = &h->ln[k];
+        hp_link_errors(h, l, ea, eb, NULL, NULL, NULL, NULL);
+        for (int c = 0; c < 3; c++) {
+            h->el[l->a].q[c] += ea[c];
+            h->el[l->b].q[c] += eb[c];
+        }
+    }
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        if (x->parent >= 0)
+            for (int c = 0; c < 3; c++)
+                x->q[c] += h->el[x->parent].q[c];
+    }
+    /* T = q + rho F T, by the constants' gather / push-pull */
+    size_t n = h->nroots;
+    rad_status st = RAD_OK;
+    for (int it = 0;; it++) {
+        if (it >= h->p.max_iterations) {
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
+                           h->p.max_iterations);
+            break;
+        }
+        for (size_t e = 0; e < h->nel; e++)
+            memset(h->el[e].Tg, 0, sizeof h->el[e].Tg);
+        for (size_t k = 0; k < h->nln; k++) {
+            const hp_link *l = &h->ln[k];
+            hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+            for (int c = 0; c < 3; c++) {
+                a->Tg[c] += l->G / a->area * b->T[c];
+                b->Tg[c] += l->G / b->area * a->T[c];
+            }
+        }
+        double change = 0.0, tmax = 0.0;
+        for (size_t e = 0; e < h->nel; e++) {
+            hp_elem *x = &h->el[e];
+            if (x->parent >= 0)
+                for (int c = 0; c < 3; c++)
+                    x->Tg[c] += h->el[x->parent].Tg[c];
+            if (x->first_child >= 0)
+                continue;
+            double sa = sqrt(x->area), row = x->row[0] / sa, s = row > 1.0 ? 1.0 / row : 1.0;
+            for (int c = 0; c < 3; c++) {
+                double t = x->q[c] + h->rho[(size_t)x->face + (size_t)c * n] * s * x->Tg[c];
+                change = rad_dmax(change, fabs(t - x->T[c]));
+                tmax = rad_dmax(tmax, t);
+                x->T[c] = t;
+            }
+        }
+        for (size_t e = h->nel; e-- > 0;) {
+            hp_elem *x = &h->el[e];
+            if (x->first_child < 0)
+                continue;
+            for (int c = 0; c < 3; c++) {
+                double v = 0.0;
+                for (int ch = 0; ch < 4; ch++)
+                    v += 0.25 * h->el[x->first_child + ch].T[c];
+                x->T[c] = v;
+            }
+        }
+        if (!isfinite(change)) {
+            st = RAD_ERROR(RAD_ENUMERIC, "hier: the error estimate is not finite");
+            break;
+        }
+        if (change <= h->p.bound_tol * tmax)
+            break;
+    }
+    /* per leaf, per input triangle, over the scene */
+    double R = hp_reflected(h);
+    double *face = calloc(2 * n, sizeof *face);
+    if (!face)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+    double leaf_max = 0.0, sum = 0.0, total = 0.0;
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        double t = rad_dmax(x->T[0], rad_dmax(x->T[1], x->T[2]));
+        for (int c = 0; c < 3; c++)
+            leaf_max = rad_dmax(leaf_max, x->T[c] + x->dep[c]);
+        face[x->face] += x->area * t;
+        face[n + (size_t)x->face] += x->area;
+        sum += x->area * t;
+        total += x->area;
+    }
+    double face_max = 0.0;
+    for (size_t f = 0; f < n; f++)
+        if (face[n + f] > 0.0)
+            face_max = rad_dmax(face_max, face[f] / face[n + f]);
+    free(face);
+    h->st.reflected = R;
+    h->st.bound_leaf_max = leaf_max / R;
+    h->st.bound_face_max = face_max / R;
+    h->st.bound_mean = total > 0.0 ? sum / total / R : 0.0;
+    h->st.target_met = h->st.bound_face_max <= h->p.eps;
+    h->st.time_solve_s += rad_sys_seconds() - t0;
+    return st;
+}
+
+rad_status rad_hierp_solve(rad_hierp *h)
+{
+    if (!h)
+        return RAD_ERROR(RAD_EINVAL, "hier: no handle");
+    hp_rows(h);
+    double between = h->p.round_tol * (1.0 - h->rho_max);
+    rad_status st = hp_solve_links(h, rad_dmax(between, h->p.tol));
+    if (st != RAD_OK)
+        return st;
+    if (h->p.progress)
+        h->p.progress(0, rad_hierp_leaf_count(h), h->nln, h->p.progress_ctx);
+    for (int round = 1; round <= h->p.max_rounds; round++) {
+        long long refined = 0;
+        if ((st = hp_refine(h, &refined)) != RAD_OK)
+            return st;
+        if (refined == 0) {
+            /* nothing above the thresholds: tighten where the estimate fails */
+            if ((st = hp_estimate_error(h)) != RAD_OK)
+                return st;
+            if (hp_tighten_failing(h) == 0)
+                break;
+            continue;
+        }
+        hp_rows(h);
+        if ((st = hp_solve_links(h, rad_dmax(between, h->p.tol))) != RAD_OK)
+            return st;
+        if (h->p.progress)
+            h->p.progress(round, rad_hierp_leaf_count(h), h->nln, h->p.progress_ctx);
+    }
+    if ((st = hp_solve_links(h, h->p.tol)) != RAD_OK)
+        return st;
+    return hp_estimate_error(h);
+}

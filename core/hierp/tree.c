@@ -1,0 +1,410 @@
+/* rad_hierp: the element tree, creation, the push matrices and the read-out.
+ *
+ * Elements live in one growing array and refer to each other by index; an
+ * element's four children are contiguous, made by rad_hier's midpoint split
+ * (a m_ab m_ca, m_ab b m_bc, m_ca m_bc c, and the middle m_ab m_bc m_ca, all
+ * with the parent's orientation and corner 0 first), and start with the
+ * parent's radiosity restricted to them.  A child's local coordinates are an
+ * affine image of its parent's, the same on every triangle, so the
+ * restriction of the parent's basis to child c is one matrix P[c] for the
+ * whole scene: P[c]_lk = int_child phi_k phi^c_l = 1/2 mean_child(q_k q^c_l)
+ * (computed once, by a rule exact for the products). */
+#include "hierp_internal.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_quad.h"
+#include "rad_sys.h"
+
+/* the children's corners in the parent's local (s, t) */
+static const double child_st[4][3][2] = {{{0.0, 0.0}, {0.5, 0.0}, {0.0, 0.5}},
+                                         {{0.5, 0.0}, {1.0, 0.0}, {0.5, 0.5}},
+                                         {{0.0, 0.5}, {0.5, 0.5}, {0.0, 1.0}},
+                                         {{0.5, 0.0}, {0.5, 0.5}, {0.0, 0.5}}};
+
+static void push_matrices(rad_hierp *h)
+{
+    double s[RAD_QUAD_TRI_MAX_POINTS], t[RAD_QUAD_TRI_MAX_POINTS], w[RAD_QUAD_TRI_MAX_POINTS];
+    int n = 0;
+    rad_quad_tri_symmetric(2 * RAD_BASIS_MAX_ORDER, s, t, w, &n);
+    double wsum = 0.0;
+    for (int i = 0; i < n; i++)
+        wsum += w[i];
+    memset(h->P, 0, sizeof h->P);
+    for (int c = 0; c < 4; c++) {
+        const double(*k)[2] = child_st[c];
+        for (int i = 0; i < n; i++) {
+            double ps = k[0][0] + s[i] * (k[1][0] - k[0][0]) + t[i] * (k[2][0] - k[0][0]);
+            double pt = k[0][1] + s[i] * (k[1][1] - k[0][1]) + t[i] * (k[2][1] - k[0][1]);
+            double qp[HP_M], qc[HP_M];
+            rad_basis_eval(RAD_BASIS_MAX_ORDER, ps, pt, qp);
+            rad_basis_eval(RAD_BASIS_MAX_ORDER, s[i], t[i], qc);
+            for (int l = 0; l < HP_M; l++)
+                for (int m = 0; m < HP_M; m++)
+                    h->P[c][l][m] += 0.5 * w[i] / wsum * qp[m] * qc[l];
+        }
+    }
+    /* the largest |q_k| over the triangle, on a fine lattice (the functions
+       are quadratics: their extremes on it are within a few percent) */
+    memset(h->qmax, 0, sizeof h->qmax);
+    enum { LATTICE = 24 };
+    for (int i = 0; i <= LATTICE; i++)
+        for (int j = 0; i + j <= LATTICE; j++) {
+            double q[HP_M];
+            rad_basis_eval(RAD_BASIS_MAX_ORDER, (double)i / LATTICE, (double)j / LATTICE, q);
+            for (int k = 0; k < HP_M; k++)
+                h->qmax[k] = rad_dmax(h->qmax[k], fabs(q[k]));
+        }
+}
+
+double hp_poly_bound(const rad_hierp *h, const double *v, double area)
+{
+    double b = 0.0;
+    for (int k = 0; k < h->m; k++)
+        b += fabs(v[k]) * h->qmax[k];
+    return area > 0.0 ? b / sqrt(area) : 0.0;
+}
+
+static int grow_array(void **arr, size_t *cap, size_t used, size_t need, size_t item,
+                      size_t first)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : first;
+    while (c < need)
+        c *= 2;
+    if (c > SIZE_MAX / item)
+        return 0;
+    void *n = rad_sys_alloc_huge(c * item);
+    if (!n)
+        return 0;
+    if (used > 0)
+        memcpy(n, *arr, used * item);
+    free(*arr);
+    *arr = n;
+    *cap = c;
+    return 1;
+}
+
+rad_status hp_grow_elems(rad_hierp *h, size_t extra)
+{
+    if (h->nel + extra > h->p.max_elements)
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
+                                      "min_area)", h->p.max_elements);
+    if (!grow_array((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
+    return RAD_OK;
+}
+
+rad_status hp_reserve_links(rad_hierp *h, size_t extra)
+{
+    if (h->nln + extra > h->p.max_links)
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
+                                      "min_area)", h->p.max_links);
+    size_t cap = h->capln, mm = (size_t)(h->m * h->m);
+    if (!grow_array((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
+    if (!grow_array((void **)&h->K, &cap, h->nln, h->capln, mm * sizeof *h->K, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
+    return RAD_OK;
+}
+
+int hp_can_split(const rad_hierp *h, int e)
+{
+    const hp_elem *x = &h->el[e];
+    return x->depth < h->p.max_depth && 0.25 * x->area >= h->p.min_area;
+}
+
+rad_status hp_split(rad_hierp *h, int e)
+{
+    if (h->el[e].first_child >= 0)
+        return RAD_OK;
+    rad_status st = hp_grow_elems(h, 4);
+    if (st != RAD_OK)
+        return st;
+    hp_elem *x = &h->el[e];
+    rad_vec3 mid[3];
+    for (int v = 0; v < 3; v++)
+        mid[v] = rad_vec3_scale(rad_vec3_add(x->p[v], x->p[(v + 1) % 3]), 0.5);
+    /* m_ab = mid[0], m_bc = mid[1], m_ca = mid[2] */
+    const rad_vec3 corners[4][3] = {{x->p[0], mid[0], mid[2]},
+                                    {mid[0], x->p[1], mid[1]},
+                                    {mid[2], mid[1], x->p[2]},
+                                    {mid[0], mid[1], mid[2]}};
+    int first = (int)h->nel;
+    for (int c = 0; c < 4; c++) {
+        hp_elem *y = &h->el[h->nel++];
+        memset(y, 0, sizeof *y);
+        memcpy(y->p, corners[c], sizeof y->p);
+        y->c = rad_geom_triangle_centroid(y->p[0], y->p[1], y->p[2]);
+        y->area = 0.25 * x->area;
+        y->size = rad_geom_triangle_longest_edge(y->p);
+        y->parent = e;
+        y->first_child = -1;
+        y->face = x->face;
+        y->depth = x->depth + 1;
+        y->child = c;
+        for (int ch = 0; ch < 3; ch++)
+            for (int l = 0; l < h->m; l++) {
+                double v = 0.0;
+                for (int k = 0; k < h->m; k++)
+                    v += h->P[c][l][k] * x->B[ch][k];
+                y->B[ch][l] = v;
+            }
+    }
+    x->first_child = first;
+    if (h->el[first].depth > h->st.max_depth)
+        h->st.max_depth = h->el[first].depth;
+    return RAD_OK;
+}
+
+static rad_status check_params(const rad_hier_params *p, int order)
+{
+    if (order < 0 || order > RAD_BASIS_MAX_ORDER)
+        return RAD_ERROR(RAD_EINVAL, "hier: basis order %d is not 0, 1 or 2", order);
+    if (p->oracle != RAD_HIER_ORACLE_ERROR)
+        return RAD_ERROR(RAD_EINVAL, "hier: the bf oracle applies to constant elements only "
+                                     "(--basis p0)");
+    if (p->use_rule)
+        return RAD_ERROR(RAD_EINVAL, "hier: an explicit form-factor rule applies to constant "
+                                     "elements only (--basis p0)");
+    if (!(p->eps > 0.0) || !isfinite(p->eps))
+        return RAD_ERROR(RAD_EINVAL, "hier: eps must be a finite number > 0 (got %g)", p->eps);
+    if (!(p->min_area >= 0.0) || !isfinite(p->min_area))
+        return RAD_ERROR(RAD_EINVAL, "hier: min_area must be a finite number >= 0 (got %g)",
+                         p->min_area);
+    if (p->max_depth < 0 || p->max_depth > 30)
+        return RAD_ERROR(RAD_EINVAL, "hier: max_depth must lie in 0..30 (got %d)", p->max_depth);
+    if (p->degree < 1 || p->degree > RAD_QUAD_TRI_MAX_DEGREE)
+        return RAD_ERROR(RAD_EINVAL, "hier: the point-value degree must lie in 1..%d (got %d)",
+                         RAD_QUAD_TRI_MAX_DEGREE, p->degree);
+    if (!(p->link_share > 0.0) || !isfinite(p->link_share))
+        return RAD_ERROR(RAD_EINVAL, "hier: link_share must be a finite number > 0 (got %g)",
+                         p->link_share);
+    if (!(p->far_ratio >= 0.0) || !isfinite(p->far_ratio))
+        return RAD_ERROR(RAD_EINVAL, "hier: far_ratio must be a finite number >= 0 (got %g)",
+                         p->far_ratio);
+    if (!(p->tol > 0.0) || !isfinite(p->tol) || !(p->bound_tol > 0.0) || !isfinite(p->bound_tol))
+        return RAD_ERROR(RAD_EINVAL, "hier: tol and bound_tol must be finite numbers > 0");
+    if (p->max_iterations < 1 || p->max_rounds < 0)
+        return RAD_ERROR(RAD_EINVAL, "hier: max_iterations must be >= 1 and max_rounds >= 0");
+    if (!(p->round_tol > 0.0) || !(p->round_tol < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1)");
+    if (p->max_elements < 1 || p->max_links < 1)
+        return RAD_ERROR(RAD_EINVAL, "hier: max_elements and max_links must be >= 1");
+    return RAD_OK;
+}
+
+rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
+                            const double *rho, const double *E, const rad_vis *vis,
+                            const rad_hier_params *params, int order, rad_hierp **out)
+{
+    rad_hier_params p;
+    if (params)
+        p = *params;
+    else
+        rad_hier_params_default(&p);
+    if (!out)
+        return RAD_ERROR(RAD_EINVAL, "hier: no output handle");
+    *out = NULL;
+    rad_status st = check_params(&p, order);
+    if (st != RAD_OK)
+        return st;
+    if (!xyz || !tri || !rho || !E || ntris < 1 || ntris > (size_t)1 << 30)
+        return RAD_ERROR(RAD_EINVAL, "hier: bad arguments (%zu triangles)", ntris);
+    if (vis && rad_vis_triangle_count(vis) != ntris)
+        return RAD_ERROR(RAD_EINVAL, "hier: the visibility holds %zu triangles, the scene %zu",
+                         rad_vis_triangle_count(vis), ntris);
+    rad_hierp *h = calloc(1, sizeof *h);
+    if (!h)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+    h->p = p;
+    h->order = order;
+    h->m = rad_basis_size(order);
+    h->vis = vis;
+    h->use_vis = vis && !rad_vis_is_unoccluded(vis);
+    h->nroots = ntris;
+    h->rho = malloc(3 * ntris * sizeof *h->rho);
+    h->E = malloc(3 * ntris * sizeof *h->E);
+    h->normal = malloc(ntris * sizeof *h->normal);
+    h->face_scale = malloc(ntris * sizeof *h->face_scale);
+    if (!h->rho || !h->E || !h->normal || !h->face_scale) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+        goto fail;
+    }
+    memcpy(h->rho, rho, 3 * ntris * sizeof *rho);
+    memcpy(h->E, E, 3 * ntris * sizeof *E);
+    for (size_t t = 0; t < ntris; t++)
+        h->face_scale[t] = 1.0;
+    push_matrices(h);
+    /* the coupling rule: exact for two order-p functions against a kernel of
+       degree 2 over each element, weights summing to 1 */
+    int degree = p.degree > 2 * order + 2 ? p.degree : 2 * order + 2;
+    if ((st = rad_quad_tri_symmetric(degree, h->rs, h->rt, h->rw, &h->nodes)) != RAD_OK)
+        goto fail;
+    {
+        double wsum = 0.0;
+        for (int k = 0; k < h->nodes; k++)
+            wsum += h->rw[k];
+        for (int k = 0; k < h->nodes; k++) {
+            h->rw[k] /= wsum;
+            rad_basis_eval(order, h->rs[k], h->rt[k], h->rq[k]);
+        }
+
+    }
+    if ((st = hp_grow_elems(h, ntris)) != RAD_OK)
+        goto fail;
+    for (size_t t = 0; t < ntris; t++) {
+        hp_elem *e = &h->el[t];
+        memset(e, 0, sizeof *e);
+        for (int v = 0; v < 3; v++) {
+            int k = tri[3 * t + (size_t)v];
+            if (k < 0 || (size_t)k >= nverts) {
+                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: vertex index %d out of range", t,
+                               k);
+                goto fail;
+            }
+            e->p[v] = rad_vec3_make(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+            if (!rad_vec3_is_finite(e->p[v])) {
+                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: non-finite vertex", t);
+                goto fail;
+            }
+        }
+        if (rad_geom_triangle_is_degenerate(e->p[0], e->p[1], e->p[2], p.ff.degenerate_rel_tol)) {
+            st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu is degenerate", t);
+            goto fail;
+        }
+        e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
+        e->size = rad_geom_triangle_longest_edge(e->p);
+        e->c = rad_geom_triangle_centroid(e->p[0], e->p[1], e->p[2]);
+        h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
+        e->parent = e->first_child = -1;
+        e->face = (int)t;
+        for (int c = 0; c < 3; c++) {
+            double r = rho[t + c * ntris], em = E[t + c * ntris];
+            if (!(r >= 0.0 && r < 1.0) || !(em >= 0.0) || !isfinite(em)) {
+                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: reflectance must lie in [0,1) "
+                                           "and emission be finite and >= 0 (channel %d)", t, c);
+                goto fail;
+            }
+            e->B[c][0] = em * sqrt(e->area);
+            h->E_max = fmax(h->E_max, em);
+            h->rho_max = fmax(h->rho_max, r);
+        }
+    }
+    h->nel = ntris;
+    if (h->use_vis && ntris <= 8192) {
+        /* which pairs of input triangles something can block, once */
+        h->can_block = malloc(ntris * ntris);
+        if (!h->can_block) {
+            st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+            goto fail;
+        }
+        for (size_t r = 0; r < ntris; r++)
+            for (size_t s = 0; s < ntris; s++)
+                h->can_block[r * ntris + s] =
+                    r != s && rad_vis_pair_can_block(vis, r, s) ? 1 : 0;
+    }
+    /* every pair of input triangles (those that face make links) */
+    double t0 = rad_sys_seconds();
+    size_t npairs = ntris * (ntris - 1) / 2;
+    hp_job *jobs = malloc((npairs ? npairs : 1) * sizeof *jobs);
+    if (!jobs) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu initial links", npairs);
+        goto fail;
+    }
+    size_t nj = 0;
+    for (size_t a = 0; a < ntris; a++)
+        for (size_t b = a + 1; b < ntris; b++)
+            jobs[nj++] = (hp_job){(int)a, (int)b};
+    st = hp_estimate_batch(h, jobs, nj);
+    free(jobs);
+    if (st != RAD_OK)
+        goto fail;
+    h->st.time_link_s = rad_sys_seconds() - t0;
+    *out = h;
+    return RAD_OK;
+fail:
+    rad_hierp_destroy(h);
+    return st;
+}
+
+void rad_hierp_destroy(rad_hierp *h)
+{
+    if (!h)
+        return;
+    free(h->rho);
+    free(h->E);
+    free(h->normal);
+    free(h->face_scale);
+    free(h->can_block);
+    free(h->el);
+    free(h->ln);
+    free(h->K);
+    free(h);
+}
+
+int rad_hierp_order(const rad_hierp *h)
+{
+    return h ? h->order : 0;
+}
+
+size_t rad_hierp_leaf_count(const rad_hierp *h)
+{
+    size_t n = 0;
+    for (size_t e = 0; h && e < h->nel; e++)
+        n += h->el[e].first_child < 0;
+    return n;
+}
+
+void rad_hierp_leaves(const rad_hierp *h, int *face, double *area, double *corners, double *B,
+                      double *coef)
+{
+    size_t n = rad_hierp_leaf_count(h), i = 0, m = (size_t)h->m;
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        if (face)
+            face[i] = x->face;
+        if (area)
+            area[i] = x->area;
+        if (corners)
+            for (int v = 0; v < 3; v++) {
+                corners[9 * i + 3 * (size_t)v] = x->p[v].x;
+                corners[9 * i + 3 * (size_t)v + 1] = x->p[v].y;
+                corners[9 * i + 3 * (size_t)v + 2] = x->p[v].z;
+            }
+        for (int c = 0; c < 3; c++) {
+            if (B)
+                B[i + (size_t)c * n] = x->B[c][0] / sqrt(x->area);
+            if (coef)
+                for (size_t k = 0; k < m; k++)
+                    coef[(i * m + k) + (size_t)c * n * m] = x->B[c][k];
+        }
+        i++;
+    }
+}
+
+void rad_hierp_get_stats(const rad_hierp *h, rad_hier_stats *stats)
+{
+    if (!h || !stats)
+        return;
+    *stats = h->st;
+    stats->elements = rad_hierp_leaf_count(h);
+    stats->nodes = h->nel;
+    stats->links = h->nln;
+    stats->links_clear = stats->links_visible = stats->links_partial = 0;
+    stats->links_blocked = stats->links_unknown = stats->links_leaf = 0;
+    for (size_t k = 0; k < h->nln; k++) {
+        const hp_link *l = &h->ln[k];
+        size_t *count[4] = {&stats->links_clear, &stats->links_visible, &stats->links_partial,
+                            &stats->links_blocked};
+        (*count[l->vis & 3])++;
+        stats->links_unknown += l->unknown;
+        stats->links_leaf += h->el[l->a].first_child < 0 && h->el[l->b].first_child < 0;
+    }
+}
