@@ -9,6 +9,11 @@
 # 2. The manufactured case (experiments/bases/manufactured.c, built here
 #    against the library beside the radkit binary): the L2 error against the
 #    exact B* at each refinement, and the fitted orders of the last two.
+# 3. Hierarchical p0, p1, p2 on the Cornell box, eps swept: leaves, links,
+#    the median wall time of REPEAT runs, the error against the reference and
+#    the run's own error_estimate (worst face) beside the true worst face;
+#    and the time each basis needs for 0.25% and 0.1% (log-log interpolation
+#    between the two runs that bracket the target).
 # Tables in data/, figures in figures/ (gnuplot).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -19,6 +24,8 @@ libdir=$(cd "$(dirname "$RADKIT")" && pwd)
 MAX_P0=${MAX_P0:-3}
 MAX_P1=${MAX_P1:-2}
 MAX_P2=${MAX_P2:-2}
+REPEAT=${REPEAT:-3}
+HIER_EPS=${HIER_EPS:-"0.3 0.2 0.1 0.05 0.03 0.02 0.01"}
 scene=scenes/cornell/cornell.obj
 ref=experiments/reference/data/cornell.tsv
 cd "$root"
@@ -67,6 +74,47 @@ awk -F'\t' '!/^#/ && $1 ~ /^p/ { if ($1 == b) { o = log(e / $5) / log(2) } else 
                                b = $1; e = $5; last[b] = o }
             END { for (k in last) printf "%s\t%.3f\n", k, last[k] }' "$man" | sort > "$here/data/orders.dat"
 cat "$here/data/orders.dat"
+
+# ---- 3. hierarchical p0, p1, p2 ------------------------------------------------
+hier=$here/data/hier.dat
+{
+  echo "# experiment = bases: hier --basis p0, p1, p2 on $scene against $ref, eps swept"
+  echo "# generator = $version; machine = $(nproc) cores; time_s: median time_total_s of $REPEAT runs"
+  echo "# error_l1, error_worst: radkit compare; estimate: the run's error_estimate (worst face)"
+  printf "basis\teps\telements\tlinks\ttime_s\terror_l1\terror_worst\testimate\n"
+} > "$hier"
+for basis in p0 p1 p2; do
+  for eps in $HIER_EPS; do
+    out=$here/data/hier_${basis}_$eps.tsv
+    t=$(i=0; while [ "$i" -lt "$REPEAT" ]; do
+          "$RADKIT" solve "$scene" --method hier --basis "$basis" --eps "$eps" --quiet --out "$out"
+          sed -n 's/^# time_total_s = //p' "$out"; i=$((i + 1))
+        done | sort -g | awk '{ t[NR] = $1 } END { print t[int((NR + 1) / 2)] }')
+    cmp=$("$RADKIT" compare "$scene" "$out" "$ref")
+    printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n" "$basis" "$eps" \
+      "$(sed -n 's/^# elements = //p' "$out")" "$(sed -n 's/^# links = //p' "$out")" "$t" \
+      "$(echo "$cmp" | sed -n 's/^# error_l1 = //p')" "$(echo "$cmp" | sed -n 's/^# error_worst = //p')" \
+      "$(sed -n 's/^# error_estimate = //p' "$out")" >> "$hier"
+    rm -f "$out"
+    echo "hier $basis eps $eps: ${t} s"
+  done
+done
+target=$here/data/hier_target.dat
+printf "basis\ttarget\ttime_s\tfirst_run_s\tfirst_run_eps\n" > "$target"
+for basis in p0 p1 p2; do
+  for goal in 0.0025 0.001; do
+    awk -F'\t' -v m="$basis" -v g="$goal" '$1 == m { e[n + 0] = $6; t[n + 0] = $5; p[n + 0] = $2; n++ }
+      END { best = "none"; first = "none"; eps = "-"
+        for (i = 0; i < n; i++) {
+          if (e[i] <= g && (first == "none" || t[i] < first)) { first = t[i]; eps = p[i] }
+          for (j = 0; j < n; j++)
+            if (e[i] > g && e[j] <= g && t[j] >= t[i]) {
+              f = log(e[i] / g) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
+              if (best == "none" || v < best) best = v } }
+        printf "%s\t%s\t%s\t%s\t%s\n", m, g, best, first, eps }' "$hier" >> "$target"
+  done
+done
+cat "$hier" "$target"
 
 (cd "$here" && gnuplot plot.gp)
 echo "bases: data/ and figures/ written"
