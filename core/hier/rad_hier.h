@@ -141,6 +141,8 @@ typedef struct rad_hier_params {
 } rad_hier_params;
 
 void rad_hier_params_default(rad_hier_params *params);
+/* RAD_OK, or RAD_EINVAL naming the first parameter out of range. */
+rad_status rad_hier_params_check(const rad_hier_params *params);
 
 typedef struct rad_hier_stats {
     size_t elements;      /* leaves */

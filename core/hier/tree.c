@@ -61,7 +61,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->max_links = 50000000;
 }
 
-static rad_status check_params(const rad_hier_params *p)
+rad_status rad_hier_params_check(const rad_hier_params *p)
 {
     if (p->oracle != RAD_HIER_ORACLE_BF && p->oracle != RAD_HIER_ORACLE_ERROR)
         return RAD_ERROR(RAD_EINVAL, "hier: unknown oracle %d", (int)p->oracle);
@@ -94,37 +94,12 @@ static rad_status check_params(const rad_hier_params *p)
     return RAD_OK;
 }
 
-/* Make *arr (used items of `item` bytes, capacity *cap) hold at least `need`
- * items: the capacity doubles (from `first`), so appends cost O(1) on
- * average, and the array moves to memory from rad_sys_alloc_huge (huge pages
- * spare most page faults).  0 when out of memory. */
-static int grow_array(void **arr, size_t *cap, size_t used, size_t need, size_t item,
-                      size_t first)
-{
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : first;
-    while (c < need)
-        c *= 2;
-    if (c > SIZE_MAX / item)
-        return 0;
-    void *n = rad_sys_alloc_huge(c * item);
-    if (!n)
-        return 0;
-    if (used > 0)
-        memcpy(n, *arr, used * item);
-    free(*arr);
-    *arr = n;
-    *cap = c;
-    return 1;
-}
-
 rad_status hier_grow_elems(rad_hier *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
                                       "min_area)", h->p.max_elements);
-    if (!grow_array((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+    if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
 }
@@ -134,7 +109,7 @@ rad_status hier_reserve_links(rad_hier *h, size_t extra)
     if (h->nln + extra > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
-    if (!grow_array((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
+    if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     return RAD_OK;
 }
@@ -196,7 +171,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
     if (!out)
         return RAD_ERROR(RAD_EINVAL, "hier: no output handle");
     *out = NULL;
-    rad_status st = check_params(&p);
+    rad_status st = rad_hier_params_check(&p);
     if (st != RAD_OK)
         return st;
     if (!xyz || !tri || !rho || !E || ntris < 1 || ntris > (size_t)1 << 30)

@@ -58,38 +58,24 @@ static rad_vec3 node(const rad_hierp *h, const hp_elem *e, int i)
     return rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[i], h->rt[i]);
 }
 
-/* The largest departure of values v[i] at the nodes from their projection
- * on the basis (the fit whose coefficients are the rule's moments). */
-static double departure(const rad_hierp *h, const double *v)
+/* How far values v[i] at the nodes depart from their projection on the
+ * basis (the fit whose coefficients are the rule's moments): the largest
+ * departure, and (*mean) its mean over the nodes. */
+static double departure(const rad_hierp *h, const double *v, double *mean)
 {
     double c[HP_M] = {0};
     for (int i = 0; i < h->nodes; i++)
         for (int k = 0; k < h->m; k++)
             c[k] += h->rw[i] * h->rq[i][k] * v[i];
-    double d = 0.0;
+    double d = 0.0, sum = 0.0;
     for (int i = 0; i < h->nodes; i++) {
         double f = 0.0;
         for (int k = 0; k < h->m; k++)
             f += c[k] * h->rq[i][k];
         d = rad_dmax(d, fabs(v[i] - f));
+        sum += h->rw[i] * fabs(v[i] - f);
     }
-    return d;
-}
-
-/* The mean over the nodes of |v - its projection|. */
-static double departure_mean(const rad_hierp *h, const double *v)
-{
-    double c[HP_M] = {0};
-    for (int i = 0; i < h->nodes; i++)
-        for (int k = 0; k < h->m; k++)
-            c[k] += h->rw[i] * h->rq[i][k] * v[i];
-    double d = 0.0;
-    for (int i = 0; i < h->nodes; i++) {
-        double f = 0.0;
-        for (int k = 0; k < h->m; k++)
-            f += c[k] * h->rq[i][k];
-        d += h->rw[i] * fabs(v[i] - f);
-    }
+    *mean = sum;
     return d;
 }
 
@@ -293,15 +279,18 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_l
         K[k] = rad_dmax(-cap, rad_dmin(cap, K[k]));
     }
     /* the errors */
-    double fa = departure(h, Fa), fb = departure(h, Fb), ka = 0.0, kb = 0.0, kma = 0.0, kmb = 0.0;
-    double fa1 = departure_mean(h, Fa), fb1 = departure_mean(h, Fb);
+    double fa1, fb1, fa = departure(h, Fa, &fa1), fb = departure(h, Fb, &fb1);
+    double ka = 0.0, kb = 0.0, kma = 0.0, kmb = 0.0;
     for (int i = 0; i < n; i++) {
-        double row[HP_MAX_NODES], col[HP_MAX_NODES];
+        double row[HP_MAX_NODES], col[HP_MAX_NODES], ra, rb;
         for (int j = 0; j < n; j++) {
             row[j] = kv[i][j];
             col[j] = kv[j][i];
         }
-        double ra = eb->area * departure_mean(h, row), rb = ea->area * departure_mean(h, col);
+        departure(h, row, &ra);
+        departure(h, col, &rb);
+        ra *= eb->area;
+        rb *= ea->area;
         ka += h->rw[i] * ra;
         kb += h->rw[i] * rb;
         kma = rad_dmax(kma, ra);

@@ -68,33 +68,12 @@ double hp_poly_bound(const rad_hierp *h, const double *v, double area)
     return area > 0.0 ? b / sqrt(area) : 0.0;
 }
 
-static int grow_array(void **arr, size_t *cap, size_t used, size_t need, size_t item,
-                      size_t first)
-{
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : first;
-    while (c < need)
-        c *= 2;
-    if (c > SIZE_MAX / item)
-        return 0;
-    void *n = rad_sys_alloc_huge(c * item);
-    if (!n)
-        return 0;
-    if (used > 0)
-        memcpy(n, *arr, used * item);
-    free(*arr);
-    *arr = n;
-    *cap = c;
-    return 1;
-}
-
 rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
                                       "min_area)", h->p.max_elements);
-    if (!grow_array((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+    if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
 }
@@ -105,9 +84,9 @@ rad_status hp_reserve_links(rad_hierp *h, size_t extra)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
-    if (!grow_array((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
+    if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
-    if (!grow_array((void **)&h->K, &cap, h->nln, h->capln, mm * sizeof *h->K, 256))
+    if (!rad_sys_grow((void **)&h->K, &cap, h->nln, h->capln, mm * sizeof *h->K, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     return RAD_OK;
 }
@@ -171,31 +150,7 @@ static rad_status check_params(const rad_hier_params *p, int order)
     if (p->use_rule)
         return RAD_ERROR(RAD_EINVAL, "hier: an explicit form-factor rule applies to constant "
                                      "elements only (--basis p0)");
-    if (!(p->eps > 0.0) || !isfinite(p->eps))
-        return RAD_ERROR(RAD_EINVAL, "hier: eps must be a finite number > 0 (got %g)", p->eps);
-    if (!(p->min_area >= 0.0) || !isfinite(p->min_area))
-        return RAD_ERROR(RAD_EINVAL, "hier: min_area must be a finite number >= 0 (got %g)",
-                         p->min_area);
-    if (p->max_depth < 0 || p->max_depth > 30)
-        return RAD_ERROR(RAD_EINVAL, "hier: max_depth must lie in 0..30 (got %d)", p->max_depth);
-    if (p->degree < 1 || p->degree > RAD_QUAD_TRI_MAX_DEGREE)
-        return RAD_ERROR(RAD_EINVAL, "hier: the point-value degree must lie in 1..%d (got %d)",
-                         RAD_QUAD_TRI_MAX_DEGREE, p->degree);
-    if (!(p->link_share > 0.0) || !isfinite(p->link_share))
-        return RAD_ERROR(RAD_EINVAL, "hier: link_share must be a finite number > 0 (got %g)",
-                         p->link_share);
-    if (!(p->far_ratio >= 0.0) || !isfinite(p->far_ratio))
-        return RAD_ERROR(RAD_EINVAL, "hier: far_ratio must be a finite number >= 0 (got %g)",
-                         p->far_ratio);
-    if (!(p->tol > 0.0) || !isfinite(p->tol) || !(p->bound_tol > 0.0) || !isfinite(p->bound_tol))
-        return RAD_ERROR(RAD_EINVAL, "hier: tol and bound_tol must be finite numbers > 0");
-    if (p->max_iterations < 1 || p->max_rounds < 0)
-        return RAD_ERROR(RAD_EINVAL, "hier: max_iterations must be >= 1 and max_rounds >= 0");
-    if (!(p->round_tol > 0.0) || !(p->round_tol < 1.0))
-        return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1)");
-    if (p->max_elements < 1 || p->max_links < 1)
-        return RAD_ERROR(RAD_EINVAL, "hier: max_elements and max_links must be >= 1");
-    return RAD_OK;
+    return rad_hier_params_check(p);
 }
 
 rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,

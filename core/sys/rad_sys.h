@@ -49,6 +49,12 @@ double rad_sys_peak_rss_bytes(void);
 #define RAD_SYS_HUGE_PAGE ((size_t)2 << 20)
 void *rad_sys_alloc_huge(size_t bytes);
 
+/* Make *arr (`used` items of `item` bytes, capacity *cap) hold at least
+ * `need` items: the capacity doubles (from `first`), so appends cost O(1)
+ * on average, and the array moves to memory from rad_sys_alloc_huge (free it
+ * with free()).  0 when out of memory (*arr unchanged), 1 otherwise. */
+int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first);
+
 #ifdef __cplusplus
 }
 #endif

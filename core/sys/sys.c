@@ -3,6 +3,7 @@
 
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <time.h>
@@ -55,4 +56,27 @@ void *rad_sys_alloc_huge(size_t bytes)
     (void)madvise(p, size, MADV_HUGEPAGE); /* advice: failure only costs speed */
 #endif
     return p;
+}
+
+int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : (first ? first : 1);
+    while (c < need) {
+        if (c > SIZE_MAX / 2)
+            return 0;
+        c *= 2;
+    }
+    if (c > SIZE_MAX / item)
+        return 0;
+    void *n = rad_sys_alloc_huge(c * item);
+    if (!n)
+        return 0;
+    if (used > 0)
+        memcpy(n, *arr, used * item);
+    free(*arr);
+    *arr = n;
+    *cap = c;
+    return 1;
 }
