@@ -365,3 +365,30 @@ TEST(hierp_options_checked)
     CHECK(rad_hierp_create(xyz, 3, tri, 1, bad_rho, E, NULL, NULL, 1, &h) == RAD_EINPUT);
     CHECK(h == NULL);
 }
+
+/* Link estimates, gathers and the oracle run in parallel, each into its own
+ * slot and summing in link order: the answer is the same to the bit on 1
+ * and 2 threads. */
+TEST(hierp_answer_independent_of_threads)
+{
+    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
+    if (!scene)
+        return;
+    rad_solution *s[2] = {NULL, NULL};
+    for (int t = 0; t < 2; t++) {
+        rad_solve_params p;
+        rad_solve_params_default(&p);
+        p.method = RAD_SOLVE_HIER;
+        p.basis = 1;
+        p.hier.eps = 0.3;
+        p.threads = t + 1;
+        CHECK(rad_solve_run(scene, &p, &s[t]) == RAD_OK);
+    }
+    if (s[0] && s[1]) {
+        CHECK(s[0]->elements == s[1]->elements && s[0]->links == s[1]->links);
+        CHECK(memcmp(s[0]->face_B, s[1]->face_B, 3 * (size_t)s[0]->faces * sizeof(double)) == 0);
+    }
+    rad_solution_destroy(s[0]);
+    rad_solution_destroy(s[1]);
+    rad_scene_destroy(scene);
+}

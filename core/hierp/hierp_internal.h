@@ -77,6 +77,12 @@ struct rad_hierp {
     size_t nln, capln;
     rad_hier_stats st;
     double last_change;
+    /* the links at each element, in link order (solve.c: gathers run in
+       parallel over the receivers): link k's end at element e is
+       inc[inc_start[e] .. inc_start[e + 1]) as 2 k + (e is its b) */
+    size_t *inc_start, *inc;
+    size_t inc_nel, inc_cap;
+    int inc_valid;
     /* the nodes of the coupling rule and the basis at them */
     double rs[HP_MAX_NODES], rt[HP_MAX_NODES], rw[HP_MAX_NODES];
     double rq[HP_MAX_NODES][HP_M];
@@ -108,8 +114,12 @@ typedef struct hp_job {
 rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n);
 
 /* solve.c */
+/* The links at each element (call after the links change: refine.c,
+ * creation invalidate them with inc_valid = 0). */
+rad_status hp_incidence(rad_hierp *h);
 void hp_rows(rad_hierp *h);
 rad_status hp_solve_links(rad_hierp *h, double tol);
+/* Each element's departure and detail (needs the links at each element). */
 void hp_pull_dev(rad_hierp *h);
 double hp_reflected(const rad_hierp *h);
 rad_status hp_estimate_error(rad_hierp *h);

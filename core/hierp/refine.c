@@ -19,6 +19,7 @@
 #include "hierp_internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 
 #include "rad_sys.h"
@@ -52,21 +53,45 @@ rad_status hp_refine(rad_hierp *h, long long *refined)
     long long count = 0;
     hp_job *jobs = NULL;
     size_t capj = 0;
+    if ((st = hp_incidence(h)) != RAD_OK)
+        return st;
     hp_pull_dev(h);
     double target = h->p.eps * hp_reflected(h) * h->p.link_share;
     h->st.links_bound = 0;
     size_t begin = 0, end = h->E_max > 0.0 ? h->nln : 0;
+    double *oracle = NULL;
+    size_t cap_oracle = 0;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     while (begin < end) {
         size_t nj = 0;
+        /* the oracle of this generation's links, in parallel (splitting below
+           adds children only: it changes no element a link here reads) */
+        if (end - begin > cap_oracle) {
+            double *grown = realloc(oracle, 2 * (end - begin) * sizeof *grown);
+            if (!grown) {
+                st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", end - begin);
+                goto done;
+            }
+            oracle = grown;
+            cap_oracle = end - begin;
+        }
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (end - begin > 1024)
+        for (long long k = (long long)begin; k < (long long)end; k++) {
+            const hp_link *l = &h->ln[k];
+            double *o = oracle + 2 * ((size_t)k - begin);
+            if (l->a < 0)
+                continue;
+            const hp_elem *ea = &h->el[l->a], *eb = &h->el[l->b];
+            hp_link_oracle(h, l, &o[0], &o[1]);
+            o[0] *= ea->area / h->el[ea->face].area;
+            o[1] *= eb->area / h->el[eb->face].area;
+        }
         for (size_t k = begin; k < end; k++) {
             hp_link l = h->ln[k];
             if (l.a < 0)
                 continue;
             const hp_elem *ea = &h->el[l.a], *eb = &h->el[l.b];
-            double ca, cb;
-            hp_link_oracle(h, &l, &ca, &cb);
-            ca *= ea->area / h->el[ea->face].area;
-            cb *= eb->area / h->el[eb->face].area;
+            double ca = oracle[2 * (k - begin)], cb = oracle[2 * (k - begin) + 1];
             if (!(ca > target * h->face_scale[ea->face]) &&
                 !(cb > target * h->face_scale[eb->face]) && !l.unknown)
                 continue;
@@ -100,6 +125,7 @@ rad_status hp_refine(rad_hierp *h, long long *refined)
     }
 done:
     free(jobs);
+    free(oracle);
     {
         /* drop the replaced links, keeping the order */
         size_t w = 0, mm = (size_t)(h->m * h->m);
@@ -114,6 +140,8 @@ done:
             }
         h->nln = w;
     }
+    if (count > 0)
+        h->inc_valid = 0; /* the links changed */
     h->st.refinements += count;
     if (count > 0)
         h->st.rounds++;

@@ -34,35 +34,78 @@
 
 #include "rad_sys.h"
 
+#include <omp.h>
+
+rad_status hp_incidence(rad_hierp *h)
+{
+    if (h->inc_valid && h->inc_nel == h->nel)
+        return RAD_OK;
+    size_t ne = h->nel, nl = h->nln;
+    size_t *start = realloc(h->inc_start, (ne + 1) * sizeof *start);
+    if (!start)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' links", ne);
+    h->inc_start = start;
+    if (2 * nl > h->inc_cap) {
+        size_t *inc = realloc(h->inc, 2 * nl * sizeof *inc);
+        if (!inc)
+            return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", nl);
+        h->inc = inc;
+        h->inc_cap = 2 * nl;
+    }
+    memset(start, 0, (ne + 1) * sizeof *start);
+    for (size_t k = 0; k < nl; k++) {
+        start[h->ln[k].a + 1]++;
+        start[h->ln[k].b + 1]++;
+    }
+    for (size_t e = 0; e < ne; e++)
+        start[e + 1] += start[e];
+    for (size_t k = 0; k < nl; k++) { /* start[e] runs ahead, then is restored */
+        h->inc[start[h->ln[k].a]++] = 2 * k;
+        h->inc[start[h->ln[k].b]++] = 2 * k + 1;
+    }
+    for (size_t e = ne; e > 0; e--)
+        start[e] = start[e - 1];
+    start[0] = 0;
+    h->inc_nel = ne;
+    h->inc_valid = 1;
+    return RAD_OK;
+}
+
+/* Every element's H from its own links (in parallel over the elements, each
+ * summing its links in link order: the result does not depend on the
+ * thread count), then the push. */
 static void gather(rad_hierp *h, int unit)
 {
     int m = h->m;
     size_t mm = (size_t)(m * m);
-    for (size_t e = 0; e < h->nel; e++)
-        memset(h->el[e].H, 0, sizeof h->el[e].H);
-    for (size_t k = 0; k < h->nln; k++) {
-        const hp_link *l = &h->ln[k];
-        const double *K = h->K + k * mm;
-        hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
-        if (unit) {
-            /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
-            double ua = sqrt(a->area), ub = sqrt(b->area);
-            for (int r = 0; r < m; r++) {
-                a->H[0][r] += K[r * m] * ub;
-                b->H[0][r] += K[r] * ua;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        memset(x->H, 0, sizeof x->H);
+        for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+            size_t k = h->inc[i] >> 1;
+            int is_b = (int)(h->inc[i] & 1);
+            const hp_link *l = &h->ln[k];
+            const double *K = h->K + k * mm;
+            const hp_elem *s = &h->el[is_b ? l->a : l->b];
+            /* as a: K b_s; as b: K^T b_s */
+            size_t rs = is_b ? 1 : (size_t)m, cs = is_b ? (size_t)m : 1;
+            if (unit) {
+                /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
+                double u = sqrt(s->area);
+                for (int r = 0; r < m; r++)
+                    x->H[0][r] += K[(size_t)r * rs] * u;
+                continue;
             }
-            continue;
-        }
-        for (int c = 0; c < 3; c++) {
-            const double *bb = b->B[c], *ba = a->B[c];
-            for (int r = 0; r < m; r++) {
-                double sa = 0.0, sb = 0.0;
-                for (int s = 0; s < m; s++) {
-                    sa += K[r * m + s] * bb[s];
-                    sb += K[s * m + r] * ba[s];
+            for (int c = 0; c < 3; c++) {
+                const double *bs = s->B[c];
+                for (int r = 0; r < m; r++) {
+                    double v = 0.0;
+                    for (int t = 0; t < m; t++)
+                        v += K[(size_t)r * rs + (size_t)t * cs] * bs[t];
+                    x->H[c][r] += v;
                 }
-                a->H[c][r] += sa;
-                b->H[c][r] += sb;
             }
         }
     }
@@ -260,19 +303,23 @@ void hp_pull_dev(rad_hierp *h)
     int m = h->m;
     /* a leaf departs from its polynomial by the departures its links and its
        ancestors' bring (dep, pushed down) */
-    for (size_t e = 0; e < h->nel; e++) {
-        memset(h->el[e].dep, 0, sizeof h->el[e].dep);
-        memset(h->el[e].dep1, 0, sizeof h->el[e].dep1);
-    }
-    for (size_t k = 0; k < h->nln; k++) {
-        const hp_link *l = &h->ln[k];
-        double da[3], db[3], da1[3], db1[3];
-        hp_link_errors(h, l, NULL, NULL, da, db, da1, db1);
-        for (int c = 0; c < 3; c++) {
-            h->el[l->a].dep[c] += da[c];
-            h->el[l->b].dep[c] += db[c];
-            h->el[l->a].dep1[c] += da1[c];
-            h->el[l->b].dep1[c] += db1[c];
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        memset(x->dep, 0, sizeof x->dep);
+        memset(x->dep1, 0, sizeof x->dep1);
+        for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+            const hp_link *l = &h->ln[h->inc[i] >> 1];
+            double d[3], d1[3];
+            if (h->inc[i] & 1)
+                hp_link_errors(h, l, NULL, NULL, NULL, d, NULL, d1);
+            else
+                hp_link_errors(h, l, NULL, NULL, d, NULL, d1, NULL);
+            for (int c = 0; c < 3; c++) {
+                x->dep[c] += d[c];
+                x->dep1[c] += d1[c];
+            }
         }
     }
     for (size_t e = 0; e < h->nel; e++) {
@@ -331,6 +378,9 @@ double hp_reflected(const rad_hierp *h)
 rad_status hp_estimate_error(rad_hierp *h)
 {
     double t0 = rad_sys_seconds();
+    rad_status st = hp_incidence(h);
+    if (st != RAD_OK)
+        return st;
     hp_pull_dev(h);
     for (size_t e = 0; e < h->nel; e++) {
         hp_elem *x = &h->el[e];
@@ -354,21 +404,22 @@ rad_status hp_estimate_error(rad_hierp *h)
     }
     /* T = q + rho F T, by the constants' gather / push-pull */
     size_t n = h->nroots;
-    rad_status st = RAD_OK;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     for (int it = 0;; it++) {
         if (it >= h->p.max_iterations) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
                            h->p.max_iterations);
             break;
         }
-        for (size_t e = 0; e < h->nel; e++)
-            memset(h->el[e].Tg, 0, sizeof h->el[e].Tg);
-        for (size_t k = 0; k < h->nln; k++) {
-            const hp_link *l = &h->ln[k];
-            hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
-            for (int c = 0; c < 3; c++) {
-                a->Tg[c] += l->G / a->area * b->T[c];
-                b->Tg[c] += l->G / b->area * a->T[c];
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+        for (long long e = 0; e < (long long)h->nel; e++) {
+            hp_elem *x = &h->el[e];
+            memset(x->Tg, 0, sizeof x->Tg);
+            for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+                const hp_link *l = &h->ln[h->inc[i] >> 1];
+                const hp_elem *s = &h->el[(h->inc[i] & 1) ? l->a : l->b];
+                for (int c = 0; c < 3; c++)
+                    x->Tg[c] += l->G / x->area * s->T[c];
             }
         }
         double change = 0.0, tmax = 0.0;
@@ -441,9 +492,12 @@ rad_status rad_hierp_solve(rad_hierp *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
+    rad_status st = hp_incidence(h);
+    if (st != RAD_OK)
+        return st;
     hp_rows(h);
     double between = h->p.round_tol * (1.0 - h->rho_max);
-    rad_status st = hp_solve_links(h, rad_dmax(between, h->p.tol));
+    st = hp_solve_links(h, rad_dmax(between, h->p.tol));
     if (st != RAD_OK)
         return st;
     if (h->p.progress)
@@ -460,6 +514,8 @@ rad_status rad_hierp_solve(rad_hierp *h)
                 break;
             continue;
         }
+        if ((st = hp_incidence(h)) != RAD_OK)
+            return st;
         hp_rows(h);
         if ((st = hp_solve_links(h, rad_dmax(between, h->p.tol))) != RAD_OK)
             return st;

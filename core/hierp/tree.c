@@ -299,6 +299,8 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->el);
     free(h->ln);
     free(h->K);
+    free(h->inc_start);
+    free(h->inc);
     free(h);
 }
 
