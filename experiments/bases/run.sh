@@ -25,7 +25,7 @@ MAX_P0=${MAX_P0:-3}
 MAX_P1=${MAX_P1:-2}
 MAX_P2=${MAX_P2:-2}
 REPEAT=${REPEAT:-3}
-HIER_EPS=${HIER_EPS:-"0.3 0.2 0.1 0.05 0.03 0.02 0.01"}
+HIER_EPS=${HIER_EPS:-"0.3 0.2 0.15 0.1 0.07 0.05 0.03 0.02 0.01"}
 scene=scenes/cornell/cornell.obj
 ref=experiments/reference/data/cornell.tsv
 cd "$root"
@@ -83,22 +83,34 @@ hier=$here/data/hier.dat
   echo "# error_l1, error_worst: radkit compare; estimate: the run's error_estimate (worst face)"
   printf "basis\teps\telements\tlinks\ttime_s\terror_l1\terror_worst\testimate\n"
 } > "$hier"
-for basis in p0 p1 p2; do
-  for eps in $HIER_EPS; do
+# the three bases run in turn at each eps, REPEAT rounds: a drift of the
+# machine's speed during the sweep falls on all three alike
+rm -f "$here"/data/hier_*.times "$hier.unsorted"
+for eps in $HIER_EPS; do
+  i=0
+  while [ "$i" -lt "$REPEAT" ]; do
+    for basis in p0 p1 p2; do
+      out=$here/data/hier_${basis}_$eps.tsv
+      "$RADKIT" solve "$scene" --method hier --basis "$basis" --eps "$eps" --quiet --out "$out"
+      sed -n 's/^# time_total_s = //p' "$out" >> "$here/data/hier_${basis}_$eps.times"
+    done
+    i=$((i + 1))
+  done
+  for basis in p0 p1 p2; do
     out=$here/data/hier_${basis}_$eps.tsv
-    t=$(i=0; while [ "$i" -lt "$REPEAT" ]; do
-          "$RADKIT" solve "$scene" --method hier --basis "$basis" --eps "$eps" --quiet --out "$out"
-          sed -n 's/^# time_total_s = //p' "$out"; i=$((i + 1))
-        done | sort -g | awk '{ t[NR] = $1 } END { print t[int((NR + 1) / 2)] }')
+    t=$(sort -g "$here/data/hier_${basis}_$eps.times" | awk '{ t[NR] = $1 } END { print t[int((NR + 1) / 2)] }')
     cmp=$("$RADKIT" compare "$scene" "$out" "$ref")
     printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n" "$basis" "$eps" \
       "$(sed -n 's/^# elements = //p' "$out")" "$(sed -n 's/^# links = //p' "$out")" "$t" \
       "$(echo "$cmp" | sed -n 's/^# error_l1 = //p')" "$(echo "$cmp" | sed -n 's/^# error_worst = //p')" \
-      "$(sed -n 's/^# error_estimate = //p' "$out")" >> "$hier"
-    rm -f "$out"
+      "$(sed -n 's/^# error_estimate = //p' "$out")" >> "$hier.unsorted"
+    rm -f "$out" "$here/data/hier_${basis}_$eps.times"
     echo "hier $basis eps $eps: ${t} s"
   done
 done
+# rows by basis, then eps as swept
+for basis in p0 p1 p2; do awk -F'\t' -v b="$basis" '$1 == b' "$hier.unsorted"; done >> "$hier"
+rm -f "$hier.unsorted"
 target=$here/data/hier_target.dat
 printf "basis\ttarget\ttime_s\tfirst_run_s\tfirst_run_eps\n" > "$target"
 for basis in p0 p1 p2; do
