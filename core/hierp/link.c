@@ -21,8 +21,9 @@
  *    unoccluded G from the singular rules (ss:5 where they share a vertex or
  *    an edge, the exact contour integral where one touches the other),
  *    times the visible fraction of the point values, as rad_hier's links.
- * 4. The errors (hp_link): dG, half the two sides' disagreement (or ss:5
- *    against ss:4); f_a, the largest departure of F_i from its projection on
+ * 4. The errors (hp_link): dG, half the two sides' disagreement (where
+ *    elements touch: ss:5 against ss:4 or the contour integral's own error,
+ *    and no less than the node values' miss of the singular rule); f_a, the largest departure of F_i from its projection on
  *    a's functions; k_a, the largest over i of A_b times the mean over j of
  *    the kernel's departure from its projection on b's functions; and the
  *    same seen from b.
@@ -226,10 +227,14 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_l
         if (st != RAD_OK)
             return st;
         wc->evals += res.evals;
-        double V = vis == 0 ? 1.0 : Go > 0.0 ? G / Go : 0.0;
+        double V = vis == 0 ? 1.0 : Go > 0.0 ? G / Go : 0.0, G_nodes = G;
         G = res.G * V;
         dG = adjacent ? fabs(res.G - low.G) * V
                       : isfinite(res.rel_error) ? res.rel_error * G : 0.0;
+        /* the node values still give the link's other couplings and its
+           departures: how far their G misses the singular rule's is how
+           badly they resolve the pair, and is charged as its error */
+        dG = rad_dmax(dG, fabs(G - G_nodes));
     }
     /* the couplings */
     double sa = sqrt(ea->area), sb = sqrt(eb->area);
