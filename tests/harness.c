@@ -174,6 +174,18 @@ rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
     return s;
 }
 
+rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, double rho)
+{
+    rad_scene_params sp;
+    rad_scene_params_default(&sp);
+    sp.has_rho = sp.has_emission = 1;
+    for (int c = 0; c < 3; c++) {
+        sp.rho[c] = rho;
+        sp.emission[c] = 1.0;
+    }
+    return harness_scene_load_at(file, line, rel, &sp);
+}
+
 const char *harness_header(const char *out, const char *key, char *buf, size_t size)
 {
     char pattern[128];

@@ -73,6 +73,11 @@ rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
                                  const rad_scene_params *params);
 rad_status harness_scene_load_status(const char *rel, const rad_scene_params *params,
                                      rad_scene **out);
+/* A furnace: the scene with every face's reflectance rho and emission 1 in
+ * every channel (so B = 1 / (1 - rho) wherever every point sees only such
+ * faces), loaded as harness_scene_load does. */
+#define harness_furnace_load(rel, rho) harness_furnace_load_at(__FILE__, __LINE__, rel, rho)
+rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, double rho);
 
 /* The tests' one scene writer: `text` into a file of /tmp named after the
  * process id and `name` (e.g. "order.obj"), so parallel runs do not collide;

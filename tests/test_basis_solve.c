@@ -16,18 +16,6 @@
 #include "rad_solve.h"
 #include "../experiments/bases/manufactured_case.h"
 
-static rad_scene *load_furnace(const char *rel, double rho)
-{
-    rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = sp.has_emission = 1;
-    for (int c = 0; c < 3; c++) {
-        sp.rho[c] = rho;
-        sp.emission[c] = 1.0;
-    }
-    return harness_scene_load(rel, &sp);
-}
-
 /* B = E / (1 - rho) at every face: the worst and the area-mean relative error. */
 TEST(basis_dense_furnaces_p1_p2)
 {
@@ -37,7 +25,7 @@ TEST(basis_dense_furnaces_p1_p2)
     const double rhos[2] = {0.9, 0.99}, worst_max[2] = {1e-2, 3e-2}, mean_max[2] = {2e-3, 1e-2};
     for (int q = 0; q < 2; q++)
         for (int k = 0; k < 3; k++) {
-            rad_scene *scene = load_furnace(scenes[k], rhos[q]);
+            rad_scene *scene = harness_furnace_load(scenes[k], rhos[q]);
             double want = 1.0 / (1.0 - rhos[q]);
             for (int order = 1; order <= 2; order++) {
                 rad_solve_params p;
@@ -73,7 +61,7 @@ TEST(basis_dense_furnaces_p1_p2)
  * int phi_ik = 0 for k > 0 (rows of F sum to 1 at every point). */
 TEST(basis_couplings_symmetric_and_orthogonal_to_constants)
 {
-    rad_scene *scene = load_furnace("scenes/furnace_cube/cube.obj", 0.5);
+    rad_scene *scene = harness_furnace_load("scenes/furnace_cube/cube.obj", 0.5);
     int n = rad_scene_triangle_count(scene), m = rad_basis_size(1);
     size_t N = (size_t)n * (size_t)m;
     double *G = malloc((size_t)n * (size_t)n * sizeof *G), *areas = malloc((size_t)n * sizeof *areas);
@@ -212,7 +200,7 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
  * they differ from one another (the picture is not flat). */
 TEST(basis_display_shows_the_polynomial)
 {
-    rad_scene *scene = load_furnace("scenes/plates_perpendicular/plates.obj", 0.5);
+    rad_scene *scene = harness_furnace_load("scenes/plates_perpendicular/plates.obj", 0.5);
     rad_solve_params p;
     rad_solve_params_default(&p);
     p.basis = 1;

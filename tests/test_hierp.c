@@ -61,18 +61,6 @@ TEST(hierp_push_and_pull_exact_on_polynomials)
     rad_hierp_destroy(h);
 }
 
-static rad_scene *load_furnace(const char *rel, double rho)
-{
-    rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = sp.has_emission = 1;
-    for (int c = 0; c < 3; c++) {
-        sp.rho[c] = rho;
-        sp.emission[c] = 1.0;
-    }
-    return harness_scene_load(rel, &sp);
-}
-
 /* B = E / (1 - rho) everywhere: every face's mean and every leaf's
  * polynomial (its coefficients beyond the constant vanish), with the
  * defaults and with --eps 0.01. */
@@ -86,7 +74,7 @@ TEST(hierp_furnaces_p1_p2)
         for (int q = 0; q < 3; q++) {
             if (k == 3 && q != 1)
                 continue; /* the 27 boxes once: the others cover the reflectances */
-            rad_scene *scene = load_furnace(scenes[k], rhos[q]);
+            rad_scene *scene = harness_furnace_load(scenes[k], rhos[q]);
             double want = 1.0 / (1.0 - rhos[q]);
             for (int order = 1; order <= 2; order++)
                 for (int tight = 0; tight <= (k < 3 ? 1 : 0); tight++) {
@@ -136,7 +124,7 @@ TEST(hierp_furnace_couplings_conserve_without_normalization)
 {
     const char *scenes[2] = {"scenes/furnace_cube/cube.obj", "scenes/furnace_room/room_box.obj"};
     for (int k = 0; k < 2; k++) {
-        rad_scene *scene = load_furnace(scenes[k], 0.9);
+        rad_scene *scene = harness_furnace_load(scenes[k], 0.9);
         if (!scene)
             continue;
         size_t n = (size_t)rad_scene_triangle_count(scene), nv = (size_t)rad_scene_vertex_count(scene);
@@ -316,7 +304,7 @@ TEST(hierp_order0_uniform_matches_dense_p0)
  * centroids; the per-face table is the leaves' area-weighted means. */
 TEST(hierp_display_and_table)
 {
-    rad_scene *scene = load_furnace("scenes/plates_perpendicular/plates.obj", 0.5);
+    rad_scene *scene = harness_furnace_load("scenes/plates_perpendicular/plates.obj", 0.5);
     if (!scene)
         return;
     rad_solve_params p;
