@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "scene_internal.h"
 #include "rad_scene.h"
 
 static rad_scene *load_text(const char *name, const char *text, const rad_scene_params *p)
@@ -441,7 +442,7 @@ TEST(mgf_warnings_and_strict)
              VERTS);
     rad_scene *s = load_text("warn.mgf", text, NULL);
     if (s) {
-        CHECK(rad_scene_warning_count(s) == 5); /* the four, and no emitter */
+        CHECK(rad_scene_warning_count(s) == 4); /* the three, and no emitter */
         int unknown = 0;
         for (int i = 0; i < rad_scene_warning_count(s); i++)
             unknown += strstr(rad_scene_warning(s, i), "ignored 2 `frobnicate` statement(s) (first at") != NULL;
@@ -454,7 +455,7 @@ TEST(mgf_warnings_and_strict)
     const char *path = harness_write_file("warn.mgf", text);
     rad_scene *t = NULL;
     CHECK(rad_scene_load(path, &p, &t) == RAD_EINPUT);
-    CHECK(strstr(rad_error_message(), "warn.mgf:12: `cct`") != NULL);
+    CHECK(strstr(rad_error_message(), "warn.mgf:14: `frobnicate`") != NULL);
     remove(path);
 }
 
@@ -483,6 +484,12 @@ TEST(mgf_bad_input_exits_2_with_file_line)
         {"m x =\n rd 1.5\n", ":2: diffuse reflectance 1.5 is outside [0, 1]"},
         {"m x =\n ed -1\n", ":2: negative emittance -1"},
         {"c\n cxy .7 .5\n", ":2: chromaticity 0.7 0.5"},
+        {"c\n cspec 700 400 1 1\n", ":2: wavelengths 700 .. 400 nm"},
+        {"c\n cspec 400 700 1 -1\n", ":2: negative spectral value -1"},
+        {"c\n cspec 900 1000 1 1\n", ":2: the spectrum is dark"},
+        {"c\n cspec 400 700 1\n", ":2: `cspec` takes"},
+        {"c\n cct -5\n", ":2: colour temperature -5 K"},
+        {"c\n cct 20\n", ":2: colour temperature 20 K"},
         {"v a =\n p 0 0 0\nring a 0 1\n", ":3: `ring` needs a normal at vertex 'a'"},
         {"v a =\n p 0 0 0\nv b = a\nf a b\n", ":4: `f` needs at least 3 vertices"},
         {"v a =\n p 0 0 0\nsph a 0\n", ":3: a sphere of radius 0"},
@@ -544,5 +551,56 @@ TEST(mgf_cornell_twin_same_answers)
     for (int k = 0; k < 2; k++) {
         free(out[k]);
         free(err[k]);
+    }
+}
+
+static double flat(double nm, void *ctx)
+{
+    (void)nm;
+    (void)ctx;
+    return 1.0;
+}
+
+static double narrow_550(double nm, void *ctx)
+{
+    (void)ctx;
+    return fabs(nm - 550.0) < 1.0 ? 1.0 : 0.0;
+}
+
+/* The CIE 1931 chromaticities of cie.c against the tabulated observer's:
+ * illuminant A (a blackbody at 2856 K) is (0.44757, 0.40745), the
+ * equal-energy spectrum (1/3, 1/3), the spectral locus at 550 nm (0.30160,
+ * 0.69232) (CIE 15:2004).  The fit's far red is weak: light at 700 nm alone
+ * comes out at x = 0.57 (0.73 tabulated); broad spectra do not notice. */
+TEST(mgf_spectral_colours_match_the_cie_observer)
+{
+    double x = 0, y = 0;
+    CHECK(scene_cie_xy_blackbody(2856.0, &x, &y));
+    printf("# illuminant A: (%.5f, %.5f), tabulated (0.44757, 0.40745)\n", x, y);
+    CHECK_MSG(fabs(x - 0.44757) < 3e-3 && fabs(y - 0.40745) < 3e-3, "A: %g %g", x, y);
+    CHECK(scene_cie_xy(flat, NULL, &x, &y));
+    printf("# equal-energy white: (%.5f, %.5f)\n", x, y);
+    CHECK_MSG(fabs(x - 1.0 / 3) < 3e-3 && fabs(y - 1.0 / 3) < 3e-3, "E: %g %g", x, y);
+    CHECK(scene_cie_xy(narrow_550, NULL, &x, &y));
+    printf("# 550 nm: (%.5f, %.5f), tabulated (0.30160, 0.69232)\n", x, y);
+    CHECK_MSG(fabs(x - 0.30160) < 5e-3 && fabs(y - 0.69232) < 5e-3, "550 nm: %g %g", x, y);
+    CHECK(!scene_cie_xy_blackbody(-1.0, &x, &y));
+    /* in a scene: a warm blackbody reflects red above green above blue, a
+       flat spectrum as neutral as cxy 1/3 1/3 */
+    char text[512];
+    snprintf(text, sizeof text,
+             "%sm warm =\n c\n cct 2856\n rd .5\nf a b c\nm flat =\n c\n cspec 380 780 1 1 1\n"
+             " rd .5\n ed 1\nf a c b\n",
+             VERTS);
+    rad_scene *s = load_text("spectral.mgf", text, NULL);
+    if (s) {
+        const rad_scene_material *w = &rad_scene_materials(s)[rad_scene_triangle_materials(s)[0]];
+        const rad_scene_material *f = &rad_scene_materials(s)[rad_scene_triangle_materials(s)[1]];
+        printf("# cct 2856, rd .5: rgb %.3f %.3f %.3f; flat cspec: %.3f %.3f %.3f\n", w->rho[0],
+               w->rho[1], w->rho[2], f->rho[0], f->rho[1], f->rho[2]);
+        CHECK(w->rho[0] > w->rho[1] && w->rho[1] > w->rho[2]);
+        for (int k = 0; k < 3; k++)
+            CHECK_NEAR(f->rho[k], 0.5, 2e-2, 0);
+        rad_scene_destroy(s);
     }
 }

@@ -63,8 +63,9 @@
  *     circle.  Facets are planar (isosceles trapezoids and triangles) and
  *     each is its own face.
  *  5. Materials and colour.  Colour is CIE xy chromaticity (`cxy`; `cmix`
- *     adds its colours' XYZ with each weight as the luminance Y; the default
- *     is x = y = 1/3, the equal-energy white).  `rd r` takes the current
+ *     adds its colours' XYZ with each weight as the luminance Y; `cspec` and
+ *     `cct`, a spectrum and a blackbody, through the CIE 1931 observer
+ *     (cie.c); the default is x = y = 1/3, the equal-energy white).  `rd r` takes the current
  *     colour; the reflectance per channel is rgb = M (X, Y, Z) with Y = r,
  *     X = x Y / y, Z = (1 - x - y) Y / y and M the XYZ -> RGB matrix of
  *     Radiance's primaries (R 0.640 0.330, G 0.290 0.600, B 0.150 0.060)
@@ -82,8 +83,8 @@
  *     one-sided, the front given by the corner order (right-hand rule).
  *  6. What radkit does not use loads with one counted warning per entity
  *     naming its first place: specular and transmission (`rs`, `ts`, `td`,
- *     `ir`: radkit's surfaces are opaque and diffuse), spectral colours
- *     (`cspec`, `cct`: taken as neutral), faces with holes (`fh`), `ies`
+ *     `ir`: radkit's surfaces are opaque and diffuse), faces with holes
+ *     (`fh`), `ies`
  *     luminaires and unknown entities.  Strict mode refuses all but the
  *     first group. */
 #include <errno.h>
@@ -250,7 +251,7 @@ typedef struct mgf_note {
     int line;
 } mgf_note;
 
-enum { NOTE_SPECULAR, NOTE_SPECTRAL, NOTE_HOLES, NOTE_IES, NOTE_UNKNOWN, NOTE_GAMUT, NOTE_WHITE,
+enum { NOTE_SPECULAR, NOTE_HOLES, NOTE_IES, NOTE_UNKNOWN, NOTE_GAMUT, NOTE_WHITE,
        NOTE_COUNT };
 
 typedef struct mgf_reader {
@@ -1083,6 +1084,73 @@ static rad_status ent_cxy(mgf_reader *r, int argc)
     return RAD_OK;
 }
 
+/* cspec lmin lmax v1 v2 ...: values at evenly spaced wavelengths, linear
+ * between them and 0 outside. */
+typedef struct mgf_spectrum {
+    double lo, hi;
+    const double *v;
+    int n;
+} mgf_spectrum;
+
+static double spectrum_at(double nm, void *ctx)
+{
+    const mgf_spectrum *s = ctx;
+    if (nm < s->lo || nm > s->hi)
+        return 0.0;
+    double u = (nm - s->lo) / (s->hi - s->lo) * (s->n - 1);
+    int i = (int)u;
+    if (i >= s->n - 1)
+        return s->v[s->n - 1];
+    return s->v[i] + (u - i) * (s->v[i + 1] - s->v[i]);
+}
+
+static rad_status ent_cspec(mgf_reader *r, int argc)
+{
+    enum { MAX_SAMPLES = 4096 };
+    if (argc < 5 || argc - 3 > MAX_SAMPLES)
+        return bad(r, "`cspec` takes the lowest and highest wavelength and 2 to %d values",
+                   MAX_SAMPLES);
+    double lo, hi, *v = malloc((size_t)(argc - 3) * sizeof *v);
+    if (!v)
+        return RAD_ERROR(RAD_ENOMEM, "mgf: out of memory");
+    rad_status st = number(r, r->argv[1], "lowest wavelength", &lo);
+    if (st == RAD_OK)
+        st = number(r, r->argv[2], "highest wavelength", &hi);
+    for (int a = 3; a < argc && st == RAD_OK; a++)
+        if ((st = number(r, r->argv[a], "spectral value", &v[a - 3])) == RAD_OK && v[a - 3] < 0)
+            st = bad(r, "negative spectral value %g", v[a - 3]);
+    if (st == RAD_OK && !(lo > 0 && hi > lo))
+        st = bad(r, "wavelengths %g .. %g nm: need 0 < lowest < highest", lo, hi);
+    double x, y;
+    mgf_spectrum sp = {lo, hi, v, argc - 3};
+    if (st == RAD_OK && !scene_cie_xy(spectrum_at, &sp, &x, &y))
+        st = bad(r, "the spectrum is dark between 360 and 830 nm: no colour");
+    free(v);
+    if (st != RAD_OK)
+        return st;
+    mgf_color *c = color_at(r, r->ccolor_i);
+    c->x = x;
+    c->y = y;
+    return RAD_OK;
+}
+
+/* cct T: the colour of a blackbody at T kelvin. */
+static rad_status ent_cct(mgf_reader *r, int argc)
+{
+    double T, x, y;
+    rad_status st;
+    if ((st = expect_args(r, argc, 2, 2)) != RAD_OK ||
+        (st = number(r, r->argv[1], "temperature", &T)) != RAD_OK)
+        return st;
+    if (!(T > 0) || !scene_cie_xy_blackbody(T, &x, &y))
+        return bad(r, "colour temperature %g K: need a blackbody that glows between 360 and "
+                      "830 nm", T);
+    mgf_color *c = color_at(r, r->ccolor_i);
+    c->x = x;
+    c->y = y;
+    return RAD_OK;
+}
+
 /* cmix w1 c1 w2 c2 ...: the XYZ of each colour with Y = its weight, added. */
 static rad_status ent_cmix(mgf_reader *r, int argc)
 {
@@ -1294,6 +1362,10 @@ static rad_status entity(mgf_reader *r, int argc)
         return ent_cxy(r, argc);
     if (is(e, "cmix"))
         return ent_cmix(r, argc);
+    if (is(e, "cspec"))
+        return ent_cspec(r, argc);
+    if (is(e, "cct"))
+        return ent_cct(r, argc);
     if (is(e, "rd") || is(e, "ed") || is(e, "td") || is(e, "rs") || is(e, "ts") || is(e, "ir") ||
         is(e, "sides"))
         return ent_material_attr(r, argc);
@@ -1336,10 +1408,7 @@ static rad_status entity(mgf_reader *r, int argc)
     }
     const char *why = NULL;
     int kind = NOTE_UNKNOWN;
-    if (is(e, "cspec") || is(e, "cct")) {
-        kind = NOTE_SPECTRAL;
-        why = "spectral colours are not converted";
-    } else if (is(e, "fh")) {
+    if (is(e, "fh")) {
         kind = NOTE_HOLES;
         why = "faces with holes are not read";
     } else if (is(e, "ies")) {
@@ -1350,8 +1419,6 @@ static rad_status entity(mgf_reader *r, int argc)
         return bad(r, "`%.40s`: %s (refused in strict mode)", e, why ? why : "unknown entity");
     if (kind != NOTE_UNKNOWN) {
         note(r, &r->notes[kind], e);
-        if (kind == NOTE_SPECTRAL)
-            *color_at(r, r->ccolor_i) = COLOR_DEFAULT;
         return RAD_OK;
     }
     for (int k = 0; k < r->nunknown; k++)
@@ -1414,7 +1481,6 @@ static rad_status report(mgf_reader *r)
 {
     static const char *reason[NOTE_COUNT] = {
         "radkit's surfaces are opaque and diffuse: specular and transmitted parts are dropped",
-        "spectral colours are not converted: those colours are taken as neutral",
         "faces with holes are not read: their geometry is missing",
         "IES luminaires are not read: their geometry and emission are missing",
         "unknown entities",

@@ -65,4 +65,10 @@ rad_status scene_assimp_count(const char *path, long *triangles, long *materials
 int scene_gltf_emissive_strengths(const char *path, double *strength, int cap);
 rad_status scene_finish(rad_scene *s, const rad_scene_params *p);
 
+/* cie.c: the CIE 1931 xy chromaticity of a spectral distribution (a
+ * function of the wavelength in nm, >= 0) or of a blackbody at `kelvin`;
+ * 0 when the spectrum is negative, not finite or dark in 360 .. 830 nm. */
+int scene_cie_xy(double (*spectrum)(double nm, void *ctx), void *ctx, double *x, double *y);
+int scene_cie_xy_blackbody(double kelvin, double *x, double *y);
+
 #endif
