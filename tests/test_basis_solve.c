@@ -21,7 +21,7 @@ TEST(basis_dense_furnaces_p1_p2)
 {
     const char *scenes[3] = {"scenes/furnace_cube/cube.obj", "scenes/furnace_room/room_box.obj",
                              "scenes/furnace_room/room_hair.obj"};
-    /* defaults; rho 0.99 amplifies a row's error 99 times: the 3% */
+    /* the defaults; rho 0.99 amplifies a row's error 99 times, hence its looser bounds */
     const double rhos[2] = {0.9, 0.99}, worst_max[2] = {1e-2, 3e-2}, mean_max[2] = {2e-3, 1e-2};
     for (int q = 0; q < 2; q++)
         for (int k = 0; k < 3; k++) {

@@ -119,7 +119,7 @@ TEST(mgf_transforms_nested_and_arrays)
     double c[3], n[3];
     centroid_normal(s, 7, c, n);
     CHECK(c[0] < 0);   /* mirrored into x < 0 */
-    CHECK(n[2] > 0);   /* and still facing +z: the corners were reversed */
+    CHECK(n[2] > 0);   /* and still facing +z: a mirror reverses the corners' order */
     centroid_normal(s, 8, c, n);
     CHECK_NEAR(c[1], 2.5 / 3 + 3, 1e-15, 0); /* -i 3 -t 0 1 0 */
     rad_scene_destroy(s);

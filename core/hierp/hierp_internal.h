@@ -92,7 +92,6 @@ struct rad_hierp {
     double P[4][HP_M][HP_M];
     /* the largest |q_k| over a triangle */
     double qmax[HP_M];
-    long long limited;  /* the positivity limiter's actions in the last step (solve.c) */
 };
 
 /* tree.c */
@@ -104,8 +103,8 @@ rad_status hp_split(rad_hierp *h, int e);
 double hp_poly_bound(const rad_hierp *h, const double *v, double area);
 /* The positivity limiter (solve.c): v's non-constant part scaled so that
  * the function is >= 0 at the rule's nodes, its mean kept; a negative mean
- * is raised to 0.  Returns 1 when it changed v. */
-int hp_limit(const rad_hierp *h, double *v);
+ * is raised to 0. */
+void hp_limit(const rad_hierp *h, double *v);
 
 /* link.c */
 typedef struct hp_job {

@@ -64,7 +64,6 @@ void rad_hierp_destroy(rad_hierp *h);
 rad_status rad_hierp_solve(rad_hierp *h);
 
 void rad_hierp_get_stats(const rad_hierp *h, rad_hier_stats *stats);
-int rad_hierp_order(const rad_hierp *h);
 
 /* The leaves, in a fixed order: count, then per leaf (each pointer may be
  * NULL) its input triangle, area, corners (9 doubles, counter-clockwise like

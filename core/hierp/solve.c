@@ -126,7 +126,7 @@ static void gather(rad_hierp *h, int unit)
     }
 }
 
-int hp_limit(const rad_hierp *h, double *v)
+void hp_limit(const rad_hierp *h, double *v)
 {
     double lo = INFINITY;
     for (int i = 0; i < h->nodes; i++) {
@@ -136,16 +136,15 @@ int hp_limit(const rad_hierp *h, double *v)
         lo = rad_dmin(lo, f);
     }
     if (!(lo < 0.0))
-        return 0;
+        return;
     if (!(v[0] > 0.0)) {
         for (int k = 0; k < h->m; k++)
             v[k] = 0.0;
-        return 1;
+        return;
     }
     double theta = v[0] / (v[0] - lo); /* q_0 = 1: the mean's coefficient */
     for (int k = 1; k < h->m; k++)
         v[k] *= theta;
-    return 1;
 }
 
 static void pull(rad_hierp *h)
@@ -182,7 +181,6 @@ static void step(rad_hierp *h, double *change, double *vmax)
 {
     gather(h, 0);
     int m = h->m;
-    h->limited = 0;
     size_t n = h->nroots;
     *change = 0.0;
     *vmax = 0.0;
@@ -203,7 +201,7 @@ static void step(rad_hierp *h, double *change, double *vmax)
                     t[k] *= sa / r0;
             }
             if (m > 1 || t[0] < 0.0)
-                h->limited += hp_limit(h, t);
+                hp_limit(h, t);
             size_t f = (size_t)x->face + (size_t)c * n;
             double rho = h->rho[f];
             double old = x->B[c][0];
@@ -260,41 +258,51 @@ static double weight(const rad_hierp *h, const hp_elem *r, const hp_elem *s, int
     return hp_poly_bound(h, v, s->area);
 }
 
+/* Link l's reflectances and error weights in channel c, each receiver's. */
+typedef struct link_channel {
+    double ra, rb; /* rho of a and b */
+    double wa, wb; /* a as the source of b's errors, b as the source of a's (weight) */
+} link_channel;
+
+static link_channel channel(const rad_hierp *h, const hp_link *l, int c)
+{
+    const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    size_t n = h->nroots;
+    link_channel x = {h->rho[(size_t)a->face + (size_t)c * n],
+                      h->rho[(size_t)b->face + (size_t)c * n], weight(h, b, a, c),
+                      weight(h, a, b, c)};
+    return x;
+}
+
 void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double eb[3],
                     double da[3], double db[3], double da1[3], double db1[3])
 {
     const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
-    size_t n = h->nroots;
     for (int c = 0; c < 3; c++) {
-        double wb = weight(h, a, b, c), wa = weight(h, b, a, c);
-        double ra = h->rho[(size_t)a->face + (size_t)c * n];
-        double rb = h->rho[(size_t)b->face + (size_t)c * n];
+        link_channel x = channel(h, l, c);
         if (ea)
-            ea[c] = ra * (l->dG / a->area * wb + l->ka * b->dev[c]);
+            ea[c] = x.ra * (l->dG / a->area * x.wb + l->ka * b->dev[c]);
         if (eb)
-            eb[c] = rb * (l->dG / b->area * wa + l->kb * a->dev[c]);
+            eb[c] = x.rb * (l->dG / b->area * x.wa + l->kb * a->dev[c]);
         if (da)
-            da[c] = ra * l->fa * wb;
+            da[c] = x.ra * l->fa * x.wb;
         if (db)
-            db[c] = rb * l->fb * wa;
+            db[c] = x.rb * l->fb * x.wa;
         if (da1)
-            da1[c] = ra * l->fa1 * wb;
+            da1[c] = x.ra * l->fa1 * x.wb;
         if (db1)
-            db1[c] = rb * l->fb1 * wa;
+            db1[c] = x.rb * l->fb1 * x.wa;
     }
 }
 
 void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob)
 {
     const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
-    size_t n = h->nroots;
     *oa = *ob = 0.0;
     for (int c = 0; c < 3; c++) {
-        double wb = weight(h, a, b, c), wa = weight(h, b, a, c);
-        double ra = h->rho[(size_t)a->face + (size_t)c * n];
-        double rb = h->rho[(size_t)b->face + (size_t)c * n];
-        *oa = rad_dmax(*oa, ra * ((l->fa + l->dG / a->area) * wb + l->kma * b->detail[c]));
-        *ob = rad_dmax(*ob, rb * ((l->fb + l->dG / b->area) * wa + l->kmb * a->detail[c]));
+        link_channel x = channel(h, l, c);
+        *oa = rad_dmax(*oa, x.ra * ((l->fa + l->dG / a->area) * x.wb + l->kma * b->detail[c]));
+        *ob = rad_dmax(*ob, x.rb * ((l->fb + l->dG / b->area) * x.wa + l->kmb * a->detail[c]));
     }
 }
 

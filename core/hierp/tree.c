@@ -304,11 +304,6 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h);
 }
 
-int rad_hierp_order(const rad_hierp *h)
-{
-    return h ? h->order : 0;
-}
-
 size_t rad_hierp_leaf_count(const rad_hierp *h)
 {
     size_t n = 0;

@@ -566,6 +566,23 @@ static rad_status hier_display(rad_solution *s, const rad_hier *h, const prepare
     return RAD_OK;
 }
 
+/* The phases and work figures of a hierarchical solve (s->hier, from
+ * rad_hier or rad_hierp): one set of '#' lines for both. */
+static void hier_figures(rad_solution *s)
+{
+    add_phase(s, "link", s->hier.time_link_s);
+    add_phase(s, "refine", s->hier.time_refine_s);
+    add_phase(s, "solve", s->hier.time_solve_s);
+    s->elements = s->hier.elements;
+    s->links = (long long)s->hier.links;
+    s->rays = s->hier.rays;
+    s->kernel_evals = s->hier.kernel_evals;
+    s->solver_name = "jacobi-push-pull";
+    s->solver_iterations = s->hier.iterations;
+    s->solver_residual = s->hier.residual;
+    s->systems = 3;
+}
+
 /* hier with polynomial elements (rad_hierp): the leaves' coefficients are
  * the solution's elements, shown as dense's are. */
 static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
@@ -583,9 +600,7 @@ static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
     if (st != RAD_OK)
         goto done;
     rad_hierp_get_stats(h, &s->hier);
-    add_phase(s, "link", s->hier.time_link_s);
-    add_phase(s, "refine", s->hier.time_refine_s);
-    add_phase(s, "solve", s->hier.time_solve_s);
+    hier_figures(s);
     size_t n = rad_hierp_leaf_count(h), m = (size_t)rad_basis_size(u->basis);
     leaf = malloc(n * 4 * sizeof *leaf);
     E = malloc(n * 3 * sizeof *E);
@@ -608,14 +623,6 @@ static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
         for (int c = 0; c < 3; c++)
             E[i + c * n] = pr->E[f + c * faces];
     }
-    s->elements = n;
-    s->links = (long long)s->hier.links;
-    s->rays = s->hier.rays;
-    s->kernel_evals = s->hier.kernel_evals;
-    s->solver_name = "jacobi-push-pull";
-    s->solver_iterations = s->hier.iterations;
-    s->solver_residual = s->hier.residual;
-    s->systems = 3;
     if ((st = face_answer(s, n, s->element_face, area, B)) == RAD_OK && u->display)
         st = display_basis(s, material, E);
 done:
@@ -659,9 +666,7 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     if (st != RAD_OK)
         goto done;
     rad_hier_get_stats(h, &s->hier);
-    add_phase(s, "link", s->hier.time_link_s);
-    add_phase(s, "refine", s->hier.time_refine_s);
-    add_phase(s, "solve", s->hier.time_solve_s);
+    hier_figures(s);
     size_t n = rad_hier_leaf_count(h);
     leaf = malloc(n * 4 * sizeof *leaf);
     leaf_face = malloc(n * sizeof *leaf_face);
@@ -671,14 +676,6 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     }
     double *area = leaf, *B = leaf + n;
     rad_hier_leaves(h, leaf_face, area, NULL, B);
-    s->elements = s->hier.elements;
-    s->links = (long long)s->hier.links;
-    s->rays = s->hier.rays;
-    s->kernel_evals = s->hier.kernel_evals;
-    s->solver_name = "jacobi-push-pull";
-    s->solver_iterations = s->hier.iterations;
-    s->solver_residual = s->hier.residual;
-    s->systems = 3;
     if ((st = face_answer(s, n, leaf_face, area, B)) == RAD_OK && u->display)
         st = hier_display(s, h, pr, n, leaf_face, B);
 done:
