@@ -147,7 +147,7 @@ TEST(cli_solve_rejects_bad_input)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/negative_emission.obj"), NULL}, "negative");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--rule", "simpson", NULL}, "simpson");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--solver", "magic", NULL}, "magic");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", NULL}, "cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "clustered", NULL}, "clustered");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--refine", "-1", NULL}, "--refine");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--tol", "0", NULL}, "--tol");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--image-size", "0x5", NULL}, "--image-size");

@@ -14,8 +14,9 @@
 #include "solve.h"
 
 static const char help_head[] =
-    "usage: radkit solve SCENE [--method dense|hier|mc] [--rule RULE] [--tol T] [--solver S]\n"
-    "                    [--oracle bf|error] [--eps E] [--min-area A] [--edges]\n"
+    "usage: radkit solve SCENE [--method dense|hier|cluster|mc] [--rule RULE] [--tol T]\n"
+    "                    [--solver S] [--oracle bf|error] [--eps E] [--min-area A]\n"
+    "                    [--cluster-model oriented|iso] [--edges]\n"
     "                    [--samples N] [--seed S]\n"
     "                    [--refine K] [--basis p0|p1|p2] [--threads N] [--out faces.tsv]\n"
     "                    [--ply out.ply]\n"
@@ -28,7 +29,7 @@ static const char help_head[] =
     "piecewise-constant elements, dense or hierarchical, or estimate it by Monte\n"
     "Carlo path tracing, and print one row per input triangle.\n"
     "\n"
-    "  --method M       dense (default), mc or hier.  mc: Monte Carlo, the\n"
+    "  --method M       dense (default), mc, hier or cluster.  mc: Monte Carlo, the\n"
     "                   independent reference: per input triangle the area-average\n"
     "                   radiosity and its standard error (columns se_r se_g se_b)\n"
     "                   by path tracing from stratified points of the triangle,\n"
@@ -46,7 +47,19 @@ static const char help_head[] =
     "                   header reports error_estimate: a bound on the worst input\n"
     "                   triangle's error relative to the mean reflected radiosity\n"
     "                   (also _l1, the area-weighted mean, and _leaf_max, the worst\n"
-    "                   element), and error_target_met: whether it is within --eps\n"
+    "                   element), and error_target_met: whether it is within --eps.\n"
+    "                   cluster: hier over a bounding-volume hierarchy of the\n"
+    "                   input triangles: linking starts from sibling clusters\n"
+    "                   instead of every pair of triangles, and a link between\n"
+    "                   clusters stays while its bound (the point form factor\n"
+    "                   from the clusters' spheres and normal cones) keeps its\n"
+    "                   share of the error within --eps; --eps, --min-area and\n"
+    "                   the error estimate as for hier (BF oracle and --rule do\n"
+    "                   not apply)\n"
+    "  --cluster-model M\n"
+    "                   cluster: the projected area a cluster link assumes of a\n"
+    "                   cluster, oriented (default: the middle of what its normal\n"
+    "                   sum and normal cone allow) or iso (a quarter of its area)\n"
     "  --oracle O       hier: error (default: refine the links whose share of an\n"
     "                   input triangle's error bound is largest, until every\n"
     "                   triangle's bound meets --eps or --min-area stops it) or bf\n"
@@ -150,7 +163,7 @@ static void mc_progress(double done, void *ctx)
 static void warn_target(const rad_solution *s)
 {
     const rad_hier_stats *hs = &s->hier;
-    if (s->method != RAD_SOLVE_HIER || hs->target_met)
+    if ((s->method != RAD_SOLVE_HIER && s->method != RAD_SOLVE_CLUSTER) || hs->target_met)
         return;
     fprintf(stderr, "radkit: warning: the error estimate %.3g (worst input triangle, relative to "
                     "the mean reflected radiosity) exceeds --eps %g", hs->bound_face_max,
@@ -170,7 +183,7 @@ int cli_solve(int argc, char **argv)
     memset(&o, 0, sizeof o);
     cli_scene_options_init(&o.scene_opts);
     /* the command's own options, the shared scene options and the terminator */
-    enum { SOLVE_OWN_OPTIONS = 26 };
+    enum { SOLVE_OWN_OPTIONS = 27 };
     cli_option table[SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1] = {
         {"", &o.scene, NULL, "scene"},
         {"--method", &o.method, NULL, NULL},
@@ -195,6 +208,7 @@ int cli_solve(int argc, char **argv)
         {"--eps", &o.eps, NULL, NULL},
         {"--min-area", &o.min_area, NULL, NULL},
         {"--oracle", &o.oracle, NULL, NULL},
+        {"--cluster-model", &o.cluster_model, NULL, NULL},
         {"--edges", NULL, &o.edges, NULL},
         {"--samples", &o.samples, NULL, NULL},
         {"--seed", &o.seed, NULL, NULL},

@@ -17,7 +17,7 @@
 typedef struct solve_options {
     const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
     const char *threads, *out, *strata, *ply, *png, *size, *exposure, *stats;
-    const char *eps, *min_area, *oracle, *samples, *seed, *basis;
+    const char *eps, *min_area, *oracle, *samples, *seed, *basis, *cluster_model;
     int quiet, help, edges;
     cli_scene_options scene_opts;
 } solve_options;

@@ -31,27 +31,33 @@ static rad_status parse_count(const char *option, const char *text, unsigned lon
 /* The first option given that `method` does not take. */
 static rad_status refuse_others(const solve_options *o, rad_solve_method method)
 {
-    /* which methods take each option: d(ense), h(ier), m(c) */
+    /* which methods take each option: d(ense), h(ier), c(luster), m(c) */
     const struct {
         const char *name, *value, *methods;
     } table[] = {
-        {"--rule", o->rule, "dh"},         {"--tol", o->tol, "dh"},
-        {"--solver", o->solver, "d"},      {"--solver-tol", o->solver_tol, "dh"},
-        {"--max-iter", o->max_iter, "dh"}, {"--refine", o->refine, "d"},
-        {"--vis-strata", o->strata, "d"},  {"--eps", o->eps, "h"},
-        {"--min-area", o->min_area, "h"},  {"--oracle", o->oracle, "h"},
-        {"--samples", o->samples, "m"},    {"--seed", o->seed, "m"},
-        {"--basis", o->basis, "dh"},
+        {"--rule", o->rule, "dh"},          {"--tol", o->tol, "dhc"},
+        {"--solver", o->solver, "d"},       {"--solver-tol", o->solver_tol, "dhc"},
+        {"--max-iter", o->max_iter, "dhc"}, {"--refine", o->refine, "d"},
+        {"--vis-strata", o->strata, "d"},   {"--eps", o->eps, "hc"},
+        {"--min-area", o->min_area, "hc"},  {"--oracle", o->oracle, "h"},
+        {"--samples", o->samples, "m"},     {"--seed", o->seed, "m"},
+        {"--basis", o->basis, "dh"},        {"--cluster-model", o->cluster_model, "c"},
     };
-    const char code = method == RAD_SOLVE_HIER ? 'h' : method == RAD_SOLVE_MC ? 'm' : 'd';
+    const char code = method == RAD_SOLVE_HIER      ? 'h'
+                      : method == RAD_SOLVE_CLUSTER ? 'c'
+                      : method == RAD_SOLVE_MC      ? 'm'
+                                                    : 'd';
     for (size_t k = 0; k < sizeof table / sizeof table[0]; k++) {
         if (!table[k].value || strchr(table[k].methods, code))
             continue;
         const char *m = table[k].methods;
-        const char *who = strcmp(m, "d") == 0   ? "--method dense"
-                          : strcmp(m, "h") == 0 ? "--method hier"
-                          : strcmp(m, "m") == 0 ? "--method mc"
-                                                : "--method dense or hier";
+        const char *who = strcmp(m, "d") == 0    ? "--method dense"
+                          : strcmp(m, "h") == 0  ? "--method hier"
+                          : strcmp(m, "c") == 0  ? "--method cluster"
+                          : strcmp(m, "hc") == 0 ? "--method hier or cluster"
+                          : strcmp(m, "m") == 0  ? "--method mc"
+                          : strcmp(m, "dh") == 0 ? "--method dense or hier"
+                                                 : "--method dense, hier or cluster";
         return RAD_ERROR(RAD_EINVAL, "solve: %s applies to %s only, not --method %s",
                          table[k].name, who, rad_solve_method_name(method));
     }
@@ -102,6 +108,9 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
         return st;
     if (o->oracle && (st = rad_hier_oracle_parse(o->oracle, &hp->oracle)) != RAD_OK)
         return st;
+    if (o->cluster_model &&
+        (st = rad_hier_cluster_model_parse(o->cluster_model, &hp->cluster_model)) != RAD_OK)
+        return st;
     if (o->min_area) {
         char *end = NULL;
         double v = strtod(o->min_area, &end);
@@ -149,7 +158,7 @@ rad_status solve_parse_params(const solve_options *o, const rad_effects_params *
     if (o->threads &&
         (st = cli_parse_positive_int("solve: --threads", o->threads, 1024, &p->threads)) != RAD_OK)
         return st;
-    st = p->method == RAD_SOLVE_HIER ? parse_hier(o, p)
+    st = p->method == RAD_SOLVE_HIER || p->method == RAD_SOLVE_CLUSTER ? parse_hier(o, p)
          : p->method == RAD_SOLVE_MC ? parse_mc(o, p)
                                      : parse_dense(o, p);
     if (st != RAD_OK)

@@ -24,6 +24,7 @@ static void print_params(FILE *out, const rad_solution *s)
                 s->faces, s->elements, u->refine);
         break;
     case RAD_SOLVE_HIER:
+    case RAD_SOLVE_CLUSTER:
         rad_ff_rule_format(u->hier.rule, rule, sizeof rule);
         fprintf(out, "# oracle = %s\n# rule = %s\n# tol = %g\n# eps = %g\n# min_area = %g\n"
                      "# solver_tol = %g\n",
@@ -32,6 +33,9 @@ static void print_params(FILE *out, const rad_solution *s)
         fprintf(out, "# basis = p%d\n# faces = %d\n# elements = %zu\n# nodes = %zu\n"
                      "# max_depth = %d\n",
                 u->basis, s->faces, s->hier.elements, s->hier.nodes, s->hier.max_depth);
+        if (s->method == RAD_SOLVE_CLUSTER)
+            fprintf(out, "# cluster_model = %s\n# clusters = %zu\n",
+                    rad_hier_cluster_model_name(u->hier.cluster_model), s->hier.clusters);
         break;
     case RAD_SOLVE_MC:
         fprintf(out, "# samples = %lld\n# seed = %llu\n# batches = %d\n# faces = %d\n"
@@ -59,6 +63,9 @@ static void print_work(FILE *out, const rad_solution *s)
                 s->dense.rcond);
         break;
     case RAD_SOLVE_HIER:
+    case RAD_SOLVE_CLUSTER:
+        if (s->method == RAD_SOLVE_CLUSTER)
+            fprintf(out, "# links_cluster = %zu\n", hs->links_cluster);
         fprintf(out, "# links = %zu\n# links_leaf = %zu\n# links_clear = %zu\n"
                      "# links_visible = %zu\n# links_partial = %zu\n# links_blocked = %zu\n"
                      "# links_unknown = %zu\n",
@@ -140,7 +147,9 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"error_estimate_l1", hs->bound_mean},
         {"error_estimate_leaf_max", hs->bound_leaf_max},
         {"error_target_met", hs->target_met},
-        {"links_bound", (double)hs->links_bound}};
+        {"links_bound", (double)hs->links_bound},
+        {"clusters", (double)hs->clusters},
+        {"links_cluster", (double)hs->links_cluster}};
     rad_io_figure mc_details[] = {
         {"samples_per_face", (double)s->mc.samples_per_face},
         {"batches", s->mc.batches},
@@ -159,7 +168,7 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         .neffects = RAD_EFFECT_COUNT, .solver_name = s->solver_name,
         .solver_iterations = s->solver_iterations, .solver_residual = s->solver_residual,
         .ranks = ranks, .memory_peak_bytes_per_rank = memory_per_rank};
-    if (s->method == RAD_SOLVE_HIER) {
+    if (s->method == RAD_SOLVE_HIER || s->method == RAD_SOLVE_CLUSTER) {
         js.details = hier_details;
         js.ndetails = sizeof hier_details / sizeof hier_details[0];
     } else if (s->method == RAD_SOLVE_MC) {

@@ -1,7 +1,7 @@
-/* rad_cluster: a cluster hierarchy over the input triangles (issue 17's
- * first part: the hierarchy itself; the cluster links, transfer models and
- * their error bounds come with the clustered solver, which does not exist
- * yet — nothing in radkit calls this module so far).
+/* rad_cluster: a cluster hierarchy over the input triangles (the cluster
+ * links, transfer models and their error bounds are rad_hier's cluster
+ * layer, hier/cluster.c, which builds this tree with one triangle per
+ * leaf).
  *
  * A binary bounding-volume hierarchy built top-down: a node's triangles are
  * split at the median of their centroids along the longest axis of the

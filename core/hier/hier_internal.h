@@ -61,6 +61,45 @@ typedef struct hier_link {
                               hidden, 3: hidden at every point value */
 } hier_link;
 
+/* A node of the cluster hierarchy (cluster.c; the median-split tree of
+ * rad_cluster with one input triangle per leaf).  Parents come before their
+ * children in the array. */
+typedef struct hier_clus {
+    rad_vec3 c;            /* centre of its bounding box */
+    double radius;         /* half the box's diagonal: its triangles lie in that sphere */
+    double area;
+    rad_vec3 N;            /* sum of area x unit normal over its triangles */
+    rad_vec3 axis;         /* its normal cone: every unit normal within alpha of axis */
+    double alpha;          /* > pi when no cone narrower than the sphere holds them */
+    int child[2];          /* -1 for a leaf */
+    int root;              /* a leaf's input triangle (its root element), else -1 */
+    int first, count;      /* its triangles: rad_cluster_order()[first .. first + count) */
+    double rho[3];         /* the largest reflectance below */
+    double scale;          /* the smallest threshold scale (face_scale) below */
+    double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
+                              element's B strays from it */
+    double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
+    double T[3];           /* area-mean of the transported error */
+    double g[3];           /* gathered by its own links (B, T or 1, as carried) */
+    double q[3], d[3];     /* local error bounds gathered by its links, before the
+                              receivers' reflectance: F's error x the source's weight,
+                              and (F's bound x the source's variation)^2 */
+} hier_clus;
+
+/* A link with a cluster of two or more triangles at one end at least; the
+ * other end is a cluster or an element (two elements are joined by a
+ * hier_link).  An end is a cluster index c >= 0 or an element e as -1 - e.
+ * It carries light both ways as G / A to every point of the receiver. */
+typedef struct hier_clink {
+    int a, b;              /* ends; a = INT_MIN marks a refined link */
+    double G;              /* estimated int_a int_b K V */
+    double Fa, Fb;         /* bounds of the point form factor from any point of a
+                              towards b, and of b towards a */
+    double ea, eb;         /* bounds of the error of G / A_a as that point form factor
+                              (and of G / A_b) */
+    unsigned char overlap; /* the bounding spheres meet: no bound, refine */
+} hier_clink;
+
 struct rad_hier {
     rad_hier_params p;
     const rad_vis *vis;
@@ -81,6 +120,12 @@ struct rad_hier {
     double last_bmax;         /* the largest leaf B of the last step */
     double iter_err;          /* what the last step's change leaves of the fixed point
                                  (absolute; solve.c) */
+    /* the cluster layer (cluster.c); ncl = 0 without clustering */
+    hier_clus *cl;
+    size_t ncl;
+    int *corder;              /* input triangles in cluster order */
+    hier_clink *cln;
+    size_t ncln, capcln;
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
@@ -100,6 +145,24 @@ typedef struct hier_job {
  * links in job order (the result does not depend on the thread count). */
 rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n);
 int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
+
+/* ---- cluster.c ---- */
+/* Build the cluster hierarchy over the roots and its initial links (every
+ * pair of siblings), refined where bounding spheres meet; pairs of single
+ * triangles become root links (hier_estimate_batch). */
+rad_status hier_cluster_create(rad_hier *h);
+void hier_cluster_destroy(rad_hier *h);
+/* One oracle pass over the cluster links (refine.c's thresholds);
+ * *count += links refined. */
+rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
+/* Add what the cluster links bring to what the elements gathered (Bg, Tg),
+ * every end carrying: CLUSTER_B its radiosity, CLUSTER_T its transported
+ * error, CLUSTER_ONE 1 (the rows, into Bg[0]); clusters pull theirs from
+ * the roots, and push what they gather down to them. */
+enum { CLUSTER_B, CLUSTER_T, CLUSTER_ONE };
+void hier_cluster_gather(rad_hier *h, int carry);
+/* Add the cluster links' local error bounds to the elements' q and d. */
+void hier_cluster_local(rad_hier *h);
 
 /* ---- refine.c ---- */
 /* Quarter the threshold scale of the input triangles whose bound exceeds

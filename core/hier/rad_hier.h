@@ -79,8 +79,25 @@ const char *rad_hier_oracle_name(rad_hier_oracle oracle);
 
 #define RAD_HIER_MAX_NODES 25 /* points of the largest point-value rule */
 
+/* How a cluster link estimates the projected area of a cluster towards the
+ * other (cluster.c): ISO takes a quarter of its area (the mean over
+ * directions of any surface's projected area, Cauchy), ORIENTED the middle
+ * of the bracket its area-weighted normal and normal cone allow (exact for
+ * a flat cluster, a quarter of the area for a closed convex one). */
+typedef enum rad_hier_cluster_model {
+    RAD_HIER_CLUSTER_ORIENTED = 0,
+    RAD_HIER_CLUSTER_ISO = 1
+} rad_hier_cluster_model;
+
+/* "oriented" or "iso"; RAD_EINVAL naming the text otherwise. */
+rad_status rad_hier_cluster_model_parse(const char *text, rad_hier_cluster_model *model);
+const char *rad_hier_cluster_model_name(rad_hier_cluster_model model);
+
 typedef struct rad_hier_params {
     rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_ERROR */
+    int cluster;          /* 1: link through a cluster hierarchy over the input triangles
+                             (cluster.c) instead of linking every pair of them; default 0 */
+    rad_hier_cluster_model cluster_model; /* default RAD_HIER_CLUSTER_ORIENTED */
     double eps;           /* the error target relative to R (see above); > 0.  Default 0.1 */
     double min_area;      /* no element is split into children smaller than this; >= 0.
                              Default 0 (then max_depth alone bounds refinement) */
@@ -156,6 +173,9 @@ typedef struct rad_hier_stats {
      * their elements face each other */
     size_t links_clear, links_visible, links_partial, links_blocked, links_unknown;
     size_t links_leaf;    /* live links joining two leaves */
+    size_t links_cluster; /* live links with a cluster of two or more triangles at one end
+                             (counted in links too) */
+    size_t clusters;      /* nodes of the cluster hierarchy (0 without clustering) */
     int max_depth;        /* deepest leaf */
     long long kernel_evals; /* closed forms and kernel evaluations of all estimates */
     unsigned long long rays;

@@ -171,6 +171,7 @@ void hier_row_caps(rad_hier *h)
         b->Bg[0] += l->G / b->area;
         b->Gg[0] = rad_vec3_add(b->Gg[0], l->gb);
     }
+    hier_cluster_gather(h, CLUSTER_ONE);
     for (size_t t = 0; t < h->nroots; t++)
         push_rows(h, (int)t, 0.0, zero_v);
 }
@@ -222,6 +223,7 @@ rad_status rad_hier_step(rad_hier *h)
     }
     double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
     rad_vec3 zerog[3] = {zero_v, zero_v, zero_v};
+    hier_cluster_gather(h, CLUSTER_B);
     for (size_t t = 0; t < h->nroots; t++)
         push_pull(h, (int)t, CARRY_B, zero, zerog, &change, &bmax);
     if (!isfinite(change) || !isfinite(bmax))
@@ -431,6 +433,7 @@ rad_status hier_error_estimate(rad_hier *h)
             b->dr[c] += rb * l->rb * wa;
         }
     }
+    hier_cluster_local(h);
     double zero[3] = {0, 0, 0};
     for (size_t t = 0; t < n; t++)
         push_local(h, (int)t, zero, zero, zero);
@@ -463,8 +466,9 @@ rad_status hier_error_estimate(rad_hier *h)
             }
         }
         double change = 0.0, tmax = 0.0;
-        for (size_t t = 0; t < n; t++)
-            push_pull(h, (int)t, CARRY_T, zero, zerog, &change, &tmax); /* one step of T = q + rho K T */
+        hier_cluster_gather(h, CLUSTER_T);
+        for (size_t t = 0; t < n; t++) /* one step of T = q + rho K T */
+            push_pull(h, (int)t, CARRY_T, zero, zerog, &change, &tmax);
         if (!isfinite(change) || !isfinite(tmax)) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error bound is not finite");
             break;

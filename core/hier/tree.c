@@ -6,7 +6,8 @@
  * m_ca m_bc c and the middle m_ab m_bc m_ca, all with the parent's
  * orientation), and inherit the parent's face and B.  Creation makes one root
  * per input triangle (B = E) and links every ordered pair of input triangles
- * that face each other (link.c). */
+ * that face each other (link.c), or, with clustering, the sibling clusters
+ * (cluster.c). */
 #include "hier_internal.h"
 
 #include <math.h>
@@ -253,13 +254,21 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
     /* Every pair of input triangles is estimated: refuse before the work
        when they could not all be held as links (clustering, which would link
        groups of triangles, is not implemented). */
-    if ((double)ntris * (double)(ntris - 1) / 2.0 > (double)p.max_links) {
+    if (!p.cluster && (double)ntris * (double)(ntris - 1) / 2.0 > (double)p.max_links) {
         st = RAD_ERROR(RAD_ETOOBIG, "hier: %zu input triangles make %.3g pairs to link, beyond "
-                                    "max_links (%zu); use fewer triangles",
+                                    "max_links (%zu); use clustering or fewer triangles",
                        ntris, (double)ntris * (double)(ntris - 1) / 2.0, p.max_links);
         goto fail;
     }
     double t0 = rad_sys_seconds();
+    if (p.cluster) {
+        if ((st = hier_cluster_create(h)) != RAD_OK)
+            goto fail;
+        hier_row_caps(h);
+        h->st.time_link_s = rad_sys_seconds() - t0;
+        *out = h;
+        return RAD_OK;
+    }
     if (h->use_vis && ntris <= HIER_BLOCK_TABLE_MAX) {
         h->can_block = malloc(ntris * ntris);
         if (!h->can_block) {
@@ -309,6 +318,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->can_block);
     free(h->normal);
     free(h->face_scale);
+    hier_cluster_destroy(h);
     free(h->el);
     free(h->ln);
     free(h);
@@ -320,7 +330,9 @@ void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats)
         return;
     *stats = h->st;
     stats->nodes = h->nel;
-    stats->links = h->nln;
+    stats->links = h->nln + h->ncln;
+    stats->links_cluster = h->ncln;
+    stats->clusters = h->ncl;
     stats->elements = rad_hier_leaf_count(h);
     stats->links_clear = stats->links_visible = stats->links_partial = 0;
     stats->links_blocked = stats->links_unknown = stats->links_leaf = 0;

@@ -39,10 +39,11 @@ extern "C" {
 typedef enum rad_solve_method {
     RAD_SOLVE_DENSE = 0, /* Galerkin, every pair of elements: rad_radiosity + rad_dense */
     RAD_SOLVE_HIER,      /* hierarchical: rad_hier */
-    RAD_SOLVE_MC         /* Monte Carlo path tracing: rad_mc (the independent reference) */
+    RAD_SOLVE_MC,        /* Monte Carlo path tracing: rad_mc (the independent reference) */
+    RAD_SOLVE_CLUSTER    /* hierarchical over a cluster hierarchy: rad_hier, params.cluster */
 } rad_solve_method;
 
-/* "dense", "hier" or "mc"; RAD_EINVAL naming the text otherwise. */
+/* "dense", "hier", "mc" or "cluster"; RAD_EINVAL naming the text otherwise. */
 rad_status rad_solve_method_parse(const char *text, rad_solve_method *out);
 const char *rad_solve_method_name(rad_solve_method m);
 

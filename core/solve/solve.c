@@ -19,21 +19,22 @@
 
 rad_status rad_solve_method_parse(const char *text, rad_solve_method *out)
 {
-    static const char *const names[3] = {"dense", "hier", "mc"};
-    for (int m = 0; m < 3; m++)
+    static const char *const names[4] = {"dense", "hier", "mc", "cluster"};
+    for (int m = 0; m < 4; m++)
         if (text && strcmp(text, names[m]) == 0) {
             *out = (rad_solve_method)m;
             return RAD_OK;
         }
-    if (text && strcmp(text, "cluster") == 0)
-        return RAD_ERROR(RAD_EINVAL, "solve: --method cluster is not available yet; use hier");
-    return RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense, hier or mc)",
-                     text ? text : "");
+    return RAD_ERROR(RAD_EINVAL, "solve: unknown method '%s' (expected dense, hier, cluster or "
+                                 "mc)", text ? text : "");
 }
 
 const char *rad_solve_method_name(rad_solve_method m)
 {
-    return m == RAD_SOLVE_HIER ? "hier" : m == RAD_SOLVE_MC ? "mc" : "dense";
+    return m == RAD_SOLVE_HIER      ? "hier"
+           : m == RAD_SOLVE_CLUSTER ? "cluster"
+           : m == RAD_SOLVE_MC      ? "mc"
+                                    : "dense";
 }
 
 void rad_solve_params_default(rad_solve_params *p)
@@ -123,9 +124,13 @@ static rad_status apply_plan(rad_solution *s)
     u->assembly.ff.singular_rules = plan->singular.on;
     u->hier.ff.singular_rules = plan->singular.on;
     u->hier.singular = plan->singular.on;
-    if (u->method == RAD_SOLVE_HIER && !plan->facing_away.on)
+    if ((u->method == RAD_SOLVE_HIER || u->method == RAD_SOLVE_CLUSTER) && !plan->facing_away.on)
         return RAD_ERROR(RAD_EINVAL, "solve: --facing-away off applies to --method dense only "
                                      "(hier links only elements that face each other)");
+    if (u->method == RAD_SOLVE_CLUSTER && u->basis != 0)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense and hier; "
+                                     "cluster has constant elements", u->basis);
+    u->hier.cluster = u->method == RAD_SOLVE_CLUSTER;
     /* colour: channels that may share a system share one when off */
     u->dense.share_channels = !plan->colour.on;
     u->hier.sealed = plan->sealed;
@@ -774,7 +779,7 @@ rad_status rad_solve_run(const rad_scene *scene, const rad_solve_params *params,
     prepared pr;
     rad_status st = prepare(scene, s, &pr);
     if (st == RAD_OK) {
-        if (s->method == RAD_SOLVE_HIER)
+        if (s->method == RAD_SOLVE_HIER || s->method == RAD_SOLVE_CLUSTER)
             st = run_hier(s, &pr, t_start);
         else if (s->method == RAD_SOLVE_MC)
             st = run_mc(s, &pr, t_start);

@@ -48,7 +48,7 @@
 #include "rad_ff.h"
 #include "rad_quad.h"
 
-enum { POLY_MAX = 20, PIECES_SMALL = 48, PIECES_MAX = 4096 };
+enum { POLY_MAX = 20, PIECES_SMALL = 96, PIECES_MAX = 8192 };
 
 typedef struct v2 {
     double x, y;
@@ -56,6 +56,7 @@ typedef struct v2 {
 
 typedef struct poly2 {
     int n;
+    double lo[2], hi[2]; /* its bounding box (set by bbox2) */
     v2 p[POLY_MAX];
 } poly2;
 
@@ -254,42 +255,45 @@ static int separated(const poly2 *p, const poly2 *q, double min_edge2)
     return 0;
 }
 
-static void bbox2(const poly2 *q, double lo[2], double hi[2])
+static void bbox2(poly2 *q)
 {
-    lo[0] = lo[1] = INFINITY;
-    hi[0] = hi[1] = -INFINITY;
+    q->lo[0] = q->lo[1] = INFINITY;
+    q->hi[0] = q->hi[1] = -INFINITY;
     for (int k = 0; k < q->n; k++) {
-        lo[0] = rad_dmin(lo[0], q->p[k].x);
-        lo[1] = rad_dmin(lo[1], q->p[k].y);
-        hi[0] = rad_dmax(hi[0], q->p[k].x);
-        hi[1] = rad_dmax(hi[1], q->p[k].y);
+        q->lo[0] = rad_dmin(q->lo[0], q->p[k].x);
+        q->lo[1] = rad_dmin(q->lo[1], q->p[k].y);
+        q->hi[0] = rad_dmax(q->hi[0], q->p[k].x);
+        q->hi[1] = rad_dmax(q->hi[1], q->p[k].y);
     }
 }
 
-/* Room for the pieces of a visible part: two lists that swap as each
- * shadow is subtracted. */
+static int boxes_apart(const poly2 *p, const poly2 *q)
+{
+    return p->lo[0] >= q->hi[0] || p->hi[0] <= q->lo[0] || p->lo[1] >= q->hi[1] ||
+           p->hi[1] <= q->lo[1];
+}
+
+/* Room for the pieces of a visible part. */
 typedef struct pieces_ws {
-    poly2 *list[2];
+    poly2 *list;
     int cap;
-    poly2 *heap;                   /* PIECES_MAX each, once a part needs more */
-    poly2 small[2 * PIECES_SMALL]; /* the usual case, on the caller's stack */
+    poly2 *heap;               /* PIECES_MAX, once a part needs more */
+    poly2 small[PIECES_SMALL]; /* the usual case, on the caller's stack */
 } pieces_ws;
 
 static void ws_init(pieces_ws *ws)
 {
     ws->heap = NULL;
-    ws->list[0] = ws->small;
-    ws->list[1] = ws->small + PIECES_SMALL;
+    ws->list = ws->small;
     ws->cap = PIECES_SMALL;
 }
 
 /* 0 when the workspace is at its largest already or memory is short. */
 static int ws_grow(pieces_ws *ws)
 {
-    if (ws->heap || !(ws->heap = malloc(2 * (size_t)PIECES_MAX * sizeof(poly2))))
+    if (ws->heap || !(ws->heap = malloc((size_t)PIECES_MAX * sizeof(poly2))))
         return 0;
-    ws->list[0] = ws->heap;
-    ws->list[1] = ws->heap + PIECES_MAX;
+    ws->list = ws->heap;
     ws->cap = PIECES_MAX;
     return 1;
 }
@@ -298,20 +302,23 @@ static void ws_free(pieces_ws *ws) { free(ws->heap); }
 
 /* The visible part of b from x as convex pieces (*out points into ws); -1
  * when it needs more pieces, or pieces with more corners, than the
- * workspace holds (the caller falls back), else their count. */
+ * workspace holds (the caller falls back), else their count.  The pieces
+ * are kept in one list: a piece a shadow misses stays where it is, one it
+ * cuts is replaced by its first part outside the shadow and the others are
+ * appended, one it covers is dropped. */
 static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
                           const plane_frame *f, const int *blockers, int nb, pieces_ws *ws,
                           const poly2 **out)
 {
     double d = rad_vec3_dot(f->n, rad_vec3_sub(x, f->o));
-    *out = ws->list[0];
+    poly2 *pieces = ws->list;
+    *out = pieces;
     if (!(d > 0.0))
         return 0;
-    int cur = 0;
-    poly2 *pieces = ws->list[cur];
     pieces[0].n = 3;
     for (int v = 0; v < 3; v++)
         pieces[0].p[v] = to2(f, b[v]);
+    bbox2(&pieces[0]);
     int np = 1;
     double min_area = 1e-13 * f->area;
     shadow_planes sp;
@@ -321,38 +328,41 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
         poly2 q;
         if (!shadow(vis, (size_t)blockers[k], x, &sp, f, &q))
             continue;
-        double qlo[2], qhi[2];
-        bbox2(&q, qlo, qhi);
-        poly2 *next = ws->list[1 - cur];
-        int nn = 0;
-        for (int i = 0; i < np; i++) {
-            double plo[2], phi[2];
-            bbox2(&pieces[i], plo, phi);
-            if (plo[0] >= qhi[0] || phi[0] <= qlo[0] || plo[1] >= qhi[1] || phi[1] <= qlo[1] ||
-                separated(&pieces[i], &q, 1e-18 * f->area)) {
-                if (nn >= ws->cap)
-                    return -1;
-                next[nn++] = pieces[i];
+        bbox2(&q);
+        int end = np; /* the pieces before this shadow; those appended lie outside it */
+        for (int i = 0; i < end;) {
+            if (boxes_apart(&pieces[i], &q) || separated(&pieces[i], &q, 1e-18 * f->area)) {
+                i++;
                 continue;
             }
             poly2 rest = pieces[i];
+            int kept = 0;
             for (int e = 0; e < q.n && rest.n >= 3; e++) {
                 poly2 in, outside;
                 if (!split_line(&rest, q.p[e], q.p[(e + 1) % q.n], &in, &outside))
                     return -1;
                 if (outside.n >= 3 && area2(&outside) > min_area) {
-                    if (nn >= ws->cap)
+                    bbox2(&outside);
+                    if (!kept)
+                        pieces[i] = outside;
+                    else if (np < ws->cap)
+                        pieces[np++] = outside;
+                    else
                         return -1;
-                    next[nn++] = outside;
+                    kept = 1;
                 }
                 rest = in;
             }
+            if (kept) {
+                i++;
+                continue;
+            }
+            /* covered: the last piece not yet examined takes its place, the
+               last appended one that piece's */
+            pieces[i] = pieces[--end];
+            pieces[end] = pieces[--np];
         }
-        cur = 1 - cur;
-        pieces = next;
-        np = nn;
     }
-    *out = pieces;
     return np;
 }
 

@@ -1,0 +1,657 @@
+/* rad_hier: the cluster layer (issue 17; Smits, Arvo, Greenberg 1994 and
+ * Sillion 1995 for the idea, refs.bib).
+ *
+ * Without it rad_hier links every pair of input triangles first: n^2 work
+ * before any refinement.  With it (params.cluster), the input triangles are
+ * the leaves of a binary bounding-volume hierarchy (rad_cluster: median
+ * split, one triangle per leaf), and linking starts from the sibling pairs
+ * of that tree: every pair of triangles lies below exactly one pair of
+ * siblings (its lowest common ancestor's children), so the sibling links
+ * cover all interactions with n - 1 links.
+ *
+ * A link with a cluster at one end (cluster links; the other end a
+ * cluster or an element) carries light both ways: every point of X receives
+ * G / A_X times Y's area-mean radiosity, and the reverse.  G is estimated
+ * from the ends' bounding spheres (centres c, radii R, distance r):
+ *     G = P_X(w) P_Y(-w) / (pi r^2) V,   w = (c_Y - c_X) / r,
+ * P the projected area towards the other (an element's own A max(n.w, 0);
+ * a cluster's by the model: ISO A / 4, ORIENTED the middle of what its
+ * normal sum N and normal cone allow), V the share of open segments between
+ * four pairs of sample points (rays).  Whatever the model, the point form
+ * factor F(x, Y) of any point x of X lies in [0, F_X] with
+ *     F_X = min(C_X U_Y / (pi gap^2), (R_Y / (r - R_X))^2, 1),
+ * gap = r - R_X - R_Y, C_X the largest cosine X's normals make with a
+ * direction towards Y's sphere, U_Y the largest projected area of Y towards
+ * X's sphere (from its cone, or its area), the second term the solid angle
+ * of Y's sphere.  So the error of giving every point G / A_X is at most
+ * e_X = max(G / A_X, F_X - G / A_X), and of transporting Y's mean instead
+ * of its triangles' own B at most F_X var_Y.  These are the link's terms of
+ * solve.c's bound (q, times the source's B or, sealed, its distance from the
+ * receiver's irradiance, as hier_weight; and d), and the oracle refines a
+ * link whose term, times the receiver's reflectance, exceeds link_share x
+ * eps R x the smallest threshold scale below it: it splits the end with the
+ * larger sphere (a cluster into its two children, an element into its four;
+ * an element that may not be split leaves it to the other end), and two
+ * elements become an element link (link.c), refined from then on like any
+ * other.  Where the spheres meet there is no bound: such a link is refined
+ * at once, at creation.
+ *
+ * In the solve the clusters pull their radiosity (the area-weighted mean of
+ * their roots'), and what the cluster links bring is added to what the
+ * receiving elements gather, a cluster's pushed down its tree to the roots:
+ * the hierarchy's rows include the cluster links, so caps and the sealed
+ * normalization cover them. */
+#include "hier_internal.h"
+
+#include <limits.h>
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_cluster.h"
+#include "rad_sys.h"
+
+enum { CLUSTER_RAYS = 4 };
+
+static const double pi = 3.14159265358979323846;
+
+rad_status rad_hier_cluster_model_parse(const char *text, rad_hier_cluster_model *model)
+{
+    if (text && strcmp(text, "oriented") == 0)
+        *model = RAD_HIER_CLUSTER_ORIENTED;
+    else if (text && strcmp(text, "iso") == 0)
+        *model = RAD_HIER_CLUSTER_ISO;
+    else
+        return RAD_ERROR(RAD_EINVAL, "hier: unknown cluster model '%s' (use oriented or iso)",
+                         text ? text : "(null)");
+    return RAD_OK;
+}
+
+const char *rad_hier_cluster_model_name(rad_hier_cluster_model model)
+{
+    return model == RAD_HIER_CLUSTER_ISO ? "iso" : "oriented";
+}
+
+/* ---- the ends of a link: a cluster (index >= 0) or an element (-1 - e) --- */
+
+/* A leaf of the cluster tree is its root element. */
+static int end_of(const rad_hier *h, int cluster)
+{
+    return h->cl[cluster].root >= 0 ? -1 - h->cl[cluster].root : cluster;
+}
+
+/* What a link reads of an end. */
+typedef struct end_view {
+    rad_vec3 c, N, axis;
+    double radius, area, alpha;
+    int elem;              /* the element, or -1 for a cluster */
+    const hier_clus *cl;   /* the cluster, or NULL */
+} end_view;
+
+static void view(const rad_hier *h, int id, end_view *v)
+{
+    if (id >= 0) {
+        const hier_clus *x = &h->cl[id];
+        *v = (end_view){x->c, x->N, x->axis, x->radius, x->area, x->alpha, -1, x};
+        return;
+    }
+    const hier_elem *e = &h->el[-1 - id];
+    double r = 0.0;
+    for (int k = 0; k < 3; k++)
+        r = rad_dmax(r, rad_vec3_norm(rad_vec3_sub(e->p[k], e->c)));
+    rad_vec3 n = h->normal[e->face];
+    *v = (end_view){e->c, rad_vec3_scale(n, e->area), n, r, e->area, 0.0, -1 - id, NULL};
+}
+
+/* cos of max(0, theta - spread), theta the angle between unit vectors u, w:
+ * the largest cosine a normal within spread of u makes with w. */
+static double cos_upper(rad_vec3 u, rad_vec3 w, double spread)
+{
+    double th = acos(rad_dmax(-1.0, rad_dmin(1.0, rad_vec3_dot(u, w))));
+    return cos(rad_dmax(0.0, th - spread));
+}
+
+/* The projected area of end x towards unit direction w, by the model. */
+static double projected(const rad_hier *h, const end_view *x, rad_vec3 w)
+{
+    if (x->elem >= 0)
+        return x->area * rad_dmax(0.0, rad_vec3_dot(x->axis, w));
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
+        return 0.25 * x->area;
+    /* sum_j A_j max(n_j.w, 0) = (sum_j A_j |n_j.w| + N.w) / 2, and
+       |N.w| <= sum_j A_j |n_j.w| <= A */
+    double nw = rad_vec3_dot(x->N, w), lo = rad_dmax(0.0, nw), hi = 0.5 * (x->area + nw);
+    if (x->alpha <= pi) {
+        double th = acos(rad_dmax(-1.0, rad_dmin(1.0, rad_vec3_dot(x->axis, w))));
+        lo = rad_dmax(lo, x->area * rad_dmax(0.0, cos(rad_dmin(pi, th + x->alpha))));
+        hi = rad_dmin(hi, x->area * rad_dmax(0.0, cos(rad_dmax(0.0, th - x->alpha))));
+    }
+    return hi > lo ? 0.5 * (lo + hi) : lo;
+}
+
+/* The largest cosine any normal of x makes with a direction within beta of
+ * w, and the largest projected area of x towards such a direction. */
+static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, double *proj)
+{
+    double cmax = x->alpha <= pi ? cos_upper(x->axis, w, x->alpha + beta) : 1.0;
+    *cosmax = rad_dmax(0.0, cmax);
+    *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
+}
+
+/* Sample point k of end x, and the input triangle it lies on. */
+static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, int *tri)
+{
+    static const double bary[CLUSTER_RAYS][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
+                                                 {2.0 / 3, 1.0 / 6, 1.0 / 6},
+                                                 {1.0 / 6, 2.0 / 3, 1.0 / 6},
+                                                 {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+    const hier_elem *e;
+    const double *b = bary[k];
+    if (x->elem >= 0) {
+        e = &h->el[x->elem];
+    } else {
+        e = &h->el[h->corder[x->cl->first + (k * x->cl->count) / CLUSTER_RAYS]];
+        b = bary[0];
+    }
+    *tri = e->face;
+    return rad_vec3_add(rad_vec3_add(rad_vec3_scale(e->p[0], b[0]), rad_vec3_scale(e->p[1], b[1])),
+                        rad_vec3_scale(e->p[2], b[2]));
+}
+
+/* Estimate the link of ends a and b; 0 when nothing of one can reach the
+ * other (every normal of one turned away from the other's sphere). */
+static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned long long *rays)
+{
+    end_view x, y;
+    view(h, ia, &x);
+    view(h, ib, &y);
+    memset(out, 0, sizeof *out);
+    out->a = ia;
+    out->b = ib;
+    rad_vec3 d = rad_vec3_sub(y.c, x.c);
+    double r = rad_vec3_norm(d), gap = r - x.radius - y.radius;
+    if (!(gap > 0.0)) {
+        out->overlap = 1;
+        return 1;
+    }
+    rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
+    double beta = asin(rad_dmin(1.0, (x.radius + y.radius) / r));
+    double cx, ux, cy, uy;
+    upper(&x, w, beta, &cx, &ux);
+    upper(&y, mw, beta, &cy, &uy);
+    if (!(cx > 0.0) || !(cy > 0.0))
+        return 0;
+    double sa = y.radius / (r - x.radius), sb = x.radius / (r - y.radius);
+    double Fa = rad_dmin(1.0, rad_dmin(cx * uy / (pi * gap * gap), sa * sa));
+    double Fb = rad_dmin(1.0, rad_dmin(cy * ux / (pi * gap * gap), sb * sb));
+    double V = 1.0;
+    if (h->use_vis) {
+        int open = 0;
+        for (int k = 0; k < CLUSTER_RAYS; k++) {
+            int ta, tb;
+            rad_vec3 p = sample_point(h, &x, k, &ta), q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, &tb);
+            double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
+            open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
+        }
+        *rays += CLUSTER_RAYS;
+        V = (double)open / CLUSTER_RAYS;
+    }
+    double G = projected(h, &x, w) * projected(h, &y, mw) / (pi * r * r) * V;
+    G = rad_dmin(G, rad_dmin(x.area * Fa, y.area * Fb));
+    out->G = G;
+    out->Fa = Fa;
+    out->Fb = Fb;
+    out->ea = rad_dmax(G / x.area, Fa - G / x.area);
+    out->eb = rad_dmax(G / y.area, Fb - G / y.area);
+    return 1;
+}
+
+/* Estimate jobs[0..n) in parallel and append the links that carry anything
+ * (in job order: the result does not depend on the thread count). */
+static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
+{
+    if (n == 0)
+        return RAD_OK;
+    if (h->ncln + n > h->p.max_links)
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu cluster links (raise max_links or "
+                                      "eps)", h->p.max_links);
+    if (!rad_sys_grow((void **)&h->cln, &h->capcln, h->ncln, h->ncln + n, sizeof *h->cln, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu cluster links", h->ncln + n);
+    unsigned char *keep = malloc(n);
+    if (!keep)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu cluster links", n);
+    hier_clink *out = h->cln + h->ncln;
+    unsigned long long rays = 0;
+    const rad_hier *hc = h;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n > 64) num_threads(threads)
+    for (long long k = 0; k < (long long)n; k++)
+        keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, &out[k], &rays);
+    size_t w = h->ncln;
+    for (size_t k = 0; k < n; k++)
+        if (keep[k])
+            h->cln[w++] = out[k];
+    h->ncln = w;
+    h->st.rays += rays;
+    free(keep);
+    return RAD_OK;
+}
+
+typedef struct job_list {
+    hier_job *j;
+    size_t n, cap;
+} job_list;
+
+static rad_status push_job(job_list *l, int a, int b)
+{
+    if (!rad_sys_grow((void **)&l->j, &l->cap, l->n, l->n + 1, sizeof *l->j, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link jobs", l->n + 1);
+    l->j[l->n++] = (hier_job){a, b};
+    return RAD_OK;
+}
+
+/* Replace link k by links of one end's children to the other end (a
+ * cluster's two, an element's four), or, when both ends are elements, by
+ * an element link (hier_estimate_batch).  The end split is the source of
+ * the receiver whose term is the larger share of its threshold (split_b: b)
+ * -- a point's form factor towards a source shrinks with the source, not
+ * with the receiver -- or, where the spheres meet, the larger; the other
+ * when that one may not be split. */
+static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, job_list *sj)
+{
+    hier_clink l = h->cln[k];
+    end_view x, y;
+    view(h, l.a, &x);
+    view(h, l.b, &y);
+    h->cln[k].a = INT_MIN;
+    if (x.elem >= 0 && y.elem >= 0)
+        return push_job(sj, x.elem, y.elem);
+    int can_x = x.elem < 0 || hier_can_split(h, x.elem);
+    int can_y = y.elem < 0 || hier_can_split(h, y.elem);
+    int want_a = split_b < 0 ? x.radius >= y.radius : !split_b;
+    int split_a = can_x && (!can_y || want_a);
+    const end_view *s = split_a ? &x : &y;
+    int other = split_a ? l.b : l.a, ends[4], n = 0;
+    if (s->elem < 0) {
+        ends[n++] = end_of(h, s->cl->child[0]);
+        ends[n++] = end_of(h, s->cl->child[1]);
+    } else {
+        rad_status st = hier_split(h, s->elem);
+        if (st != RAD_OK)
+            return st;
+        for (int c = 0; c < 4; c++)
+            ends[n++] = -1 - (h->el[s->elem].first_child + c);
+    }
+    for (int c = 0; c < n; c++) {
+        rad_status st = split_a ? push_job(cj, ends[c], other) : push_job(cj, other, ends[c]);
+        if (st != RAD_OK)
+            return st;
+    }
+    return RAD_OK;
+}
+
+/* ---- what the clusters pull from their leaves ---------------------------- */
+
+/* An element's irradiance range (B - E) / rho over it (none where rho = 0:
+ * then its weight is the source's B). */
+static void element_H(const rad_hier *h, const hier_elem *e, int c, double *lo, double *hi)
+{
+    size_t n = h->nroots, f = (size_t)e->face;
+    double rho = h->rho[f + (size_t)c * n];
+    if (!(rho > 0.0)) {
+        *lo = *hi = 0.0;
+        return;
+    }
+    double m = (e->B[c] - h->E[f + (size_t)c * n]) / rho;
+    *lo = m - e->var[c] / rho;
+    *hi = m + e->var[c] / rho;
+}
+
+/* Every cluster's B, var and H range, or T (carry CLUSTER_T), and its
+ * threshold scale, from its leaves (children come after their parents). */
+static void pull(rad_hier *h, int carry)
+{
+    for (size_t i = h->ncl; i-- > 0;) {
+        hier_clus *x = &h->cl[i];
+        if (x->root >= 0) {
+            const hier_elem *e = &h->el[x->root];
+            x->scale = h->face_scale[x->root];
+            for (int c = 0; c < 3; c++) {
+                if (carry == CLUSTER_T) {
+                    x->T[c] = e->T[c];
+                    continue;
+                }
+                x->B[c] = e->B[c];
+                x->var[c] = e->var[c];
+                element_H(h, e, c, &x->Hlo[c], &x->Hhi[c]);
+            }
+            continue;
+        }
+        const hier_clus *u = &h->cl[x->child[0]], *v = &h->cl[x->child[1]];
+        double a = u->area + v->area;
+        x->scale = rad_dmin(u->scale, v->scale);
+        for (int c = 0; c < 3; c++) {
+            if (carry == CLUSTER_T) {
+                x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
+                continue;
+            }
+            double m = a > 0.0 ? (u->area * u->B[c] + v->area * v->B[c]) / a : 0.0;
+            x->B[c] = m;
+            x->var[c] = rad_dmax(fabs(u->B[c] - m) + u->var[c], fabs(v->B[c] - m) + v->var[c]);
+            x->Hlo[c] = rad_dmin(u->Hlo[c], v->Hlo[c]);
+            x->Hhi[c] = rad_dmax(u->Hhi[c], v->Hhi[c]);
+        }
+    }
+}
+
+/* What an end offers as a source, channel c: B, var; as a receiver: its
+ * largest reflectance, its threshold scale and its irradiance range. */
+typedef struct end_values {
+    double B[3], var[3], T[3], rho[3], Hlo[3], Hhi[3], scale;
+} end_values;
+
+static void values(const rad_hier *h, int id, end_values *v)
+{
+    if (id >= 0) {
+        const hier_clus *x = &h->cl[id];
+        for (int c = 0; c < 3; c++) {
+            v->B[c] = x->B[c];
+            v->var[c] = x->var[c];
+            v->T[c] = x->T[c];
+            v->rho[c] = x->rho[c];
+            v->Hlo[c] = x->Hlo[c];
+            v->Hhi[c] = x->Hhi[c];
+        }
+        v->scale = x->scale;
+        return;
+    }
+    const hier_elem *e = &h->el[-1 - id];
+    for (int c = 0; c < 3; c++) {
+        v->B[c] = e->B[c];
+        v->var[c] = e->var[c];
+        v->T[c] = e->T[c];
+        v->rho[c] = h->rho[(size_t)e->face + (size_t)c * h->nroots];
+        element_H(h, e, c, &v->Hlo[c], &v->Hhi[c]);
+    }
+    v->scale = h->face_scale[e->face];
+}
+
+/* What an error of F between receiver r and source s is multiplied by
+ * (solve.c's hier_weight for ends): s's B, or, sealed, how far s's B can
+ * lie from r's irradiance. */
+static double weight(const rad_hier *h, const end_values *r, const end_values *s, int c)
+{
+    if (!h->p.sealed || !(r->rho[c] > 0.0))
+        return s->B[c];
+    return rad_dmax(fabs(s->B[c] - r->Hlo[c]), fabs(s->B[c] - r->Hhi[c]));
+}
+
+/* A link's term of the bound at receiver r from source s (F's error e and
+ * bound F), the largest over the channels. */
+static double term(const rad_hier *h, const end_values *r, const end_values *s, double e,
+                   double F)
+{
+    double t = 0.0;
+    for (int c = 0; c < 3; c++)
+        t = rad_dmax(t, r->rho[c] * (e * weight(h, r, s, c) + F * s->var[c]));
+    return t;
+}
+
+/* ---- refinement ---------------------------------------------------------- */
+
+/* One pass: target > 0 refines by the bound (refine.c's rule), target = 0
+ * only links whose spheres meet.  Links made are examined in the same pass,
+ * generation by generation. */
+static rad_status refine_pass(rad_hier *h, double target, long long *count)
+{
+    job_list cj = {NULL, 0, 0}, sj = {NULL, 0, 0};
+    rad_status st = RAD_OK;
+    if (target > 0.0)
+        pull(h, CLUSTER_B);
+    size_t begin = 0, end = h->ncln;
+    while (begin < end && st == RAD_OK) {
+        cj.n = sj.n = 0;
+        for (size_t k = begin; k < end && st == RAD_OK; k++) {
+            const hier_clink *l = &h->cln[k];
+            int refine = l->overlap, split_b = -1;
+            if (!refine && target > 0.0) {
+                end_values x, y;
+                values(h, l->a, &x);
+                values(h, l->b, &y);
+                double share = h->p.link_share * target;
+                double ta = term(h, &x, &y, l->ea, l->Fa) / (share * x.scale);
+                double tb = term(h, &y, &x, l->eb, l->Fb) / (share * y.scale);
+                refine = ta > 1.0 || tb > 1.0;
+                split_b = ta >= tb;
+            }
+            if (!refine)
+                continue;
+            st = split_link(h, k, split_b, &cj, &sj);
+            ++*count;
+        }
+        if (st == RAD_OK)
+            st = estimate_batch(h, cj.j, cj.n);
+        if (st == RAD_OK)
+            st = hier_estimate_batch(h, sj.j, sj.n);
+        begin = end;
+        end = h->ncln;
+    }
+    free(cj.j);
+    free(sj.j);
+    size_t w = 0;
+    for (size_t k = 0; k < h->ncln; k++)
+        if (h->cln[k].a != INT_MIN)
+            h->cln[w++] = h->cln[k];
+    h->ncln = w;
+    return st;
+}
+
+rad_status hier_cluster_refine(rad_hier *h, double target, long long *count)
+{
+    return h->ncl ? refine_pass(h, target, count) : RAD_OK;
+}
+
+/* ---- creation ------------------------------------------------------------ */
+
+rad_status hier_cluster_create(rad_hier *h)
+{
+    size_t n = h->nroots;
+    double *xyz = malloc(9 * n * sizeof *xyz);
+    int *tri = malloc(3 * n * sizeof *tri);
+    rad_cluster_tree *tree = NULL;
+    rad_status st = RAD_OK;
+    if (!xyz || !tri) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the cluster hierarchy");
+        goto done;
+    }
+    for (size_t t = 0; t < n; t++)
+        for (int v = 0; v < 3; v++) {
+            rad_vec3 p = h->el[t].p[v];
+            xyz[9 * t + 3 * (size_t)v] = p.x;
+            xyz[9 * t + 3 * (size_t)v + 1] = p.y;
+            xyz[9 * t + 3 * (size_t)v + 2] = p.z;
+            tri[3 * t + (size_t)v] = (int)(3 * t + (size_t)v);
+        }
+    if ((st = rad_cluster_build(xyz, 3 * n, tri, n, 1, &tree)) != RAD_OK)
+        goto done;
+    h->ncl = rad_cluster_node_count(tree);
+    h->cl = calloc(h->ncl, sizeof *h->cl);
+    h->corder = malloc(n * sizeof *h->corder);
+    if (!h->cl || !h->corder) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
+        goto done;
+    }
+    memcpy(h->corder, rad_cluster_order(tree), n * sizeof *h->corder);
+    const rad_cluster_node *nd = rad_cluster_nodes(tree);
+    for (size_t i = 0; i < h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        const rad_cluster_node *m = &nd[i];
+        rad_vec3 lo = rad_vec3_make(m->lo[0], m->lo[1], m->lo[2]);
+        rad_vec3 hi = rad_vec3_make(m->hi[0], m->hi[1], m->hi[2]);
+        x->c = rad_vec3_scale(rad_vec3_add(lo, hi), 0.5);
+        x->radius = 0.5 * rad_vec3_norm(rad_vec3_sub(hi, lo));
+        x->area = m->area;
+        x->N = rad_vec3_scale(rad_vec3_make(m->normal[0], m->normal[1], m->normal[2]), m->area);
+        double len = rad_vec3_norm(x->N);
+        x->alpha = 4.0; /* > pi: no cone */
+        if (m->cone_cos > -1.0 && len > 0.0) {
+            x->axis = rad_vec3_scale(x->N, 1.0 / len);
+            x->alpha = acos(rad_dmax(-1.0, rad_dmin(1.0, m->cone_cos)));
+        }
+        x->child[0] = m->child[0];
+        x->child[1] = m->child[1];
+        x->first = m->first;
+        x->count = m->count;
+        x->root = m->child[0] < 0 ? h->corder[m->first] : -1;
+    }
+    /* the largest reflectance below each cluster (children follow parents) */
+    for (size_t i = h->ncl; i-- > 0;) {
+        hier_clus *x = &h->cl[i];
+        for (int c = 0; c < 3; c++)
+            x->rho[c] = x->root >= 0 ? h->rho[(size_t)x->root + (size_t)c * n]
+                                     : rad_dmax(h->cl[x->child[0]].rho[c],
+                                                h->cl[x->child[1]].rho[c]);
+    }
+    {
+        job_list jobs = {NULL, 0, 0};
+        for (size_t i = 0; i < h->ncl && st == RAD_OK; i++)
+            if (h->cl[i].root < 0)
+                st = push_job(&jobs, end_of(h, h->cl[i].child[0]), end_of(h, h->cl[i].child[1]));
+        if (st == RAD_OK)
+            st = estimate_batch(h, jobs.j, jobs.n);
+        free(jobs.j);
+    }
+    if (st == RAD_OK) {
+        long long count = 0;
+        st = refine_pass(h, 0.0, &count);
+    }
+done:
+    rad_cluster_destroy(tree);
+    free(xyz);
+    free(tri);
+    return st;
+}
+
+void hier_cluster_destroy(rad_hier *h)
+{
+    free(h->cl);
+    free(h->corder);
+    free(h->cln);
+}
+
+/* ---- the solve's gather and the local error bounds ----------------------- */
+
+/* Add v (3 channels) to what element e gathered: B (Bg), T (Tg) or the row
+ * (Bg[0]). */
+static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
+{
+    hier_elem *x = &h->el[e];
+    if (carry == CLUSTER_ONE)
+        x->Bg[0] += v[0];
+    else
+        for (int c = 0; c < 3; c++)
+            (carry == CLUSTER_T ? x->Tg : x->Bg)[c] += v[c];
+}
+
+void hier_cluster_gather(rad_hier *h, int carry)
+{
+    if (!h->ncl)
+        return;
+    pull(h, carry == CLUSTER_T ? CLUSTER_T : CLUSTER_B);
+    for (size_t i = 0; i < h->ncl; i++)
+        for (int c = 0; c < 3; c++)
+            h->cl[i].g[c] = 0.0;
+    for (size_t k = 0; k < h->ncln; k++) {
+        const hier_clink *l = &h->cln[k];
+        int ends[2] = {l->a, l->b};
+        double area[2];
+        double src[2][3];
+        for (int s = 0; s < 2; s++) {
+            int id = ends[s];
+            const double *v;
+            if (id >= 0) {
+                area[s] = h->cl[id].area;
+                v = carry == CLUSTER_T ? h->cl[id].T : h->cl[id].B;
+            } else {
+                area[s] = h->el[-1 - id].area;
+                v = carry == CLUSTER_T ? h->el[-1 - id].T : h->el[-1 - id].B;
+            }
+            for (int c = 0; c < 3; c++)
+                src[s][c] = carry == CLUSTER_ONE ? 1.0 : v[c];
+        }
+        for (int s = 0; s < 2; s++) {
+            double f = l->G / area[s], got[3];
+            for (int c = 0; c < 3; c++)
+                got[c] = f * src[1 - s][c];
+            if (ends[s] >= 0)
+                for (int c = 0; c < 3; c++)
+                    h->cl[ends[s]].g[c] += got[c];
+            else
+                add_to_element(h, -1 - ends[s], carry, got);
+        }
+    }
+    /* push down the cluster tree (parents come before their children) to
+       the roots */
+    for (size_t i = 0; i < h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        if (x->root >= 0) {
+            add_to_element(h, x->root, carry, x->g);
+            continue;
+        }
+        for (int k = 0; k < 2; k++)
+            for (int c = 0; c < 3; c++)
+                h->cl[x->child[k]].g[c] += x->g[c];
+    }
+}
+
+void hier_cluster_local(rad_hier *h)
+{
+    if (!h->ncl)
+        return;
+    pull(h, CLUSTER_B);
+    for (size_t i = 0; i < h->ncl; i++)
+        for (int c = 0; c < 3; c++)
+            h->cl[i].q[c] = h->cl[i].d[c] = 0.0;
+    size_t n = h->nroots;
+    for (size_t k = 0; k < h->ncln; k++) {
+        const hier_clink *l = &h->cln[k];
+        int ends[2] = {l->a, l->b};
+        double e[2] = {l->ea, l->eb}, F[2] = {l->Fa, l->Fb};
+        end_values v[2];
+        values(h, l->a, &v[0]);
+        values(h, l->b, &v[1]);
+        for (int s = 0; s < 2; s++) {
+            const end_values *r = &v[s], *src = &v[1 - s];
+            for (int c = 0; c < 3; c++) {
+                double q = e[s] * weight(h, r, src, c), d = F[s] * src->var[c];
+                if (ends[s] >= 0) {
+                    h->cl[ends[s]].q[c] += q;
+                    h->cl[ends[s]].d[c] += d * d;
+                } else {
+                    hier_elem *x = &h->el[-1 - ends[s]];
+                    double rho = h->rho[(size_t)x->face + (size_t)c * n];
+                    x->q[c] += rho * q;
+                    x->d[c] += rho * rho * d * d;
+                }
+            }
+        }
+    }
+    for (size_t i = 0; i < h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        if (x->root >= 0) {
+            hier_elem *e = &h->el[x->root];
+            for (int c = 0; c < 3; c++) {
+                double rho = h->rho[(size_t)x->root + (size_t)c * n];
+                e->q[c] += rho * x->q[c];
+                e->d[c] += rho * rho * x->d[c];
+            }
+            continue;
+        }
+        for (int k = 0; k < 2; k++)
+            for (int c = 0; c < 3; c++) {
+                h->cl[x->child[k]].q[c] += x->q[c];
+                h->cl[x->child[k]].d[c] += x->d[c];
+            }
+    }
+}

@@ -1,0 +1,218 @@
+/* Clustered hierarchical radiosity (rad_hier with params.cluster, radkit
+ * solve --method cluster): the table and stats, bad options refused, the
+ * same answer on any thread count, and linking that starts linear in the
+ * input triangles (hier's starts with every pair).  Its answers against the
+ * furnaces and the Monte Carlo reference are in test_furnace.c and
+ * test_hier.c, beside hier's. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "rad_hier.h"
+#include "rad_solve.h"
+#include "rad_vis.h"
+
+TEST(cluster_cli_table_and_stats)
+{
+    char dir[] = "/tmp/radkit-cluster-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    char stats[256], ply[256];
+    snprintf(stats, sizeof stats, "%s/stats.json", dir);
+    snprintf(ply, sizeof ply, "%s/leaves.ply", dir);
+    const char *models[2] = {NULL, "iso"};
+    for (int m = 0; m < 2; m++) {
+        char *out = NULL, *err = NULL, buf[64];
+        const char *args[16];
+        int n = 0;
+        args[n++] = harness_path("scenes/cornell/cornell.obj");
+        args[n++] = "--method";
+        args[n++] = "cluster";
+        if (models[m]) {
+            args[n++] = "--cluster-model";
+            args[n++] = models[m];
+        }
+        args[n++] = "--stats";
+        args[n++] = stats;
+        args[n++] = "--ply";
+        args[n++] = ply;
+        args[n++] = "--quiet";
+        args[n] = NULL;
+        CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
+        if (!out) {
+            free(err);
+            continue;
+        }
+        double B[3 * 38];
+        CHECK(harness_face_table(out, B, 38) == 38);
+        CHECK(harness_header(out, "method", buf, sizeof buf) && strcmp(buf, "cluster") == 0);
+        CHECK(harness_header(out, "cluster_model", buf, sizeof buf) &&
+              strcmp(buf, models[m] ? models[m] : "oriented") == 0);
+        /* a binary tree with one triangle per leaf: 2 n - 1 nodes */
+        CHECK(harness_header(out, "clusters", buf, sizeof buf) && atoi(buf) == 2 * 38 - 1);
+        CHECK(harness_header(out, "links_cluster", buf, sizeof buf) && atoi(buf) >= 0);
+        CHECK(harness_header(out, "error_estimate", buf, sizeof buf) && atof(buf) > 0.0);
+        FILE *f = fopen(stats, "r");
+        char text[8192] = "";
+        if (f) {
+            size_t got = fread(text, 1, sizeof text - 1, f);
+            text[got] = '\0';
+            fclose(f);
+        }
+        CHECK(strstr(text, "\"method\": \"cluster\"") != NULL);
+        CHECK(strstr(text, "\"clusters\": 75") != NULL);
+        CHECK(strstr(text, "\"links_cluster\"") != NULL);
+        CHECK(access(ply, R_OK) == 0);
+        free(out);
+        free(err);
+    }
+    remove(stats);
+    remove(ply);
+    rmdir(dir);
+}
+
+TEST(cluster_cli_rejects_bad_options)
+{
+    const char *cube = harness_path("scenes/furnace_cube/cube.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--cluster-model", "fancy", NULL}, "fancy");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--cluster-model", "iso", NULL}, "--method cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--cluster-model", "iso", NULL}, "--method cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--basis", "p1", NULL}, "--basis");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--oracle", "bf", NULL}, "--oracle");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--rule", "exact", NULL}, "--rule");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--refine", "1", NULL}, "--refine");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--eps", "0", NULL}, "--eps");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/rho_too_big.obj"), "--method", "cluster", NULL}, "rho_too_big");
+}
+
+/* Estimates run in parallel, each into its own slot, in job order: the
+ * table is the same to the bit on one thread and on two. */
+TEST(cluster_same_answer_on_any_thread_count)
+{
+    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
+    if (!scene)
+        return;
+    double *B[2] = {NULL, NULL};
+    size_t links[2] = {0, 0};
+    int faces = 0;
+    for (int t = 0; t < 2; t++) {
+        rad_solve_params p;
+        rad_solve_params_default(&p);
+        p.method = RAD_SOLVE_CLUSTER;
+        p.threads = t + 1;
+        rad_solution *s = NULL;
+        CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "%s", rad_error_message());
+        if (!s)
+            continue;
+        faces = s->faces;
+        links[t] = s->hier.links;
+        B[t] = malloc(3 * (size_t)faces * sizeof *B[t]);
+        memcpy(B[t], s->face_B, 3 * (size_t)faces * sizeof *B[t]);
+        rad_solution_destroy(s);
+    }
+    CHECK(links[0] == links[1] && links[0] > 0);
+    if (B[0] && B[1])
+        CHECK(memcmp(B[0], B[1], 3 * (size_t)faces * sizeof *B[0]) == 0);
+    free(B[0]);
+    free(B[1]);
+    rad_scene_destroy(scene);
+}
+
+/* A closed 10 m room (inward) holding k^3 unit-ish cubes (outward) on a
+ * grid: 12 + 12 k^3 triangles. */
+static int room_of_boxes(int k, double **xyz, int **tri)
+{
+    int nb = k * k * k, nt = 12 * (nb + 1);
+    *xyz = malloc((size_t)8 * (size_t)(nb + 1) * 3 * sizeof **xyz);
+    *tri = malloc((size_t)nt * 3 * sizeof **tri);
+    static const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    int t = 0;
+    for (int b = 0; b <= nb; b++) {
+        double lo[3], hi[3];
+        if (b == 0) {
+            for (int a = 0; a < 3; a++) {
+                lo[a] = 0.0;
+                hi[a] = 10.0;
+            }
+        } else {
+            int g[3] = {(b - 1) % k, ((b - 1) / k) % k, (b - 1) / (k * k)};
+            for (int a = 0; a < 3; a++) {
+                lo[a] = 10.0 * (g[a] + 0.35) / k;
+                hi[a] = 10.0 * (g[a] + 0.65) / k;
+            }
+        }
+        for (int v = 0; v < 8; v++) {
+            (*xyz)[24 * b + 3 * v] = v & 1 ? hi[0] : lo[0];
+            (*xyz)[24 * b + 3 * v + 1] = v & 2 ? hi[1] : lo[1];
+            (*xyz)[24 * b + 3 * v + 2] = v & 4 ? hi[2] : lo[2];
+        }
+        for (int q = 0; q < 6; q++) {
+            /* the quads above face outward; the room's are flipped */
+            int c[4];
+            for (int i = 0; i < 4; i++)
+                c[i] = 8 * b + quads[q][b == 0 ? 3 - i : i];
+            int tris[2][3] = {{c[0], c[1], c[2]}, {c[0], c[2], c[3]}};
+            for (int h = 0; h < 2; h++, t++)
+                for (int i = 0; i < 3; i++)
+                    (*tri)[3 * t + i] = tris[h][i];
+        }
+    }
+    return nt;
+}
+
+/* Linking starts from the sibling clusters and splits only where bounding
+ * spheres meet: the links made at creation grow about linearly with the
+ * triangles (8 to 216 boxes: 108 to 2604 triangles), where hier's initial
+ * linking couples every pair that faces. */
+TEST(cluster_links_start_linear_in_triangles)
+{
+    double per[3] = {0, 0, 0};
+    int sizes[3] = {2, 4, 6};
+    for (int s = 0; s < 3; s++) {
+        double *xyz = NULL;
+        int *tri = NULL;
+        int n = room_of_boxes(sizes[s], &xyz, &tri);
+        int nv = 8 * (sizes[s] * sizes[s] * sizes[s] + 1);
+        double *rho = malloc(3 * (size_t)n * sizeof *rho), *E = malloc(3 * (size_t)n * sizeof *E);
+        for (int i = 0; i < 3 * n; i++) {
+            rho[i] = 0.5;
+            E[i] = 1.0;
+        }
+        rad_vis *vis = NULL;
+        rad_vis_params vp;
+        rad_vis_params_default(&vp);
+        CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, &vp, &vis) == RAD_OK);
+        rad_hier_params p;
+        rad_hier_params_default(&p);
+        p.cluster = 1;
+        rad_hier *h = NULL;
+        CHECK_MSG(rad_hier_create(xyz, (size_t)nv, tri, (size_t)n, rho, E, vis, &p, &h) == RAD_OK,
+                  "%s", rad_error_message());
+        if (h) {
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            per[s] = (double)st.links / n;
+            printf("# room with %d boxes: %d triangles, %zu clusters, %zu links at creation (%zu "
+                   "cluster), %.1f per triangle (all pairs: %d)\n",
+                   sizes[s] * sizes[s] * sizes[s], n, st.clusters, st.links, st.links_cluster,
+                   per[s], n * (n - 1) / 2);
+            CHECK(st.clusters == 2 * (size_t)n - 1);
+        }
+        rad_hier_destroy(h);
+        rad_vis_destroy(vis);
+        free(xyz);
+        free(tri);
+        free(rho);
+        free(E);
+    }
+    /* 24 times the triangles: links per triangle may grow by a log, not by
+       the factor 24 that pairs would */
+    CHECK_MSG(per[0] > 0.0 && per[2] < 3.0 * per[0], "links per triangle %.1f -> %.1f", per[0],
+              per[2]);
+}
