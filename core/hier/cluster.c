@@ -9,38 +9,58 @@
  * siblings (its lowest common ancestor's children), so the sibling links
  * cover all interactions with n - 1 links.
  *
- * A link with a cluster at one end (cluster links; the other end a
- * cluster or an element) carries light both ways: every point of X receives
- * G / A_X times Y's area-mean radiosity, and the reverse.  G is estimated
- * from the ends' bounding spheres (centres c, radii R, distance r):
- *     G = P_X(w) P_Y(-w) / (pi r^2) V,   w = (c_Y - c_X) / r,
- * P the projected area towards the other (an element's own A max(n.w, 0);
- * a cluster's by the model: ISO A / 4, ORIENTED the middle of what its
- * normal sum N and normal cone allow), V the share of open segments between
- * four pairs of sample points (rays).  Whatever the model, the point form
- * factor F(x, Y) of any point x of X lies in [0, F_X] with
+ * A link with a cluster at one end (the other a cluster or an element)
+ * carries light both ways between the ends' bounding spheres (centres c,
+ * radii R, distance r, w = (c_Y - c_X) / r): a point of X facing w receives
+ *     kv I_Y(-w),   kv = V / (pi r^2),
+ * I_Y the intensity of Y towards X (sum_j A_j B_j max(n_j.(-w), 0) over its
+ * triangles) and V the share of open segments between four pairs of sample
+ * points (rays).  How a cluster emits and receives is the model:
+ *  - ORIENTED (default): a cluster keeps the moments C, S, M of its
+ *    triangles' normals weighted by A B (hier_dir), which bracket its
+ *    intensity towards any direction (exact for a flat cluster, within 27%
+ *    for a cube); a receiving cluster gathers the moments of the directions
+ *    its links arrive from, weighted by what each brings, and each triangle
+ *    below takes the middle of their bracket of sum_k c_k max(n.w_k, 0) for
+ *    its own normal n (exact for links from one direction).  An element end
+ *    emits and receives with its own normal.
+ *  - ISO: a cluster emits a quarter of sum A B towards every direction and
+ *    gives every triangle below a quarter of what arrives head-on (the mean
+ *    of max(cos, 0) over directions: Cauchy), whatever their orientation.
+ * Whatever the model, the point form factor F(x, Y) of any point x of X
+ * lies in [0, F_X] with
  *     F_X = min(C_X U_Y / (pi gap^2), (R_Y / (r - R_X))^2, 1),
  * gap = r - R_X - R_Y, C_X the largest cosine X's normals make with a
  * direction towards Y's sphere, U_Y the largest projected area of Y towards
  * X's sphere (from its cone, or its area), the second term the solid angle
- * of Y's sphere.  So the error of giving every point G / A_X is at most
- * e_X = max(G / A_X, F_X - G / A_X), and of transporting Y's mean instead
- * of its triangles' own B at most F_X var_Y.  These are the link's terms of
- * solve.c's bound (q, times the source's B or, sealed, its distance from the
- * receiver's irradiance, as hier_weight; and d), and the oracle refines a
- * link whose term, times the receiver's reflectance, exceeds link_share x
- * eps R x the smallest threshold scale below it: it splits the end with the
- * larger sphere (a cluster into its two children, an element into its four;
- * an element that may not be split leaves it to the other end), and two
- * elements become an element link (link.c), refined from then on like any
- * other.  Where the spheres meet there is no bound: such a link is refined
- * at once, at creation.
+ * of Y's sphere.  The error of a point's F is bounded: ISO by
+ * max(G / A_X, F_X - G / A_X) (anything in [0, F_X]); ORIENTED by F_X times
+ * the kernel's variation over the spheres ((r / (r - R))^2 (1 + sin beta)
+ * - 1 for distance and direction, R = R_X + R_Y), plus the bracket's
+ * relative width of the source's projected area, plus 1 where the rays
+ * disagree (where all four agree they are taken at their word: the one part
+ * of the estimate that is sampled, not bounded).  The directions' bracket
+ * at each receiving triangle adds its half width.  These are the link's
+ * terms of solve.c's bound (q: times the source's B or, sealed, its
+ * distance from the receiver's irradiance, as hier_weight; d: the source's
+ * variation, times F_X for ISO and F_X times the kernel's variation for
+ * ORIENTED, whose intensity follows the triangles' own B).
  *
- * In the solve the clusters pull their radiosity (the area-weighted mean of
- * their roots'), and what the cluster links bring is added to what the
- * receiving elements gather, a cluster's pushed down its tree to the roots:
- * the hierarchy's rows include the cluster links, so caps and the sealed
- * normalization cover them. */
+ * The oracle refines a link whose term, times the receiver's reflectance,
+ * exceeds link_share x eps R x the smallest threshold scale below it.  Only
+ * clusters are split here (elements are left to the element links, which
+ * refine them from exact point values): the source of the receiver whose
+ * term is the larger share of its threshold, or the larger where the
+ * kernel's variation dominates; two elements become an element link
+ * (link.c).  Where the spheres meet there is no bound: such a link is
+ * refined at once, at creation.
+ *
+ * In the solve the clusters pull their moments from the roots, and what the
+ * cluster links bring is added to what the receiving elements gather, a
+ * cluster's pushed down its tree to the roots: the hierarchy's rows include
+ * the cluster links (the same operator carrying 1), so caps and the sealed
+ * normalization cover them, and the error transport carries T through them
+ * too. */
 #include "hier_internal.h"
 
 #include <limits.h>
@@ -104,6 +124,42 @@ static void view(const rad_hier *h, int id, end_view *v)
     *v = (end_view){e->c, rad_vec3_scale(n, e->area), n, r, e->area, 0.0, -1 - id, NULL};
 }
 
+static void dir_add(hier_dir *g, double c, rad_vec3 w)
+{
+    g->C += c;
+    g->S = rad_vec3_add(g->S, rad_vec3_scale(w, c));
+    g->M[0] += c * w.x * w.x;
+    g->M[1] += c * w.y * w.y;
+    g->M[2] += c * w.z * w.z;
+    g->M[3] += c * w.x * w.y;
+    g->M[4] += c * w.x * w.z;
+    g->M[5] += c * w.y * w.z;
+}
+
+static void dir_sum(hier_dir *g, const hier_dir *p)
+{
+    g->C += p->C;
+    g->S = rad_vec3_add(g->S, p->S);
+    for (int i = 0; i < 6; i++)
+        g->M[i] += p->M[i];
+}
+
+/* What a point of normal n receives, sum c_k max(n.w_k, 0) =
+ * (sum c_k |n.w_k| + n.S) / 2, with n^T M n <= sum c_k |n.w_k| <=
+ * min(C, sqrt(C n^T M n)) (|n.w| <= 1, Cauchy-Schwarz): the middle of that
+ * bracket, exact for one direction, and its half width (*err). */
+static double dir_eval(const hier_dir *g, rad_vec3 n, double *err)
+{
+    double nS = rad_vec3_dot(n, g->S);
+    double nMn = g->M[0] * n.x * n.x + g->M[1] * n.y * n.y + g->M[2] * n.z * n.z +
+                 2.0 * (g->M[3] * n.x * n.y + g->M[4] * n.x * n.z + g->M[5] * n.y * n.z);
+    nMn = rad_dmax(0.0, nMn);
+    double lo = rad_dmax(0.0, rad_dmax(nS, 0.5 * (nMn + nS)));
+    double hi = rad_dmax(lo, 0.5 * (rad_dmin(g->C, sqrt(g->C * nMn)) + nS));
+    *err = 0.5 * (hi - lo);
+    return 0.5 * (lo + hi);
+}
+
 /* cos of max(0, theta - spread), theta the angle between unit vectors u, w:
  * the largest cosine a normal within spread of u makes with w. */
 static double cos_upper(rad_vec3 u, rad_vec3 w, double spread)
@@ -112,22 +168,21 @@ static double cos_upper(rad_vec3 u, rad_vec3 w, double spread)
     return cos(rad_dmax(0.0, th - spread));
 }
 
-/* The projected area of end x towards unit direction w, by the model. */
-static double projected(const rad_hier *h, const end_view *x, rad_vec3 w)
+/* The projected area of end x towards unit direction w, by the model, and
+ * how far (relative) the truth may lie from it (*rel; the bracket's half
+ * width over its middle, 0 for an element). */
+static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double *rel)
 {
+    *rel = 0.0;
     if (x->elem >= 0)
         return x->area * rad_dmax(0.0, rad_vec3_dot(x->axis, w));
-    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+        *rel = 1.0;
         return 0.25 * x->area;
-    /* sum_j A_j max(n_j.w, 0) = (sum_j A_j |n_j.w| + N.w) / 2, and
-       |N.w| <= sum_j A_j |n_j.w| <= A */
-    double nw = rad_vec3_dot(x->N, w), lo = rad_dmax(0.0, nw), hi = 0.5 * (x->area + nw);
-    if (x->alpha <= pi) {
-        double th = acos(rad_dmax(-1.0, rad_dmin(1.0, rad_vec3_dot(x->axis, w))));
-        lo = rad_dmax(lo, x->area * rad_dmax(0.0, cos(rad_dmin(pi, th + x->alpha))));
-        hi = rad_dmin(hi, x->area * rad_dmax(0.0, cos(rad_dmax(0.0, th - x->alpha))));
     }
-    return hi > lo ? 0.5 * (lo + hi) : lo;
+    double err, p = dir_eval(&x->cl->geo, w, &err);
+    *rel = p > 0.0 ? err / p : 1.0;
+    return p;
 }
 
 /* The largest cosine any normal of x makes with a direction within beta of
@@ -186,24 +241,50 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     double Fa = rad_dmin(1.0, rad_dmin(cx * uy / (pi * gap * gap), sa * sa));
     double Fb = rad_dmin(1.0, rad_dmin(cy * ux / (pi * gap * gap), sb * sb));
     double V = 1.0;
+    int mixed = 0;
     if (h->use_vis) {
         int open = 0;
         for (int k = 0; k < CLUSTER_RAYS; k++) {
             int ta, tb;
-            rad_vec3 p = sample_point(h, &x, k, &ta), q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, &tb);
+            rad_vec3 p = sample_point(h, &x, k, &ta);
+            rad_vec3 q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, &tb);
             double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
             open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
         }
         *rays += CLUSTER_RAYS;
         V = (double)open / CLUSTER_RAYS;
+        mixed = open > 0 && open < CLUSTER_RAYS;
     }
-    double G = projected(h, &x, w) * projected(h, &y, mw) / (pi * r * r) * V;
+    double rel_x, rel_y, px = projected(h, &x, w, &rel_x), py = projected(h, &y, mw, &rel_y);
+    double G = px * py / (pi * r * r) * V;
     G = rad_dmin(G, rad_dmin(x.area * Fa, y.area * Fb));
     out->G = G;
     out->Fa = Fa;
     out->Fb = Fb;
-    out->ea = rad_dmax(G / x.area, Fa - G / x.area);
-    out->eb = rad_dmax(G / y.area, Fb - G / y.area);
+    out->w = w;
+    out->kv = V / (pi * r * r);
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+        /* every point of a cluster gets the mean: anything in [0, F] is possible */
+        out->ea = rad_dmax(G / x.area, Fa - G / x.area);
+        out->eb = rad_dmax(G / y.area, Fb - G / y.area);
+        out->va = Fa;
+        out->vb = Fb;
+        return 1;
+    }
+    /* oriented: a point gets k max(n.w, 0) (solve: by direction), off by the
+       kernel's variation over the spheres (distance and direction), the
+       source's projected area, and visibility where the rays disagree (where
+       they agree it is taken as they say: four rays are an estimate, not a
+       bound) */
+    double R = x.radius + y.radius, near = r / (r - R);
+    double kern = near * near * (1.0 + sin(beta)) - 1.0;
+    out->ea = Fa * rad_dmin(1.0, kern + rel_y + (mixed ? 1.0 : 0.0));
+    out->eb = Fb * rad_dmin(1.0, kern + rel_x + (mixed ? 1.0 : 0.0));
+    /* the sources' intensity follows their triangles' own B: what is left
+       of B's variation is the kernel's over the source */
+    out->va = Fa * rad_dmin(1.0, kern);
+    out->vb = Fb * rad_dmin(1.0, kern);
+    out->by_size = kern > rad_dmax(rel_x, rel_y) + (mixed ? 1.0 : 0.0);
     return 1;
 }
 
@@ -267,8 +348,9 @@ static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, j
     h->cln[k].a = INT_MIN;
     if (x.elem >= 0 && y.elem >= 0)
         return push_job(sj, x.elem, y.elem);
-    int can_x = x.elem < 0 || hier_can_split(h, x.elem);
-    int can_y = y.elem < 0 || hier_can_split(h, y.elem);
+    /* elements are left to the element links' oracle, which refines them
+       from exact point values: only clusters are split here */
+    int can_x = x.elem < 0, can_y = y.elem < 0;
     int want_a = split_b < 0 ? x.radius >= y.radius : !split_b;
     int split_a = can_x && (!can_y || want_a);
     const end_view *s = split_a ? &x : &y;
@@ -308,8 +390,16 @@ static void element_H(const rad_hier *h, const hier_elem *e, int c, double *lo, 
     *hi = m + e->var[c] / rho;
 }
 
-/* Every cluster's B, var and H range, or T (carry CLUSTER_T), and its
- * threshold scale, from its leaves (children come after their parents). */
+/* The moments of one triangle (area a, normal n) weighted by v. */
+static void dir_one(hier_dir *g, double a, rad_vec3 n)
+{
+    memset(g, 0, sizeof *g);
+    dir_add(g, a, n);
+}
+
+/* Every cluster's source moments of what is carried (B, T or 1), and with
+ * B its mean, var, H range and threshold scale, from its leaves (children
+ * come after their parents). */
 static void pull(rad_hier *h, int carry)
 {
     for (size_t i = h->ncl; i-- > 0;) {
@@ -318,13 +408,15 @@ static void pull(rad_hier *h, int carry)
             const hier_elem *e = &h->el[x->root];
             x->scale = h->face_scale[x->root];
             for (int c = 0; c < 3; c++) {
+                double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+                dir_one(&x->src[c], e->area * v, h->normal[x->root]);
                 if (carry == CLUSTER_T) {
                     x->T[c] = e->T[c];
-                    continue;
+                } else if (carry == CLUSTER_B) {
+                    x->B[c] = e->B[c];
+                    x->var[c] = e->var[c];
+                    element_H(h, e, c, &x->Hlo[c], &x->Hhi[c]);
                 }
-                x->B[c] = e->B[c];
-                x->var[c] = e->var[c];
-                element_H(h, e, c, &x->Hlo[c], &x->Hhi[c]);
             }
             continue;
         }
@@ -332,10 +424,14 @@ static void pull(rad_hier *h, int carry)
         double a = u->area + v->area;
         x->scale = rad_dmin(u->scale, v->scale);
         for (int c = 0; c < 3; c++) {
+            x->src[c] = u->src[c];
+            dir_sum(&x->src[c], &v->src[c]);
             if (carry == CLUSTER_T) {
                 x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
                 continue;
             }
+            if (carry != CLUSTER_B)
+                continue;
             double m = a > 0.0 ? (u->area * u->B[c] + v->area * v->B[c]) / a : 0.0;
             x->B[c] = m;
             x->var[c] = rad_dmax(fabs(u->B[c] - m) + u->var[c], fabs(v->B[c] - m) + v->var[c]);
@@ -387,8 +483,9 @@ static double weight(const rad_hier *h, const end_values *r, const end_values *s
     return rad_dmax(fabs(s->B[c] - r->Hlo[c]), fabs(s->B[c] - r->Hhi[c]));
 }
 
-/* A link's term of the bound at receiver r from source s (F's error e and
- * bound F), the largest over the channels. */
+/* A link's term of the bound at receiver r from source s (F's error e, and
+ * F' what the source's variation is multiplied by), the largest over the
+ * channels. */
 static double term(const rad_hier *h, const end_values *r, const end_values *s, double e,
                    double F)
 {
@@ -420,10 +517,10 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
                 values(h, l->a, &x);
                 values(h, l->b, &y);
                 double share = h->p.link_share * target;
-                double ta = term(h, &x, &y, l->ea, l->Fa) / (share * x.scale);
-                double tb = term(h, &y, &x, l->eb, l->Fb) / (share * y.scale);
+                double ta = term(h, &x, &y, l->ea, l->va) / (share * x.scale);
+                double tb = term(h, &y, &x, l->eb, l->vb) / (share * y.scale);
                 refine = ta > 1.0 || tb > 1.0;
-                split_b = ta >= tb;
+                split_b = l->by_size ? -1 : ta >= tb;
             }
             if (!refine)
                 continue;
@@ -505,9 +602,16 @@ rad_status hier_cluster_create(rad_hier *h)
         x->count = m->count;
         x->root = m->child[0] < 0 ? h->corder[m->first] : -1;
     }
-    /* the largest reflectance below each cluster (children follow parents) */
+    /* the largest reflectance below each cluster and its area moments
+       (children follow parents) */
     for (size_t i = h->ncl; i-- > 0;) {
         hier_clus *x = &h->cl[i];
+        if (x->root >= 0) {
+            dir_one(&x->geo, x->area, h->normal[x->root]);
+        } else {
+            x->geo = h->cl[x->child[0]].geo;
+            dir_sum(&x->geo, &h->cl[x->child[1]].geo);
+        }
         for (int c = 0; c < 3; c++)
             x->rho[c] = x->root >= 0 ? h->rho[(size_t)x->root + (size_t)c * n]
                                      : rad_dmax(h->cl[x->child[0]].rho[c],
@@ -554,54 +658,84 @@ static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
             (carry == CLUSTER_T ? x->Tg : x->Bg)[c] += v[c];
 }
 
+/* The intensity of end id (channel c, what is carried) towards unit
+ * direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model). */
+static double intensity(const rad_hier *h, int id, int carry, int c, rad_vec3 u)
+{
+    if (id < 0) {
+        const hier_elem *e = &h->el[-1 - id];
+        double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+        return e->area * v * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
+    }
+    const hier_clus *x = &h->cl[id];
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
+        return 0.25 * x->src[c].C;
+    double err;
+    return dir_eval(&x->src[c], u, &err);
+}
+
+/* Gather every link (elements' ends directly, clusters' by direction) and
+ * push what the clusters gathered down their tree (parents come before
+ * their children). */
+static void gather_links(rad_hier *h, int carry)
+{
+    pull(h, carry);
+    for (size_t i = 0; i < h->ncl; i++)
+        memset(h->cl[i].g, 0, sizeof h->cl[i].g);
+    int iso = h->p.cluster_model == RAD_HIER_CLUSTER_ISO;
+    for (size_t k = 0; k < h->ncln; k++) {
+        const hier_clink *l = &h->cln[k];
+        int ends[2] = {l->a, l->b};
+        /* the direction from each end towards the other */
+        rad_vec3 dir[2] = {l->w, rad_vec3_scale(l->w, -1.0)};
+        for (int s = 0; s < 2; s++) {
+            int o = ends[1 - s];
+            for (int c = 0; c < 3; c++) {
+                double strength = l->kv * intensity(h, o, carry, c, dir[1 - s]);
+                if (ends[s] < 0) {
+                    const hier_elem *e = &h->el[-1 - ends[s]];
+                    double got[3] = {0, 0, 0};
+                    got[c] = strength * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir[s]));
+                    add_to_element(h, -1 - ends[s], carry, got);
+                } else if (iso) {
+                    h->cl[ends[s]].g[c].C += 0.25 * strength;
+                } else {
+                    dir_add(&h->cl[ends[s]].g[c], strength, dir[s]);
+                }
+            }
+        }
+    }
+    for (size_t i = 0; i < h->ncl; i++) {
+        const hier_clus *x = &h->cl[i];
+        if (x->root >= 0)
+            continue;
+        for (int k = 0; k < 2; k++)
+            for (int c = 0; c < 3; c++)
+                dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
+    }
+}
+
+/* What a leaf cluster's triangle (normal n) receives of what it gathered,
+ * and the bracket's half width (*err). */
+static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, double *err)
+{
+    *err = 0.0;
+    return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval(g, n, err);
+}
+
 void hier_cluster_gather(rad_hier *h, int carry)
 {
     if (!h->ncl)
         return;
-    pull(h, carry == CLUSTER_T ? CLUSTER_T : CLUSTER_B);
-    for (size_t i = 0; i < h->ncl; i++)
-        for (int c = 0; c < 3; c++)
-            h->cl[i].g[c] = 0.0;
-    for (size_t k = 0; k < h->ncln; k++) {
-        const hier_clink *l = &h->cln[k];
-        int ends[2] = {l->a, l->b};
-        double area[2];
-        double src[2][3];
-        for (int s = 0; s < 2; s++) {
-            int id = ends[s];
-            const double *v;
-            if (id >= 0) {
-                area[s] = h->cl[id].area;
-                v = carry == CLUSTER_T ? h->cl[id].T : h->cl[id].B;
-            } else {
-                area[s] = h->el[-1 - id].area;
-                v = carry == CLUSTER_T ? h->el[-1 - id].T : h->el[-1 - id].B;
-            }
-            for (int c = 0; c < 3; c++)
-                src[s][c] = carry == CLUSTER_ONE ? 1.0 : v[c];
-        }
-        for (int s = 0; s < 2; s++) {
-            double f = l->G / area[s], got[3];
-            for (int c = 0; c < 3; c++)
-                got[c] = f * src[1 - s][c];
-            if (ends[s] >= 0)
-                for (int c = 0; c < 3; c++)
-                    h->cl[ends[s]].g[c] += got[c];
-            else
-                add_to_element(h, -1 - ends[s], carry, got);
-        }
-    }
-    /* push down the cluster tree (parents come before their children) to
-       the roots */
+    gather_links(h, carry);
     for (size_t i = 0; i < h->ncl; i++) {
-        hier_clus *x = &h->cl[i];
-        if (x->root >= 0) {
-            add_to_element(h, x->root, carry, x->g);
+        const hier_clus *x = &h->cl[i];
+        if (x->root < 0)
             continue;
-        }
-        for (int k = 0; k < 2; k++)
-            for (int c = 0; c < 3; c++)
-                h->cl[x->child[k]].g[c] += x->g[c];
+        double v[3], err;
+        for (int c = 0; c < 3; c++)
+            v[c] = received(h, &x->g[c], h->normal[x->root], &err);
+        add_to_element(h, x->root, carry, v);
     }
 }
 
@@ -609,15 +743,27 @@ void hier_cluster_local(rad_hier *h)
 {
     if (!h->ncl)
         return;
-    pull(h, CLUSTER_B);
+    size_t n = h->nroots;
+    /* what the directions' bracket leaves open, at each root */
+    gather_links(h, CLUSTER_B);
+    for (size_t i = 0; i < h->ncl; i++) {
+        const hier_clus *x = &h->cl[i];
+        if (x->root < 0)
+            continue;
+        hier_elem *e = &h->el[x->root];
+        for (int c = 0; c < 3; c++) {
+            double err;
+            received(h, &x->g[c], h->normal[x->root], &err);
+            e->q[c] += h->rho[(size_t)x->root + (size_t)c * n] * err;
+        }
+    }
     for (size_t i = 0; i < h->ncl; i++)
         for (int c = 0; c < 3; c++)
             h->cl[i].q[c] = h->cl[i].d[c] = 0.0;
-    size_t n = h->nroots;
     for (size_t k = 0; k < h->ncln; k++) {
         const hier_clink *l = &h->cln[k];
         int ends[2] = {l->a, l->b};
-        double e[2] = {l->ea, l->eb}, F[2] = {l->Fa, l->Fb};
+        double e[2] = {l->ea, l->eb}, F[2] = {l->va, l->vb};
         end_values v[2];
         values(h, l->a, &v[0]);
         values(h, l->b, &v[1]);

@@ -61,6 +61,18 @@ typedef struct hier_link {
                               hidden, 3: hidden at every point value */
 } hier_link;
 
+/* Weights c_k on unit directions w_k, as moments: C = sum c_k,
+ * S = sum c_k w_k, M = sum c_k w_k w_k^T (xx yy zz xy xz yz), which bracket
+ * sum c_k max(n.w_k, 0) for any n (cluster.c).  What a cluster gathers
+ * (links arriving from w_k, c_k the irradiance each brings to a point facing
+ * it: a triangle of normal n receives that sum), and what it emits (its
+ * triangles' normals, c = area x radiosity: its intensity towards n). */
+typedef struct hier_dir {
+    double C;
+    rad_vec3 S;
+    double M[6];
+} hier_dir;
+
 /* A node of the cluster hierarchy (cluster.c; the median-split tree of
  * rad_cluster with one input triangle per leaf).  Parents come before their
  * children in the array. */
@@ -80,7 +92,11 @@ typedef struct hier_clus {
                               element's B strays from it */
     double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
     double T[3];           /* area-mean of the transported error */
-    double g[3];           /* gathered by its own links (B, T or 1, as carried) */
+    hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried) */
+    hier_dir src[3];       /* as a source: the moments of a_j = A_j x (B, T or 1) over
+                              its triangles' normals n_j, whose bracket gives the
+                              intensity sum_j a_j max(n_j.w, 0) towards w */
+    hier_dir geo;          /* the same of its areas: projected areas */
     double q[3], d[3];     /* local error bounds gathered by its links, before the
                               receivers' reflectance: F's error x the source's weight,
                               and (F's bound x the source's variation)^2 */
@@ -97,7 +113,14 @@ typedef struct hier_clink {
                               towards b, and of b towards a */
     double ea, eb;         /* bounds of the error of G / A_a as that point form factor
                               (and of G / A_b) */
+    double va, vb;         /* what the source's variation var is multiplied by in the
+                              error at a (at b) */
+    rad_vec3 w;            /* unit direction from a's centre to b's */
+    double kv;             /* V / (pi r^2): a point facing the source head-on receives
+                              kv times the source's intensity (sum A B max(cos, 0)) */
     unsigned char overlap; /* the bounding spheres meet: no bound, refine */
+    unsigned char by_size; /* the kernel's variation over the spheres dominates the
+                              error: split the larger end, not the source */
 } hier_clink;
 
 struct rad_hier {
