@@ -550,6 +550,8 @@ TEST(io_face_error_by_hand)
     CHECK(e.worst_face == 1);
     CHECK_NEAR(e.ref_worst, 0.02 / 1.75, 1e-14, 0);
     CHECK_NEAR(e.ref_l1, (0.6 + 3 * 0.06) / (12 * 1.75), 1e-14, 0);
+    /* power: reference 1 (12 + 14 + 16) + 3 (1 + 1 + 1) = 51, B 42.35 + 3 (2.475) = 49.775 */
+    CHECK_NEAR(e.power, (49.775 - 51.0) / 51.0, 1e-14, 0);
     CHECK(rad_io_face_error(2, area, E, B, ref, NULL, &e) == RAD_OK && e.ref_l1 == 0.0);
     /* nothing reflected: no relative error */
     double dark[6] = {10, 0, 10, 0, 10, 0};

@@ -25,6 +25,8 @@ static const char help_head[] =
     "  error_l1     area-weighted mean of |B - B_ref| over the channels, over R\n"
     "  error_l2     area-weighted root mean square of B - B_ref, over R\n"
     "  error_worst  the largest |B - B_ref| of any face and channel, over R\n"
+    "  error_power  (P - P_ref) / P_ref, P the power leaving the faces (the sum\n"
+    "               over faces and channels of area x B), signed\n"
     "  reference_se_l1, reference_se_worst: the reference's own standard error\n"
     "               in the same measures (0 for a table without se columns).\n"
     "\n"
@@ -123,8 +125,10 @@ int cli_compare(int argc, char **argv)
     printf("# radkit %s compare\n# scene = %s\n# table = %s\n# reference = %s\n# faces = %zu\n",
            RAD_VERSION, scene_path, paths[0], paths[1], n);
     printf("# mean_reflected = %.6e\n# error_l1 = %.6e\n# error_l2 = %.6e\n# error_worst = %.6e\n"
-           "# worst_face = %d\n# reference_se_l1 = %.6e\n# reference_se_worst = %.6e\n",
-           fe.mean_reflected, fe.l1, fe.l2, fe.worst, fe.worst_face, fe.ref_l1, fe.ref_worst);
+           "# worst_face = %d\n# reference_se_l1 = %.6e\n# reference_se_worst = %.6e\n"
+           "# error_power = %.6e\n",
+           fe.mean_reflected, fe.l1, fe.l2, fe.worst, fe.worst_face, fe.ref_l1, fe.ref_worst,
+           fe.power);
     printf("face\tarea\td_r\td_g\td_b\n");
     for (size_t i = 0; i < n; i++)
         printf("%zu\t%.17g\t%.6e\t%.6e\t%.6e\n", i, t[1].area[i], t[0].B[i] - t[1].B[i],

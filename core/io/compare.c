@@ -210,7 +210,7 @@ rad_status rad_io_face_error(size_t n, const double *area, const double *E, cons
     if (!(R > 0.0))
         return RAD_ERROR(RAD_EINPUT, "face error: the reference reflects nothing (mean reflected "
                                      "radiosity %g), so no relative error is defined", R);
-    double l1 = 0.0, l2 = 0.0, ref = 0.0, worst = -1.0;
+    double l1 = 0.0, l2 = 0.0, ref = 0.0, worst = -1.0, P = 0.0, P_ref = 0.0;
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 3; c++) {
             double d = fabs(B[i + c * n] - B_ref[i + c * n]);
@@ -218,6 +218,8 @@ rad_status rad_io_face_error(size_t n, const double *area, const double *E, cons
                 return RAD_ERROR(RAD_EINPUT, "face error: face %zu has a non-finite radiosity", i);
             l1 += area[i] * d;
             l2 += area[i] * d * d;
+            P += area[i] * B[i + c * n];
+            P_ref += area[i] * B_ref[i + c * n];
             if (se_ref)
                 ref += area[i] * se_ref[i + c * n];
             if (d > worst) {
@@ -231,5 +233,6 @@ rad_status rad_io_face_error(size_t n, const double *area, const double *E, cons
     out->l2 = sqrt(l2 / (3.0 * total)) / R;
     out->worst = worst / R;
     out->ref_l1 = ref / (3.0 * total * R);
+    out->power = P_ref > 0.0 ? (P - P_ref) / P_ref : 0.0;
     return RAD_OK;
 }

@@ -154,6 +154,8 @@ typedef struct rad_io_face_errors {
     int worst_face;        /* where the largest is */
     double ref_l1;         /* the reference's own standard error, as l1 (0 without se) */
     double ref_worst;      /* its standard error at the worst face, over R */
+    double power;          /* (P - P_ref) / P_ref, P = sum over faces and channels of A B:
+                              the relative error of the total power leaving the faces */
 } rad_io_face_errors;
 
 /* RAD_EINPUT when the faces have no area, R is not positive or a value is
