@@ -32,12 +32,13 @@ int cli_fail(rad_status st);
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);
 
 /* The options every scene-reading command shares: --scale, --strict,
- * --drop-degenerate, --rho, --emission and the six effect overrides.  cli_scene_options_add
- * appends their entries to a table (room for CLI_SCENE_OPTION_COUNT);
- * cli_scene_options_apply turns the parsed text into parameters. */
-#define CLI_SCENE_OPTION_COUNT 10
+ * --drop-degenerate, --rho, --emission, --curve-tol and the effect overrides.
+ * cli_scene_options_add appends their entries to a table (room for
+ * CLI_SCENE_OPTION_COUNT); cli_scene_options_apply turns the parsed text into
+ * parameters. */
+#define CLI_SCENE_OPTION_COUNT 11
 typedef struct cli_scene_options {
-    const char *scale, *rho, *emission;
+    const char *scale, *rho, *emission, *curve_tol;
     const char *mode[5]; /* occlusion, colour, facing-away, singular, reflectance */
     int strict, drop_degenerate;
 } cli_scene_options;

@@ -14,8 +14,9 @@
 
 static const char help_head[] =
     "usage: radkit info SCENE [--assimp-check] [--scale S] [--strict] [--rho \"r g b\"]\n"
-    "                         [--emission \"r g b\"] [--occlusion M] [--colour M]\n"
-    "                         [--facing-away M] [--singular M] [--reflectance M]\n"
+    "                         [--emission \"r g b\"] [--curve-tol T] [--occlusion M]\n"
+    "                         [--colour M] [--facing-away M] [--singular M]\n"
+    "                         [--reflectance M]\n"
     "\n"
     "Load SCENE (OBJ+MTL, MGF, glTF 2.0, PLY, OFF, STL), validate it and report it.\n"
     "\n"

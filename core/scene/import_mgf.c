@@ -40,8 +40,15 @@
  *     max_triangles.
  *  4. Geometry.  `f v1 v2 v3 ...` goes through scene_add_polygon (the fan
  *     when it does not fold, else ear clipping; self-intersecting polygons
- *     are refused), as in every reader.  The curved primitives are
- *     tessellated:
+ *     are refused), as in every reader.  `fh v1 v2 v3 ... - h1 h2 h3 ... -
+ *     ...` (MGF 2.0: contours separated by a lone `-`, the outer one first,
+ *     holes in either order) goes through scene_add_polygon_holes: each
+ *     hole bridged to the outer ring, the result ear clipped; a contour of
+ *     fewer than 3 vertices, a stray `-`, a hole outside the outer contour
+ *     or inside another, or crossing contours are errors at the line.  The
+ *     triangles of every face keep its file and line, an included file's
+ *     too (scene_set_file), for the messages about them.  The curved
+ *     primitives are tessellated:
  *       sph vc r            latitude/longitude bands (negative r: inward);
  *       cyl v1 r v2         an open tube from v1 to v2;
  *       cone v1 r1 v2 r2    an open truncated cone (a radius may be 0);
@@ -79,14 +86,21 @@
  *     outside [0, 1] and a negative ed are errors at their line.  A material
  *     becomes a radkit material when a face first uses it with its current
  *     values (the unnamed default material is black and dark, as the spec
- *     says).  `sides` is accepted and ignored: radkit's surfaces are
- *     one-sided, the front given by the corner order (right-hand rule).
+ *     says).  Sides: radkit's triangles are one-sided, the front given by
+ *     the corner order (right-hand rule).  A face of a material with `sides
+ *     1` is made as given; with `sides 2`, the spec's default (and the
+ *     unnamed material's), it is followed by its back, the same triangles
+ *     reversed with the same material, as a face of its own: a thin sheet
+ *     that reflects and emits on both sides, as RenderPark makes it.  One
+ *     counted warning says how many faces were doubled (closed solids should
+ *     say `sides 1`: their inner sides are otherwise solved as a dark
+ *     cavity); scene_finish does not count these pairs as coincident faces.
  *  6. What radkit does not use loads with one counted warning per entity
  *     naming its first place: specular and transmission (`rs`, `ts`, `td`,
- *     `ir`: radkit's surfaces are opaque and diffuse), faces with holes
- *     (`fh`), `ies`
- *     luminaires and unknown entities.  Strict mode refuses all but the
- *     first group. */
+ *     `ir`: radkit's surfaces are opaque and diffuse), `ies` luminaires and
+ *     unknown entities (the spec asks readers to skip, with a warning, the
+ *     entities they do not support).  Strict mode refuses all but the first
+ *     group. */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -195,6 +209,7 @@ typedef struct mgf_color {
 typedef struct mgf_material {
     double rd, ed;
     mgf_color rd_c, ed_c;
+    int sides;     /* 2 (the default): its faces are made on both sides; 1: front only */
     int rad_index; /* radkit material with these values, -1 until a face uses them */
     char name[64];
 } mgf_material;
@@ -251,7 +266,7 @@ typedef struct mgf_note {
     int line;
 } mgf_note;
 
-enum { NOTE_SPECULAR, NOTE_HOLES, NOTE_IES, NOTE_UNKNOWN, NOTE_GAMUT, NOTE_WHITE,
+enum { NOTE_SPECULAR, NOTE_IES, NOTE_UNKNOWN, NOTE_GAMUT, NOTE_WHITE, NOTE_TWO_SIDED,
        NOTE_COUNT };
 
 typedef struct mgf_reader {
@@ -260,6 +275,7 @@ typedef struct mgf_reader {
     double rgb_from_xyz[3][3];
     int segments;      /* per full circle */
     mgf_names cnames, mnames, vnames;
+    mgf_names fnames;  /* included file -> its number in the scene (scene_add_file) */
     mgf_color *colors;
     int ncolors, cap_colors;
     mgf_material *mats;
@@ -278,6 +294,8 @@ typedef struct mgf_reader {
     int depth;
     int face;          /* faces emitted */
     int *idx;          /* corner scratch */
+    int *count;        /* `fh`: corners per contour */
+    int cap_count;
     int cap_idx;
     double *pts;       /* 3 per generated point */
     size_t cap_pts;
@@ -709,34 +727,55 @@ static rad_status add_points(mgf_reader *r, const double *pts, int n)
     return RAD_OK;
 }
 
-/* One polygon (file coordinates) of the current material; `flip` reverses it. */
-static rad_status emit(mgf_reader *r, const double *pts, int n, int flip)
+/* One face (file coordinates) of the current material: ncontours contours of
+ * count[c] points each, one after the other in pts, the outer boundary first
+ * and then its holes (`fh`); `flip` reverses it.  The face of a two-sided
+ * material is followed by its back: the same triangles reversed, with the
+ * same material, as a face of its own (step 5). */
+static rad_status emit_face(mgf_reader *r, const double *pts, const int *count, int ncontours,
+                            int flip)
 {
-    if (r->s->nt + n > (long long)r->p->max_triangles + 2)
+    const mgf_material *m = r->cmat_i < 0 ? &r->umat : &r->mats[r->cmat_i];
+    long long n = 0;
+    for (int c = 0; c < ncontours; c++)
+        n += count[c];
+    if (r->s->nt + (n + 2LL * ncontours - 4) * m->sides > (long long)r->p->max_triangles)
         return RAD_ERROR(RAD_ETOOBIG, "%s:%d: more than %zu triangles", cur(r)->path,
                          cur(r)->line, r->p->max_triangles);
     int mat = 0;
     rad_status st = material_index(r, &mat);
     if (st == RAD_OK)
-        st = add_points(r, pts, n);
+        st = add_points(r, pts, (int)n);
     if (st != RAD_OK)
         return st;
     if (flip != (r->nxf ? r->xf[r->nxf - 1].reverse : 0))
-        for (int i = 0, j = n - 1; i < j; i++, j--) {
-            int t = r->idx[i];
-            r->idx[i] = r->idx[j];
-            r->idx[j] = t;
-        }
-    /* Lines of included files would be read as lines of the scene file: the
-     * triangles of those name their face instead, and errors are re-raised
-     * here with the right file. */
-    int line = r->depth == 0 ? cur(r)->line : 0;
-    st = scene_add_polygon(r->s, r->idx, n, mat, r->face++, line);
-    if (st == RAD_EINPUT && r->depth > 0) {
-        const char *msg = strstr(rad_error_message(), "face ");
-        return bad(r, "%s", msg ? msg : rad_error_message());
+        for (int c = 0, at = 0; c < ncontours; at += count[c++])
+            for (int i = at, j = at + count[c] - 1; i < j; i++, j--) {
+                int t = r->idx[i];
+                r->idx[i] = r->idx[j];
+                r->idx[j] = t;
+            }
+    int t0 = r->s->nt, line = cur(r)->line;
+    st = ncontours == 1 ? scene_add_polygon(r->s, r->idx, count[0], mat, r->face++, line)
+                        : scene_add_polygon_holes(r->s, r->idx, count, ncontours, mat, r->face++,
+                                                  line);
+    if (st != RAD_OK || m->sides == 1)
+        return st;
+    int back = r->face++, t1 = r->s->nt;
+    note(r, &r->notes[NOTE_TWO_SIDED], m->name[0] ? m->name : "(unnamed)");
+    st = scene_mark_back_face(r->s, back);
+    for (int t = t0; t < t1 && st == RAD_OK; t++) {
+        const int *v = r->s->tri + 3 * (size_t)t;
+        int a = v[0], b = v[1], c = v[2]; /* read before the array may move */
+        st = scene_add_triangle(r->s, c, b, a, mat, back, line);
     }
     return st;
+}
+
+/* One polygon (file coordinates) of the current material; `flip` reverses it. */
+static rad_status emit(mgf_reader *r, const double *pts, int n, int flip)
+{
+    return emit_face(r, pts, &n, 1, flip);
 }
 
 static rad_status vertex_ref(mgf_reader *r, const char *name, const mgf_vertex **out)
@@ -848,6 +887,51 @@ static rad_status ent_face(mgf_reader *r, int argc)
         memcpy(pts + 3 * (i - 1), vx->p, sizeof vx->p);
     }
     return emit(r, pts, argc - 1, 0);
+}
+
+/* fh v1 v2 v3 ... [- h1 h2 h3 ... [- ...]]: a face with holes, the contours
+ * separated by a lone `-`. */
+static rad_status ent_face_holes(mgf_reader *r, int argc)
+{
+    int ncontours = 1;
+    for (int i = 1; i < argc; i++)
+        ncontours += strcmp(r->argv[i], "-") == 0;
+    if (ncontours > r->cap_count) {
+        int *q = realloc(r->count, (size_t)ncontours * sizeof *q);
+        if (!q)
+            return no_memory(r);
+        r->count = q;
+        r->cap_count = ncontours;
+    }
+    double *pts = points(r, (size_t)argc);
+    if (!pts)
+        return no_memory(r);
+    if (argc < 4)
+        return bad(r, "`fh` needs at least 3 vertices, got %d", argc - 1);
+    int c = 0, n = 0;
+    r->count[0] = 0;
+    for (int i = 1; i <= argc; i++) {
+        if (i == argc || strcmp(r->argv[i], "-") == 0) {
+            if (r->count[c] == 0)
+                return bad(r, "`fh`: a stray `-` (argument %d): a `-` separates two contours, "
+                              "the outer one first", i == argc ? i - 1 : i);
+            if (r->count[c] < 3 && c == 0)
+                return bad(r, "`fh`: the outer contour has %d vertices; it needs at least 3",
+                           r->count[c]);
+            if (r->count[c] < 3)
+                return bad(r, "`fh`: hole %d has %d vertices; it needs at least 3", c, r->count[c]);
+            if (i < argc)
+                r->count[++c] = 0;
+            continue;
+        }
+        const mgf_vertex *vx = NULL;
+        rad_status st = vertex_ref(r, r->argv[i], &vx);
+        if (st != RAD_OK)
+            return st;
+        memcpy(pts + 3 * n++, vx->p, sizeof vx->p);
+        r->count[c]++;
+    }
+    return emit_face(r, pts, r->count, ncontours, 0);
 }
 
 static rad_status ent_prism(mgf_reader *r, int argc)
@@ -1007,6 +1091,7 @@ static void default_material(mgf_material *m, const char *name)
 {
     memset(m, 0, sizeof *m);
     m->rd_c = m->ed_c = COLOR_DEFAULT;
+    m->sides = 2; /* the spec's default */
     m->rad_index = -1;
     snprintf(m->name, sizeof m->name, "%s", name ? name : "");
 }
@@ -1192,6 +1277,7 @@ static rad_status ent_material_attr(mgf_reader *r, int argc)
         if ((st = expect_args(r, argc, 2, 2)) != RAD_OK ||
             (st = integer(r, r->argv[1], "sides", 1, 2, &sides)) != RAD_OK)
             return st;
+        m->sides = (int)sides;
         return RAD_OK;
     }
     int two = strcmp(e, "rs") == 0 || strcmp(e, "ts") == 0 || strcmp(e, "ir") == 0;
@@ -1350,6 +1436,8 @@ static rad_status entity(mgf_reader *r, int argc)
     const char *e = r->argv[0];
     if (is(e, "f"))
         return ent_face(r, argc);
+    if (is(e, "fh"))
+        return ent_face_holes(r, argc);
     if (is(e, "v"))
         return ent_context(r, argc, 2);
     if (is(e, "p") || is(e, "n"))
@@ -1408,10 +1496,7 @@ static rad_status entity(mgf_reader *r, int argc)
     }
     const char *why = NULL;
     int kind = NOTE_UNKNOWN;
-    if (is(e, "fh")) {
-        kind = NOTE_HOLES;
-        why = "faces with holes are not read";
-    } else if (is(e, "ies")) {
+    if (is(e, "ies")) {
         kind = NOTE_IES;
         why = "IES luminaires are not read";
     }
@@ -1451,6 +1536,15 @@ static rad_status read_file(mgf_reader *r, const char *path)
     }
     f.p = f.data;
     f.end = f.data + size;
+    /* the triangles of an included file name it (the scene's own is file 0) */
+    int file_k = 0, outer_k = r->s->cur_file;
+    if (r->files[0] && (file_k = names_find(&r->fnames, path)) < 0 &&
+        ((st = scene_add_file(r->s, path, &file_k)) != RAD_OK ||
+         !names_put(&r->fnames, path, file_k))) {
+        free(f.data);
+        return st != RAD_OK ? st : no_memory(r);
+    }
+    scene_set_file(r->s, file_k);
     int depth = r->files[0] ? r->depth + 1 : 0;
     int outer = r->depth;
     r->depth = depth;
@@ -1473,6 +1567,7 @@ static rad_status read_file(mgf_reader *r, const char *path)
         r->nobj--;
     r->files[depth] = NULL;
     r->depth = outer;
+    scene_set_file(r->s, outer_k);
     free(f.data);
     return st;
 }
@@ -1481,15 +1576,21 @@ static rad_status report(mgf_reader *r)
 {
     static const char *reason[NOTE_COUNT] = {
         "radkit's surfaces are opaque and diffuse: specular and transmitted parts are dropped",
-        "faces with holes are not read: their geometry is missing",
-        "IES luminaires are not read: their geometry and emission are missing",
+        "IES luminaires are not read: skipped with this warning, as MGF asks of entities a "
+        "reader does not support; their geometry and emission are missing",
         "unknown entities",
         "colours outside the RGB primaries' gamut: negative channels taken as 0",
-        "reflectance channels of rho_white or more: taken as rho_white"};
+        "reflectance channels of rho_white or more: taken as rho_white",
+        "two-sided materials (`sides 2`, MGF's default): each face is made on both sides, the "
+        "back a reversed copy with the same material (a thin sheet, lit and emitting on both "
+        "sides); give closed solids `sides 1`"};
     rad_status st = RAD_OK;
     for (int k = 0; k < NOTE_COUNT && st == RAD_OK; k++) {
         const mgf_note *n = &r->notes[k];
-        if (n->count && k >= NOTE_GAMUT)
+        if (n->count && k == NOTE_TWO_SIDED)
+            st = scene_warn(r->s, "%d face(s) of %s (first of '%s', at %s:%d)", n->count,
+                            reason[k], n->what, n->file, n->line);
+        else if (n->count && k >= NOTE_GAMUT)
             st = scene_warn(r->s, "%d material(s) (first '%s', used at %s:%d): %s", n->count,
                             n->what, n->file, n->line, reason[k]);
         else if (n->count)
@@ -1541,6 +1642,7 @@ rad_status scene_import_mgf(rad_scene *s, const char *path, const rad_scene_para
     names_free(&r->cnames);
     names_free(&r->mnames);
     names_free(&r->vnames);
+    names_free(&r->fnames);
     free(r->colors);
     free(r->mats);
     free(r->verts);
@@ -1548,6 +1650,7 @@ rad_status scene_import_mgf(rad_scene *s, const char *path, const rad_scene_para
     free(r->obj_line);
     free(r->obj_depth);
     free(r->idx);
+    free(r->count);
     free(r->pts);
     free(r->argv);
     free(r->logical);

@@ -19,8 +19,11 @@
  *     reflectance, `ed` the emitted exitance, CIE xy converted to RGB with
  *     Radiance's primaries balanced for the equal-energy white (a neutral
  *     colour gives equal channels); transforms, arrays and includes (relative
- *     to the including file, at most 16 deep, no loops); the curved primitives
- *     (sph, cyl, cone, ring, torus, prism) tessellated within curve_tol.
+ *     to the including file, at most 16 deep, no loops); faces with holes
+ *     (fh); the curved primitives (sph, cyl, cone, ring, torus, prism)
+ *     tessellated within curve_tol; each face of a two-sided material (sides
+ *     2, MGF's default) made twice, the second reversed; messages about the
+ *     triangles of an included file name that file and line.
  *   - PLY, OFF (radkit's readers), STL and anything else Assimp reads: geometry only; every face
  *     gets the reflectance and emission of the parameters (--rho, --emission).
  * Polygons are triangulated in their plane (the fan when it does not fold,

@@ -78,6 +78,11 @@ void rad_scene_destroy(rad_scene *s)
     free(s->tri_mat);
     free(s->tri_face);
     free(s->tri_line);
+    free(s->tri_file);
+    for (int i = 0; i < s->nfiles; i++)
+        free(s->files[i]);
+    free(s->files);
+    free(s->back_face);
     free(s->mats);
     free(s);
 }
@@ -127,7 +132,10 @@ rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int fa
         int *l = realloc(s->tri_line, (size_t)cap * sizeof *l);
         if (l)
             s->tri_line = l;
-        if (!t || !m || !f || !l)
+        int *fi = realloc(s->tri_file, (size_t)cap * sizeof *fi);
+        if (fi)
+            s->tri_file = fi;
+        if (!t || !m || !f || !l || !fi)
             return RAD_ERROR(RAD_ENOMEM, "%s: no memory for %d triangles", s->source, cap);
         s->cap_t = cap;
     }
@@ -138,8 +146,52 @@ rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int fa
     s->tri_mat[s->nt] = mat;
     s->tri_face[s->nt] = face;
     s->tri_line[s->nt] = line;
+    s->tri_file[s->nt] = s->cur_file;
     s->nt++;
     return RAD_OK;
+}
+
+rad_status scene_add_file(rad_scene *s, const char *path, int *k)
+{
+    char *copy = strdup(path);
+    if (!copy || !grow((void **)&s->files, &s->cap_files, s->nfiles, sizeof(char *))) {
+        free(copy);
+        return RAD_ERROR(RAD_ENOMEM, "%s: no memory", path);
+    }
+    s->files[s->nfiles++] = copy;
+    *k = s->nfiles;
+    return RAD_OK;
+}
+
+void scene_set_file(rad_scene *s, int k) { s->cur_file = k; }
+
+const char *scene_file_name(const rad_scene *s, int k)
+{
+    return k > 0 && k <= s->nfiles ? s->files[k - 1] : s->source;
+}
+
+rad_status scene_mark_back_face(rad_scene *s, int face)
+{
+    if (face < 0)
+        return RAD_OK;
+    if (face >= s->cap_back) {
+        int cap = s->cap_back ? s->cap_back : 64;
+        while (cap <= face)
+            cap = cap > (1 << 29) ? face + 1 : 2 * cap;
+        unsigned char *q = realloc(s->back_face, (size_t)cap);
+        if (!q)
+            return RAD_ERROR(RAD_ENOMEM, "%s: no memory", s->source);
+        memset(q + s->cap_back, 0, (size_t)(cap - s->cap_back));
+        s->back_face = q;
+        s->cap_back = cap;
+    }
+    s->back_face[face] = 1;
+    return RAD_OK;
+}
+
+static int is_back_face(const rad_scene *s, int face)
+{
+    return face >= 0 && face < s->cap_back && s->back_face[face];
 }
 
 rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
@@ -362,6 +414,9 @@ static rad_status drop_duplicates(rad_scene *s, const rad_scene_params *p)
                 same_a = keys[i - 1].t;
                 same_b = keys[i].t;
             }
+        } else if (is_back_face(s, s->tri_face[keys[i - 1].t]) ||
+                   is_back_face(s, s->tri_face[keys[i].t])) {
+            continue; /* the two sides of a two-sided face, made so on purpose */
         } else if (opposite++ == 0) {
             opp_a = s->tri_face[keys[i - 1].t];
             opp_b = s->tri_face[keys[i].t];
@@ -382,6 +437,7 @@ static rad_status drop_duplicates(rad_scene *s, const rad_scene_params *p)
                 s->tri_mat[kept] = s->tri_mat[t];
                 s->tri_face[kept] = s->tri_face[t];
                 s->tri_line[kept] = s->tri_line[t];
+                s->tri_file[kept] = s->tri_file[t];
             }
             kept++;
         }
@@ -445,7 +501,8 @@ static rad_status check_fans(const rad_scene *s)
                         if (s->tri_line[t] > 0)
                             return RAD_ERROR(RAD_EINPUT, "%s:%d: face %d is a non-convex polygon "
                                              "(its fan triangulation folds); split it into triangles",
-                                             s->source, s->tri_line[t], s->tri_face[t]);
+                                             scene_file_name(s, s->tri_file[t]), s->tri_line[t],
+                                             s->tri_face[t]);
                         return RAD_ERROR(RAD_EINPUT, "%s: face %d is a non-convex polygon (its fan "
                                          "triangulation folds); split it into triangles",
                                          s->source, s->tri_face[t]);
@@ -489,7 +546,7 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
         }
 
     /* Degenerate triangles: dropped and counted, or an error in strict mode. */
-    int kept = 0, first_line = 0, first_face = -1;
+    int kept = 0, first_line = 0, first_face = -1, first_file = 0;
     char *used = calloc((size_t)s->nv + 1, 1);
     if (!used)
         return RAD_ERROR(RAD_ENOMEM, "%s: no memory", s->source);
@@ -508,14 +565,15 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
             if (p->strict) {
                 if (s->tri_line[t] > 0)
                     return RAD_ERROR(RAD_EINPUT, "%s:%d: degenerate (zero-area) triangle in face %d "
-                                     "(refused in strict mode)", s->source, s->tri_line[t],
-                                     s->tri_face[t]);
+                                     "(refused in strict mode)", scene_file_name(s, s->tri_file[t]),
+                                     s->tri_line[t], s->tri_face[t]);
                 return RAD_ERROR(RAD_EINPUT, "%s: face %d: degenerate (zero-area) triangle "
                                  "(refused in strict mode)", s->source, s->tri_face[t]);
             }
             if (s->dropped++ == 0) {
                 first_line = s->tri_line[t];
                 first_face = s->tri_face[t];
+                first_file = s->tri_file[t];
             }
             continue;
         }
@@ -524,6 +582,7 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
             s->tri_mat[kept] = s->tri_mat[t];
             s->tri_face[kept] = s->tri_face[t];
             s->tri_line[kept] = s->tri_line[t];
+            s->tri_file[kept] = s->tri_file[t];
         }
         kept++;
     }
@@ -536,7 +595,8 @@ rad_status scene_finish(rad_scene *s, const rad_scene_params *p)
     if (s->dropped > 0) {
         st = first_line > 0
                  ? scene_warn(s, "dropped %d degenerate (zero-area) triangle(s) (first at %s:%d, "
-                              "face %d)", s->dropped, s->source, first_line, first_face)
+                              "face %d)", s->dropped, scene_file_name(s, first_file), first_line,
+                              first_face)
                  : scene_warn(s, "dropped %d degenerate (zero-area) triangle(s) (first: face %d)",
                               s->dropped, first_face);
         if (st != RAD_OK)

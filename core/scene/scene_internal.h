@@ -12,7 +12,14 @@ struct rad_scene {
     int *tri_mat;     /* material per triangle */
     int *tri_face;    /* input face per triangle */
     int *tri_line;    /* input line per triangle (0 when the format has none) */
+    int *tri_file;    /* file of that line: 0 the source, k > 0 files[k - 1] */
     int nt, cap_t;
+    char **files;     /* other files triangles come from (included files) */
+    int nfiles, cap_files;
+    int cur_file;     /* the file scene_add_triangle records (scene_set_file) */
+    unsigned char *back_face; /* 1 for a face an importer made as the reverse side of the
+                                 face before it (MGF's two-sided materials), by face */
+    int cap_back;
     rad_scene_material *mats;
     int nm, cap_m;
     rad_camera camera;
@@ -24,12 +31,32 @@ struct rad_scene {
 /* Growth helpers: RAD_ENOMEM on failure. */
 rad_status scene_add_vertex(rad_scene *s, double x, double y, double z);
 rad_status scene_add_triangle(rad_scene *s, int a, int b, int c, int mat, int face, int line);
+/* Files other than the source (an MGF include): scene_add_file records a
+ * copy of path and returns its number (> 0); scene_set_file(s, k) makes the
+ * triangles added next, and the messages about them, name file k (0: the
+ * source) with their lines.  scene_file_name gives file k's name. */
+rad_status scene_add_file(rad_scene *s, const char *path, int *k);
+void scene_set_file(rad_scene *s, int k);
+const char *scene_file_name(const rad_scene *s, int k);
+/* Mark `face` as the reverse side of the face before it, made on purpose
+ * (MGF's two-sided materials): scene_finish does not warn about it as a
+ * coincident face back to back. */
+rad_status scene_mark_back_face(rad_scene *s, int face);
 /* Triangulate the polygon idx[0..n-1] (existing vertices) into triangles that
  * keep `face` and `line`: the fan (0,1,2), (0,2,3), ... when it does not fold
  * (every convex polygon), else ear clipping in the polygon's plane.  RAD_EINPUT
  * naming the face for n < 3, an index out of range or a self-intersecting
  * polygon (polygon.c). */
 rad_status scene_add_polygon(rad_scene *s, const int *idx, int n, int mat, int face, int line);
+/* The same for a polygon with holes: ncontours contours of count[c] corners
+ * each, one after the other in idx, the first the outer boundary (its corner
+ * order gives the front side), the others holes (either order).  Each hole is
+ * bridged to the outer ring and the weakly simple polygon that makes is ear
+ * clipped (polygon.c).  RAD_EINPUT naming the face for a contour of fewer
+ * than 3 corners, an outer contour without area, a hole outside the outer
+ * contour or inside another hole, or contours that cross. */
+rad_status scene_add_polygon_holes(rad_scene *s, const int *idx, const int *count, int ncontours,
+                                   int mat, int face, int line);
 rad_status scene_add_material(rad_scene *s, const char *name, const double rho[3],
                               const double emission[3]);
 rad_status scene_warn(rad_scene *s, const char *fmt, ...)
