@@ -72,7 +72,10 @@
 #include "rad_cluster.h"
 #include "rad_sys.h"
 
-enum { CLUSTER_RAYS = 4 };
+/* CLUSTER_RAYS: visibility samples per cluster link; CLUSTER_SMALL: a
+ * cluster of at most this many triangles emits exactly (its triangles'
+ * own sum), so that a link's cost stays bounded. */
+enum { CLUSTER_RAYS = 4, CLUSTER_SMALL = 16 };
 
 static const double pi = 3.14159265358979323846;
 
@@ -179,6 +182,14 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
         *rel = 1.0;
         return 0.25 * x->area;
+    }
+    if (x->cl->count <= CLUSTER_SMALL) {
+        double p = 0.0;
+        for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
+            const hier_elem *e = &h->el[h->corder[i]];
+            p += e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], w));
+        }
+        return p;
     }
     double err, p = dir_eval(&x->cl->geo, w, &err);
     *rel = p > 0.0 ? err / p : 1.0;
@@ -375,19 +386,13 @@ static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, j
 
 /* ---- what the clusters pull from their leaves ---------------------------- */
 
-/* An element's irradiance range (B - E) / rho over it (none where rho = 0:
- * then its weight is the source's B). */
+/* An element's irradiance (B - E) / rho, its mean over it as hier_weight
+ * takes it (none where rho = 0: then its weight is the source's B). */
 static void element_H(const rad_hier *h, const hier_elem *e, int c, double *lo, double *hi)
 {
     size_t n = h->nroots, f = (size_t)e->face;
     double rho = h->rho[f + (size_t)c * n];
-    if (!(rho > 0.0)) {
-        *lo = *hi = 0.0;
-        return;
-    }
-    double m = (e->B[c] - h->E[f + (size_t)c * n]) / rho;
-    *lo = m - e->var[c] / rho;
-    *hi = m + e->var[c] / rho;
+    *lo = *hi = rho > 0.0 ? (e->B[c] - h->E[f + (size_t)c * n]) / rho : 0.0;
 }
 
 /* The moments of one triangle (area a, normal n) weighted by v. */
@@ -670,6 +675,15 @@ static double intensity(const rad_hier *h, int id, int carry, int c, rad_vec3 u)
     const hier_clus *x = &h->cl[id];
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
         return 0.25 * x->src[c].C;
+    if (x->count <= CLUSTER_SMALL) {
+        double p = 0.0;
+        for (int i = x->first; i < x->first + x->count; i++) {
+            const hier_elem *e = &h->el[h->corder[i]];
+            double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+            p += e->area * v * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
+        }
+        return p;
+    }
     double err;
     return dir_eval(&x->src[c], u, &err);
 }
@@ -757,9 +771,18 @@ void hier_cluster_local(rad_hier *h)
             e->q[c] += h->rho[(size_t)x->root + (size_t)c * n] * err;
         }
     }
+    /* A cluster receiver keeps, per channel, the sum of its links' errors
+     * e, of e times their sources' B, and the range of those B: at each
+     * leaf the sealed weight |B_s - H| (hier_weight) is then bounded with
+     * the leaf's own irradiance H, by the two-point distribution on the
+     * range that gives the sums. */
     for (size_t i = 0; i < h->ncl; i++)
-        for (int c = 0; c < 3; c++)
-            h->cl[i].q[c] = h->cl[i].d[c] = 0.0;
+        for (int c = 0; c < 3; c++) {
+            hier_clus *x = &h->cl[i];
+            x->q[c] = x->qb[c] = x->d[c] = 0.0;
+            x->bmin[c] = INFINITY;
+            x->bmax[c] = -INFINITY;
+        }
     for (size_t k = 0; k < h->ncln; k++) {
         const hier_clink *l = &h->cln[k];
         int ends[2] = {l->a, l->b};
@@ -770,14 +793,18 @@ void hier_cluster_local(rad_hier *h)
         for (int s = 0; s < 2; s++) {
             const end_values *r = &v[s], *src = &v[1 - s];
             for (int c = 0; c < 3; c++) {
-                double q = e[s] * weight(h, r, src, c), d = F[s] * src->var[c];
+                double d = F[s] * src->var[c];
                 if (ends[s] >= 0) {
-                    h->cl[ends[s]].q[c] += q;
-                    h->cl[ends[s]].d[c] += d * d;
+                    hier_clus *x = &h->cl[ends[s]];
+                    x->q[c] += e[s];
+                    x->qb[c] += e[s] * src->B[c];
+                    x->bmin[c] = rad_dmin(x->bmin[c], src->B[c]);
+                    x->bmax[c] = rad_dmax(x->bmax[c], src->B[c]);
+                    x->d[c] += d * d;
                 } else {
                     hier_elem *x = &h->el[-1 - ends[s]];
                     double rho = h->rho[(size_t)x->face + (size_t)c * n];
-                    x->q[c] += rho * q;
+                    x->q[c] += rho * e[s] * weight(h, r, src, c);
                     x->d[c] += rho * rho * d * d;
                 }
             }
@@ -788,16 +815,33 @@ void hier_cluster_local(rad_hier *h)
         if (x->root >= 0) {
             hier_elem *e = &h->el[x->root];
             for (int c = 0; c < 3; c++) {
-                double rho = h->rho[(size_t)x->root + (size_t)c * n];
-                e->q[c] += rho * x->q[c];
+                double rho = h->rho[(size_t)x->root + (size_t)c * n], w = x->qb[c];
+                if (h->p.sealed && rho > 0.0 && x->q[c] > 0.0) {
+                    double lo, hi, span = x->bmax[c] - x->bmin[c];
+                    element_H(h, e, c, &lo, &hi);
+                    /* weights on bmin and bmax with the sums' mean */
+                    double whi = span > 0.0 ? (x->qb[c] - x->q[c] * x->bmin[c]) / span : 0.0;
+                    whi = rad_dmax(0.0, rad_dmin(x->q[c], whi));
+                    double wlo = x->q[c] - whi;
+                    w = 0.0;
+                    for (int end = 0; end < 2; end++) {
+                        double H = end ? hi : lo;
+                        w = rad_dmax(w, wlo * fabs(x->bmin[c] - H) + whi * fabs(x->bmax[c] - H));
+                    }
+                }
+                e->q[c] += rho * w;
                 e->d[c] += rho * rho * x->d[c];
             }
             continue;
         }
         for (int k = 0; k < 2; k++)
             for (int c = 0; c < 3; c++) {
-                h->cl[x->child[k]].q[c] += x->q[c];
-                h->cl[x->child[k]].d[c] += x->d[c];
+                hier_clus *y = &h->cl[x->child[k]];
+                y->q[c] += x->q[c];
+                y->qb[c] += x->qb[c];
+                y->d[c] += x->d[c];
+                y->bmin[c] = rad_dmin(y->bmin[c], x->bmin[c]);
+                y->bmax[c] = rad_dmax(y->bmax[c], x->bmax[c]);
             }
     }
 }

@@ -97,9 +97,10 @@ typedef struct hier_clus {
                               its triangles' normals n_j, whose bracket gives the
                               intensity sum_j a_j max(n_j.w, 0) towards w */
     hier_dir geo;          /* the same of its areas: projected areas */
-    double q[3], d[3];     /* local error bounds gathered by its links, before the
-                              receivers' reflectance: F's error x the source's weight,
-                              and (F's bound x the source's variation)^2 */
+    double q[3], qb[3];    /* the errors e of F of its links (and ancestors'), summed,
+                              and summed times their sources' B ... */
+    double bmin[3], bmax[3];/* ... and the range of those B (cluster.c's bound) */
+    double d[3];           /* (what the sources' variation contributes)^2, summed */
 } hier_clus;
 
 /* A link with a cluster of two or more triangles at one end at least; the
