@@ -57,16 +57,11 @@ TEST(cluster_cli_table_and_stats)
         CHECK(harness_header(out, "clusters", buf, sizeof buf) && atoi(buf) == 2 * 38 - 1);
         CHECK(harness_header(out, "links_cluster", buf, sizeof buf) && atoi(buf) >= 0);
         CHECK(harness_header(out, "error_estimate", buf, sizeof buf) && atof(buf) > 0.0);
-        FILE *f = fopen(stats, "r");
-        char text[8192] = "";
-        if (f) {
-            size_t got = fread(text, 1, sizeof text - 1, f);
-            text[got] = '\0';
-            fclose(f);
-        }
-        CHECK(strstr(text, "\"method\": \"cluster\"") != NULL);
-        CHECK(strstr(text, "\"clusters\": 75") != NULL);
-        CHECK(strstr(text, "\"links_cluster\"") != NULL);
+        char *text = harness_read_file(stats);
+        CHECK(text && strstr(text, "\"method\": \"cluster\"") != NULL);
+        CHECK(text && strstr(text, "\"clusters\": 75") != NULL);
+        CHECK(text && strstr(text, "\"links_cluster\"") != NULL);
+        free(text);
         CHECK(access(ply, R_OK) == 0);
         free(out);
         free(err);

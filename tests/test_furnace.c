@@ -210,15 +210,11 @@ TEST(cornell_against_the_monte_carlo_reference)
         CHECK_MSG(l1 >= 0.0 && l1 <= runs[k].l1, "%s: L1 %.3g", runs[k].name, l1);
         CHECK_MSG(worst >= 0.0 && worst <= runs[k].worst, "%s: worst %.3g", runs[k].name, worst);
         if (strncmp(runs[k].name, "hier", 4) == 0 || strncmp(runs[k].name, "cluster", 7) == 0) {
-            FILE *f = fopen(table, "r");
-            char text[16384] = "";
-            if (f) {
-                size_t got = fread(text, 1, sizeof text - 1, f);
-                text[got] = '\0';
-                fclose(f);
-            }
-            double est = harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
-            double est_l1 = harness_header(text, "error_estimate_l1", buf, sizeof buf) ? atof(buf) : -1;
+            char *text = harness_read_file(table);
+            double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
+            double est_l1 =
+                text && harness_header(text, "error_estimate_l1", buf, sizeof buf) ? atof(buf) : -1;
+            free(text);
             printf("# Cornell %s: error estimate %.3e (worst face), %.3e (L1)\n", runs[k].name, est,
                    est_l1);
             CHECK_MSG(est >= worst, "%s: estimate %.3g below the worst face's error %.3g",

@@ -82,26 +82,16 @@ TEST(mc_cli_writes_stats_and_images)
                              "--method", "mc", "--samples", "64", "--stats", stats, "--png", png,
                              "--image-size", "64x64", "--out", table, "--quiet", NULL},
                              &out, &err) == 0);
-    FILE *f = fopen(stats, "r");
-    char json[8192] = "";
-    if (f) {
-        size_t got = fread(json, 1, sizeof json - 1, f);
-        json[got] = '\0';
-        fclose(f);
-    }
-    CHECK(strstr(json, "\"method\": \"mc\"") != NULL);
-    CHECK(strstr(json, "\"paths\"") != NULL && strstr(json, "\"se_rel_l1\"") != NULL);
-    CHECK(strstr(json, "\"rays\"") != NULL && strstr(json, "\"total\"") != NULL);
+    char *json = harness_read_file(stats);
+    CHECK(json && strstr(json, "\"method\": \"mc\"") != NULL);
+    CHECK(json && strstr(json, "\"paths\"") != NULL && strstr(json, "\"se_rel_l1\"") != NULL);
+    CHECK(json && strstr(json, "\"rays\"") != NULL && strstr(json, "\"total\"") != NULL);
+    free(json);
     CHECK(access(png, R_OK) == 0);
-    f = fopen(table, "r");
-    char text[16384] = "";
-    if (f) {
-        size_t got = fread(text, 1, sizeof text - 1, f);
-        text[got] = '\0';
-        fclose(f);
-    }
+    char *text = harness_read_file(table);
     double B[3 * 38], se[3 * 38];
-    CHECK(harness_face_table_se(text, B, se, 38) == 38);
+    CHECK(text && harness_face_table_se(text, B, se, 38) == 38);
+    free(text);
     CHECK(out && out[0] == '\0'); /* the table went to --out */
     remove(stats);
     remove(png);

@@ -1,0 +1,113 @@
+#!/bin/sh
+# Clustering (papers/clustering.md): hierarchical radiosity with and without
+# the cluster layer.
+#
+# 1. Scaling: rooms of N boxes (scenes/gen/many_objects.py N: a closed 10 m
+#    room, the ceiling emitting, N cubes on a grid, 12 N + 12 triangles),
+#    solved by hier (up to HIER_MAX boxes: its initial linking couples every
+#    pair of triangles) and by cluster with each model (oriented, iso) at
+#    eps EPS: links (pairs coupled, cluster links among them), leaves, wall
+#    time, peak memory and the run's error estimate; then the log-log slope
+#    of links and of time against triangles per method.
+# 2. Accuracy against the Monte Carlo references of experiments/reference:
+#    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
+#    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
+#    error_power of radkit compare, the error estimate, links, time.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+RADKIT=${RADKIT:-$root/build/radkit}
+case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
+SIZES=${SIZES:-"8 27 64 125"}
+HIER_MAX=${HIER_MAX:-125}
+EPS=${EPS:-0.1}
+EPS_ACC=${EPS_ACC:-"0.1 0.03 0.01"}
+cd "$root"
+for r in cornell many_64; do
+  [ -s "experiments/reference/data/$r.tsv" ] || RADKIT=$RADKIT sh experiments/reference/run.sh
+done
+cd "$here"
+mkdir -p data figures
+version=$("$RADKIT" --version)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/radkit-clustering.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+cp "$root/scenes/many_objects/many_objects.mtl" "$tmp/"
+hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
+
+# method_args METHOD: the solve options of a method label
+method_args() {
+  case "$1" in
+    hier) echo "--method hier" ;;
+    cluster) echo "--method cluster" ;;
+    cluster-iso) echo "--method cluster --cluster-model iso" ;;
+  esac
+}
+
+dat=data/scaling.dat
+{
+  echo "# experiment = clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS"
+  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes"
+  printf 'method\tboxes\tfaces\tlinks\tlinks_cluster\telements\ttime_s\tmemory_bytes\testimate\n'
+} > "$dat"
+for n in $SIZES; do
+  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
+  for m in hier cluster cluster-iso; do
+    if [ "$m" = hier ] && [ "$n" -gt "$HIER_MAX" ]; then continue; fi
+    echo "clustering: $m, $n boxes" >&2
+    # shellcheck disable=SC2046
+    "$RADKIT" solve "$tmp/boxes_$n.obj" $(method_args "$m") --eps "$EPS" --quiet \
+      --out "$tmp/t.tsv" 2>/dev/null || true
+    [ -s "$tmp/t.tsv" ] || continue
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$m" "$n" "$(hdr $tmp/t.tsv faces)" \
+      "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv elements)" \
+      "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" \
+      "$(hdr $tmp/t.tsv error_estimate)" >> "$dat"
+    rm -f "$tmp/t.tsv"
+  done
+done
+# slopes: least squares of log(links) and log(time) against log(faces)
+awk -F'\t' '!/^#/ && $1 != "method" {
+  m = $1; x = log($3); n[m]++; sx[m] += x; sxx[m] += x * x
+  y = log($4); sy[m] += y; sxy[m] += x * y
+  t = log($7); st[m] += t; sxt[m] += x * t
+} END {
+  printf "method\tpoints\tlinks_slope\ttime_slope\n"
+  for (m in n) {
+    d = n[m] * sxx[m] - sx[m] * sx[m]
+    if (n[m] < 2 || d <= 0) continue
+    printf "%s\t%d\t%.3f\t%.3f\n", m, n[m], (n[m] * sxy[m] - sx[m] * sy[m]) / d, (n[m] * sxt[m] - sx[m] * st[m]) / d
+  }
+}' "$dat" > data/slopes.dat
+
+acc=data/accuracy.dat
+{
+  echo "# experiment = clustering accuracy against the Monte Carlo references (experiments/reference)"
+  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare; estimate: the run's error_estimate"
+  printf 'scene\tmethod\teps\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\ttime_s\n'
+} > "$acc"
+for scene in cornell/cornell many_objects/many_64; do
+  name=$(basename "$scene")
+  for e in $EPS_ACC; do
+    for m in hier cluster cluster-iso; do
+      echo "clustering: $name, $m, eps $e" >&2
+      # shellcheck disable=SC2046
+      (cd "$root" && "$RADKIT" solve "scenes/$scene.obj" $(method_args "$m") --eps "$e" --quiet \
+        --out "$tmp/t.tsv" 2>/dev/null) || true
+      [ -s "$tmp/t.tsv" ] || continue
+      (cd "$root" && "$RADKIT" compare "scenes/$scene.obj" "$tmp/t.tsv" \
+        "experiments/reference/data/$name.tsv") > "$tmp/c.txt"
+      printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$m" "$e" \
+        "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/c.txt error_l1)" \
+        "$(hdr $tmp/c.txt error_worst)" "$(hdr $tmp/c.txt error_power)" \
+        "$(hdr $tmp/t.tsv error_estimate)" "$(hdr $tmp/t.tsv time_total_s)" >> "$acc"
+      rm -f "$tmp/t.tsv"
+    done
+  done
+done
+if command -v gnuplot > /dev/null; then gnuplot plot.gp; fi
+# gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
+# changes only what it measured.
+find figures -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
+echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, figures/scaling.png" >&2
