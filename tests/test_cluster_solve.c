@@ -211,3 +211,55 @@ TEST(cluster_links_start_linear_in_triangles)
     CHECK_MSG(per[0] > 0.0 && per[2] < 3.0 * per[0], "links per triangle %.1f -> %.1f", per[0],
               per[2]);
 }
+
+/* The effects plan decides clustering for hier: off below 1000 input
+ * triangles, on from there (the 1280-triangle sphere, where hier then links
+ * 2 559 clusters instead of 818 560 pairs and the furnace stays exact);
+ * forced either way by --clustering, refused where nothing has a cluster
+ * layer or where it contradicts the method. */
+TEST(cluster_effects_plan_decides_for_hier)
+{
+    struct { const char *scene; const char *want; } info[] = {
+        {"scenes/sphere/sphere_0.obj", "off"}, {"scenes/sphere/sphere_3.obj", "on"}};
+    for (size_t k = 0; k < 2; k++) {
+        char *out = NULL, *err = NULL, buf[512];
+        CHECK(harness_radkit_run("info", (const char *[]){harness_path(info[k].scene), NULL},
+                                 &out, &err) == 0);
+        CHECK_MSG(out && harness_header(out, "effect_clustering", buf, sizeof buf) &&
+                      strcmp(buf, info[k].want) == 0,
+                  "%s: effect_clustering '%s'", info[k].scene, out ? buf : "");
+        free(out);
+        free(err);
+    }
+    /* auto on: the sphere furnace (rho 0.9, E 1: B = 10) through clusters */
+    char *out = NULL, *err = NULL, buf[512];
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/sphere/sphere_3.obj"),
+                             "--method", "hier", "--rho", "0.9", "--emission", "1", "--quiet",
+                             NULL}, &out, &err) == 0);
+    CHECK(out && harness_header(out, "effect_clustering", buf, sizeof buf) &&
+          strcmp(buf, "on") == 0);
+    CHECK(out && harness_header(out, "clusters", buf, sizeof buf) && atoi(buf) == 2 * 1280 - 1);
+    static double B[3 * 1280];
+    CHECK(out && harness_face_table(out, B, 1280) == 1280);
+    double worst = 0.0;
+    for (int i = 0; i < 3 * 1280; i++)
+        worst = fmax(worst, fabs(B[i] - 10.0) / 10.0);
+    CHECK_MSG(worst < 1e-6, "sphere furnace through clusters: worst %g", worst);
+    free(out);
+    free(err);
+    /* forced on below the threshold: the Cornell box's 38 triangles */
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"),
+                             "--method", "hier", "--clustering", "on", "--quiet", NULL},
+                             &out, &err) == 0);
+    CHECK(out && harness_header(out, "clusters", buf, sizeof buf) && atoi(buf) == 75);
+    CHECK(out && harness_header(out, "effect_clustering_reason", buf, sizeof buf) &&
+          strstr(buf, "forced on") != NULL);
+    free(out);
+    free(err);
+    const char *cube = harness_path("scenes/furnace_cube/cube.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--clustering", "on", NULL}, "--clustering");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "mc", "--clustering", "on", NULL}, "--clustering");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--basis", "p1", "--clustering", "on", NULL}, "--clustering");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--clustering", "off", NULL}, "--clustering off");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--clustering", "maybe", NULL}, "maybe");
+}

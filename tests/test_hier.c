@@ -735,6 +735,25 @@ TEST(hier_rejects_bad_parameters)
     CHECK(rad_hier_oracle_parse("bf", &o) == RAD_OK && o == RAD_HIER_ORACLE_BF);
     CHECK(rad_hier_oracle_parse("BF ", &o) == RAD_EINVAL);
     CHECK(rad_hier_oracle_parse(NULL, &o) == RAD_EINVAL);
+    rad_hier_params_default(&p);
+    p.cluster = 2;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    CHECK(strstr(rad_error_message(), "cluster") != NULL);
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.cluster_model = (rad_hier_cluster_model)5;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+    CHECK(strstr(rad_error_message(), "cluster_model") != NULL);
+    rad_hier_cluster_model cm = RAD_HIER_CLUSTER_ISO;
+    CHECK(rad_hier_cluster_model_parse("oriented", &cm) == RAD_OK && cm == RAD_HIER_CLUSTER_ORIENTED);
+    CHECK(rad_hier_cluster_model_parse("iso", &cm) == RAD_OK && cm == RAD_HIER_CLUSTER_ISO);
+    CHECK(rad_hier_cluster_model_parse("Iso", &cm) == RAD_EINVAL);
+    /* one triangle through clusters: a single leaf, nothing to link */
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_OK && h != NULL);
+    CHECK(rad_hier_solve(h) == RAD_OK);
+    rad_hier_destroy(h);
     /* bad input */
     rad_hier_params_default(&p);
     double rho_bad[3] = {1.0, 0.5, 0.5};

@@ -48,6 +48,7 @@ TEST(cli_info_every_shipped_scene)
                           "pairs_shared_vertex", "effect_occlusion", "effect_occlusion_reason",
                           "effect_colour", "effect_colour_reason", "effect_facing_away",
                           "effect_singular", "effect_reflectance", "effect_reflectance_reason",
+                          "effect_clustering", "effect_clustering_reason",
                           "camera_position", "warnings"};
     for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
         char *out, *err, buf[512];

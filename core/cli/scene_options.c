@@ -27,17 +27,20 @@ const char cli_scene_options_help[] =
     "                     surface; 1e-6 <= T < 1, default 0.0125 (20 segments a\n"
     "                     circle; their area falls short by about T to 2 T)\n"
     "  --occlusion M, --colour M, --facing-away M, --singular M,\n"
-    "  --reflectance M    override one decision of the effects plan: M is auto\n"
+    "  --reflectance M, --clustering M\n"
+    "                     override one decision of the effects plan: M is auto\n"
     "                     (decide from the scene, the default), on or off.\n"
     "                     occlusion off: no visibility, no rays; colour off: one\n"
     "                     system with each face's channel-mean reflectance, on:\n"
     "                     one system per channel; facing-away off: pairs facing\n"
     "                     away are integrated anyway (dense); singular off:\n"
     "                     touching pairs by the regular rules; reflectance off:\n"
-    "                     the default tolerances even near rho 1\n";
+    "                     the default tolerances even near rho 1; clustering\n"
+    "                     (hier; auto: from 1000 triangles) on: link through\n"
+    "                     a cluster hierarchy, off: link every pair first\n";
 
 static const char *const mode_option[RAD_EFFECT_COUNT] = {
-    "--occlusion", "--colour", "--facing-away", "--singular", "--reflectance"};
+    "--occlusion", "--colour", "--facing-away", "--singular", "--reflectance", "--clustering"};
 
 void cli_scene_options_init(cli_scene_options *o)
 {
@@ -127,7 +130,7 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
         sp->has_emission = 1;
     }
     rad_effect_mode *modes[RAD_EFFECT_COUNT] = {&ep->occlusion, &ep->colour, &ep->facing_away,
-                                                &ep->singular, &ep->reflectance};
+                                                &ep->singular, &ep->reflectance, &ep->clustering};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         char what[64];
         snprintf(what, sizeof what, "%s: %s", command, mode_option[k]);

@@ -33,7 +33,7 @@ static void print_params(FILE *out, const rad_solution *s)
         fprintf(out, "# basis = p%d\n# faces = %d\n# elements = %zu\n# nodes = %zu\n"
                      "# max_depth = %d\n",
                 u->basis, s->faces, s->hier.elements, s->hier.nodes, s->hier.max_depth);
-        if (s->method == RAD_SOLVE_CLUSTER)
+        if (s->hier.clusters > 0)
             fprintf(out, "# cluster_model = %s\n# clusters = %zu\n",
                     rad_hier_cluster_model_name(u->hier.cluster_model), s->hier.clusters);
         break;
@@ -64,7 +64,7 @@ static void print_work(FILE *out, const rad_solution *s)
         break;
     case RAD_SOLVE_HIER:
     case RAD_SOLVE_CLUSTER:
-        if (s->method == RAD_SOLVE_CLUSTER)
+        if (hs->clusters > 0)
             fprintf(out, "# links_cluster = %zu\n", hs->links_cluster);
         fprintf(out, "# links = %zu\n# links_leaf = %zu\n# links_clear = %zu\n"
                      "# links_visible = %zu\n# links_partial = %zu\n# links_blocked = %zu\n"

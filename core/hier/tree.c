@@ -90,6 +90,10 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
         p->max_tighten > 30)
         return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1) and max_tighten in "
                                      "0..30");
+    if ((p->cluster != 0 && p->cluster != 1) ||
+        (p->cluster_model != RAD_HIER_CLUSTER_ORIENTED && p->cluster_model != RAD_HIER_CLUSTER_ISO))
+        return RAD_ERROR(RAD_EINVAL, "hier: cluster must be 0 or 1 and cluster_model oriented or "
+                                     "iso (got %d, %d)", p->cluster, (int)p->cluster_model);
     if (p->max_elements < 1 || p->max_links < 1)
         return RAD_ERROR(RAD_EINVAL, "hier: max_elements and max_links must be >= 1");
     return RAD_OK;

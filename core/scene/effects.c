@@ -26,9 +26,15 @@
  *     tighten = (1 - rho_max) / (1 - near_one).  Beyond an amplification of
  *     max_amplification no tolerance double precision can deliver would do:
  *     the plan refuses (refusal), and the solvers exit with its reason.
+ *  6. Clustering.  Hierarchical radiosity links every pair of input
+ *     triangles before it refines: n (n - 1) / 2 estimates.  From
+ *     cluster_min_faces triangles on (1000: where the clustered solve
+ *     overtakes on rooms of boxes, experiments/clustering) links start from
+ *     the n - 1 sibling pairs of a cluster hierarchy instead.  The solve
+ *     pipeline settles it for the method (only hier with constant elements
+ *     acts on it; --method cluster forces it on).
  * Every decision can be forced on or off; the reason then says so.  Each one
- * changes what the solvers run (rad_solve.h says how); a decision nothing
- * would act on is not made (clustering joins when a clustered method does).
+ * changes what the solvers run (rad_solve.h says how).
  * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
 #include <math.h>
 #include <stdio.h>
@@ -42,6 +48,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
 {
     memset(p, 0, sizeof *p);
     p->pair_scan_max_faces = 20000;
+    p->cluster_min_faces = 1000;
     p->grey_tol = 1e-12;
     p->plane_rel_tol = 1e-12;
     p->near_one = 0.5;
@@ -53,10 +60,10 @@ void rad_scene_effects_list(const rad_effects_plan *plan,
                             const char *names[RAD_EFFECT_COUNT])
 {
     static const char *const all[RAD_EFFECT_COUNT] = {"occlusion", "colour", "facing_away",
-                                                      "singular", "reflectance"};
+                                                      "singular", "reflectance", "clustering"};
     const rad_effect_decision *d[RAD_EFFECT_COUNT] = {&plan->occlusion, &plan->colour,
                                                       &plan->facing_away, &plan->singular,
-                                                      &plan->reflectance};
+                                                      &plan->reflectance, &plan->clustering};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         if (dec)
             dec[k] = d[k];
@@ -235,6 +242,14 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     plan->tighten = 1.0;
     if (plan->reflectance.on && params->near_one < 1.0)
         plan->tighten = fmin(1.0, (1.0 - rho_max) / (1.0 - params->near_one));
+    /* 6. clustering */
+    int many = s->nt >= params->cluster_min_faces;
+    snprintf(why, sizeof why, "%d input triangles: %s %.3g pairs%s", s->nt,
+             many ? "links start from a cluster hierarchy instead of linking all"
+                  : "hierarchical radiosity links all",
+             0.5 * (double)s->nt * (double)(s->nt - 1),
+             many ? "" : " first (clustering pays from about 1000 triangles)");
+    settle(&plan->clustering, params->clustering, many, why);
     if (amp > params->max_amplification)
         snprintf(plan->refusal, sizeof plan->refusal, "the largest reflectance %.10g is within "
                  "%.3g of 1: errors would be amplified %.3g times, beyond the %.3g that radkit's "

@@ -173,7 +173,8 @@ typedef enum rad_effect_mode {
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out);
 
 typedef struct rad_effects_params {
-    rad_effect_mode occlusion, colour, facing_away, singular, reflectance;
+    rad_effect_mode occlusion, colour, facing_away, singular, reflectance, clustering;
+    int cluster_min_faces;    /* clustering from this many input triangles on */
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
@@ -182,7 +183,8 @@ typedef struct rad_effects_params {
     double max_amplification; /* refuse scenes whose 1 / (1 - rho_max) exceeds this */
 } rad_effects_params;
 
-/* Everything automatic; pair scan up to 20000 faces; grey within 1e-12;
+/* Everything automatic; clustering from 1000 triangles; pair scan up to
+ * 20000 faces; grey within 1e-12;
  * plane tolerance 1e-12;
  * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6. */
 void rad_scene_effects_params_default(rad_effects_params *params);
@@ -207,6 +209,9 @@ typedef struct rad_effects_plan {
      * factors and of the solver's stopping test are amplified by up to
      * 1 / (1 - rho_max): their tolerances are multiplied by `tighten`. */
     rad_effect_decision reflectance;
+    /* on: hierarchical radiosity links from a cluster hierarchy instead of
+     * every pair of input triangles (rad_hier params.cluster). */
+    rad_effect_decision clustering;
     double rho_max;               /* the largest reflectance of any face and channel */
     /* 1 when every point sees only front faces, so that every row of form
      * factors sums to exactly 1: every component is closed, one (the
@@ -229,8 +234,8 @@ rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan);
 
 /* The decisions in a fixed order with their names ("occlusion", "colour",
- * "facing_away", "singular", "reflectance"), for printing. */
-#define RAD_EFFECT_COUNT 5
+ * "facing_away", "singular", "reflectance", "clustering"), for printing. */
+#define RAD_EFFECT_COUNT 6
 void rad_scene_effects_list(const rad_effects_plan *plan,
                             const rad_effect_decision *decisions[RAD_EFFECT_COUNT],
                             const char *names[RAD_EFFECT_COUNT]);

@@ -5,6 +5,7 @@
 #include "rad_solve.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -104,6 +105,30 @@ static rad_status apply_plan(rad_solution *s)
         return RAD_ERROR(RAD_EINVAL, "solve: an emission field applies to the dense method only");
     if (u->basis < 0 || u->basis > RAD_BASIS_MAX_ORDER)
         return RAD_ERROR(RAD_EINVAL, "solve: basis order %d is not 0, 1 or 2", u->basis);
+    if (u->method == RAD_SOLVE_CLUSTER && u->basis != 0)
+        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense and hier; "
+                                     "cluster has constant elements", u->basis);
+    /* clustering: the plan decides for hier with constant elements, --method
+       cluster asks for it, nothing else has a cluster layer */
+    rad_effect_decision *cl = &s->plan.clustering;
+    int acts = u->method == RAD_SOLVE_HIER && u->basis == 0;
+    if (u->method == RAD_SOLVE_CLUSTER) {
+        if (cl->forced && !cl->on)
+            return RAD_ERROR(RAD_EINVAL, "solve: --clustering off contradicts --method cluster");
+        cl->on = 1;
+        snprintf(cl->reason, sizeof cl->reason, "--method cluster links through a cluster "
+                 "hierarchy");
+    } else if (!acts) {
+        if (cl->forced && cl->on)
+            return RAD_ERROR(RAD_EINVAL, "solve: --clustering on applies to --method hier with "
+                                         "constant elements (or --method cluster)");
+        cl->on = 0;
+        snprintf(cl->reason, sizeof cl->reason, "%s has no cluster layer",
+                 u->method == RAD_SOLVE_HIER ? "hier with p1/p2 elements"
+                 : u->method == RAD_SOLVE_MC ? "Monte Carlo"
+                                             : "dense radiosity");
+    }
+    u->hier.cluster = cl->on && (acts || u->method == RAD_SOLVE_CLUSTER);
     if (u->method == RAD_SOLVE_MC) {
         if (plan->facing_away.forced || plan->singular.forced)
             return RAD_ERROR(RAD_EINVAL, "solve: --facing-away and --singular decide how form "
@@ -127,10 +152,6 @@ static rad_status apply_plan(rad_solution *s)
     if ((u->method == RAD_SOLVE_HIER || u->method == RAD_SOLVE_CLUSTER) && !plan->facing_away.on)
         return RAD_ERROR(RAD_EINVAL, "solve: --facing-away off applies to --method dense only "
                                      "(hier links only elements that face each other)");
-    if (u->method == RAD_SOLVE_CLUSTER && u->basis != 0)
-        return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense and hier; "
-                                     "cluster has constant elements", u->basis);
-    u->hier.cluster = u->method == RAD_SOLVE_CLUSTER;
     /* colour: channels that may share a system share one when off */
     u->dense.share_channels = !plan->colour.on;
     u->hier.sealed = plan->sealed;
