@@ -4,8 +4,9 @@
 #
 # 1. Scaling: rooms of N boxes (scenes/gen/many_objects.py N: a closed 10 m
 #    room, the ceiling emitting, N cubes on a grid, 12 N + 12 triangles),
-#    solved by hier (up to HIER_MAX boxes: its initial linking couples every
-#    pair of triangles) and by cluster with each model (oriented, iso) at
+#    solved by hier without clusters (--clustering off, up to HIER_MAX
+#    boxes: its initial linking couples every pair of triangles) and by
+#    cluster with each model (oriented, iso) at
 #    eps EPS: links (pairs coupled, cluster links among them), leaves, wall
 #    time, peak memory and the run's error estimate; then the log-log slope
 #    of links and of time against triangles per method.
@@ -37,7 +38,7 @@ hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
 # method_args METHOD: the solve options of a method label
 method_args() {
   case "$1" in
-    hier) echo "--method hier" ;;
+    hier) echo "--method hier --clustering off" ;;
     cluster) echo "--method cluster" ;;
     cluster-iso) echo "--method cluster --cluster-model iso" ;;
   esac
