@@ -1,5 +1,5 @@
-/* rad_hier: the cluster layer (issue 17; Smits, Arvo, Greenberg 1994 and
- * Sillion 1995 for the idea, refs.bib).
+/* rad_hier: the cluster layer (Smits, Arvo, Greenberg 1994 and Sillion
+ * 1995 for the idea, refs.bib smits1994, sillion1995).
  *
  * Without it rad_hier links every pair of input triangles first: n^2 work
  * before any refinement.  With it (params.cluster), the input triangles are
@@ -76,8 +76,6 @@
  * cluster of at most this many triangles emits exactly (its triangles'
  * own sum), so that a link's cost stays bounded. */
 enum { CLUSTER_RAYS = 4, CLUSTER_SMALL = 16 };
-
-static const double pi = 3.14159265358979323846;
 
 rad_status rad_hier_cluster_model_parse(const char *text, rad_hier_cluster_model *model)
 {
@@ -200,7 +198,7 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
  * w, and the largest projected area of x towards such a direction. */
 static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, double *proj)
 {
-    double cmax = x->alpha <= pi ? cos_upper(x->axis, w, x->alpha + beta) : 1.0;
+    double cmax = x->alpha <= RAD_PI ? cos_upper(x->axis, w, x->alpha + beta) : 1.0;
     *cosmax = rad_dmax(0.0, cmax);
     *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
 }
@@ -249,8 +247,8 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     if (!(cx > 0.0) || !(cy > 0.0))
         return 0;
     double sa = y.radius / (r - x.radius), sb = x.radius / (r - y.radius);
-    double Fa = rad_dmin(1.0, rad_dmin(cx * uy / (pi * gap * gap), sa * sa));
-    double Fb = rad_dmin(1.0, rad_dmin(cy * ux / (pi * gap * gap), sb * sb));
+    double Fa = rad_dmin(1.0, rad_dmin(cx * uy / (RAD_PI * gap * gap), sa * sa));
+    double Fb = rad_dmin(1.0, rad_dmin(cy * ux / (RAD_PI * gap * gap), sb * sb));
     double V = 1.0;
     int mixed = 0;
     if (h->use_vis) {
@@ -267,13 +265,13 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
         mixed = open > 0 && open < CLUSTER_RAYS;
     }
     double rel_x, rel_y, px = projected(h, &x, w, &rel_x), py = projected(h, &y, mw, &rel_y);
-    double G = px * py / (pi * r * r) * V;
+    double G = px * py / (RAD_PI * r * r) * V;
     G = rad_dmin(G, rad_dmin(x.area * Fa, y.area * Fb));
     out->G = G;
     out->Fa = Fa;
     out->Fb = Fb;
     out->w = w;
-    out->kv = V / (pi * r * r);
+    out->kv = V / (RAD_PI * r * r);
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
         /* every point of a cluster gets the mean: anything in [0, F] is possible */
         out->ea = rad_dmax(G / x.area, Fa - G / x.area);
@@ -343,41 +341,33 @@ static rad_status push_job(job_list *l, int a, int b)
     return RAD_OK;
 }
 
-/* Replace link k by links of one end's children to the other end (a
- * cluster's two, an element's four), or, when both ends are elements, by
- * an element link (hier_estimate_batch).  The end split is the source of
- * the receiver whose term is the larger share of its threshold (split_b: b)
- * -- a point's form factor towards a source shrinks with the source, not
- * with the receiver -- or, where the spheres meet, the larger; the other
- * when that one may not be split. */
+/* Queue the pair of ends a, b: two elements as an element link (sj, for
+ * hier_estimate_batch), anything with a cluster as a cluster link (cj). */
+static rad_status queue_pair(job_list *cj, job_list *sj, int a, int b)
+{
+    return a < 0 && b < 0 ? push_job(sj, -1 - a, -1 - b) : push_job(cj, a, b);
+}
+
+/* Replace link k by the links of one cluster end's two children to the
+ * other end.  Only clusters are split here: elements are left to the
+ * element links' oracle, which refines them from exact point values.  The
+ * cluster split is the source of the receiver whose term is the larger
+ * share of its threshold (split_b: b) -- a point's form factor towards a
+ * source shrinks with the source, not with the receiver -- or, where the
+ * spheres meet or the kernel's variation dominates (split_b < 0), the
+ * larger; the other when that one is an element. */
 static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, job_list *sj)
 {
     hier_clink l = h->cln[k];
-    end_view x, y;
-    view(h, l.a, &x);
-    view(h, l.b, &y);
     h->cln[k].a = INT_MIN;
-    if (x.elem >= 0 && y.elem >= 0)
-        return push_job(sj, x.elem, y.elem);
-    /* elements are left to the element links' oracle, which refines them
-       from exact point values: only clusters are split here */
-    int can_x = x.elem < 0, can_y = y.elem < 0;
-    int want_a = split_b < 0 ? x.radius >= y.radius : !split_b;
-    int split_a = can_x && (!can_y || want_a);
-    const end_view *s = split_a ? &x : &y;
-    int other = split_a ? l.b : l.a, ends[4], n = 0;
-    if (s->elem < 0) {
-        ends[n++] = end_of(h, s->cl->child[0]);
-        ends[n++] = end_of(h, s->cl->child[1]);
-    } else {
-        rad_status st = hier_split(h, s->elem);
-        if (st != RAD_OK)
-            return st;
-        for (int c = 0; c < 4; c++)
-            ends[n++] = -1 - (h->el[s->elem].first_child + c);
-    }
-    for (int c = 0; c < n; c++) {
-        rad_status st = split_a ? push_job(cj, ends[c], other) : push_job(cj, other, ends[c]);
+    const hier_clus *x = l.a >= 0 ? &h->cl[l.a] : NULL, *y = l.b >= 0 ? &h->cl[l.b] : NULL;
+    int split_a = split_b < 0 ? x && (!y || x->radius >= y->radius) : !split_b;
+    if (!(split_a ? x : y)) /* an element: the other end is a cluster */
+        split_a = !split_a;
+    const hier_clus *s = split_a ? x : y;
+    for (int c = 0; c < 2; c++) {
+        int child = end_of(h, s->child[c]);
+        rad_status st = split_a ? queue_pair(cj, sj, child, l.b) : queue_pair(cj, sj, l.a, child);
         if (st != RAD_OK)
             return st;
     }
@@ -387,12 +377,12 @@ static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, j
 /* ---- what the clusters pull from their leaves ---------------------------- */
 
 /* An element's irradiance (B - E) / rho, its mean over it as hier_weight
- * takes it (none where rho = 0: then its weight is the source's B). */
-static void element_H(const rad_hier *h, const hier_elem *e, int c, double *lo, double *hi)
+ * takes it (0 where rho = 0: then its weight is the source's B). */
+static double element_H(const rad_hier *h, const hier_elem *e, int c)
 {
     size_t n = h->nroots, f = (size_t)e->face;
     double rho = h->rho[f + (size_t)c * n];
-    *lo = *hi = rho > 0.0 ? (e->B[c] - h->E[f + (size_t)c * n]) / rho : 0.0;
+    return rho > 0.0 ? (e->B[c] - h->E[f + (size_t)c * n]) / rho : 0.0;
 }
 
 /* The moments of one triangle (area a, normal n) weighted by v. */
@@ -420,7 +410,7 @@ static void pull(rad_hier *h, int carry)
                 } else if (carry == CLUSTER_B) {
                     x->B[c] = e->B[c];
                     x->var[c] = e->var[c];
-                    element_H(h, e, c, &x->Hlo[c], &x->Hhi[c]);
+                    x->Hlo[c] = x->Hhi[c] = element_H(h, e, c);
                 }
             }
             continue;
@@ -473,7 +463,7 @@ static void values(const rad_hier *h, int id, end_values *v)
         v->var[c] = e->var[c];
         v->T[c] = e->T[c];
         v->rho[c] = h->rho[(size_t)e->face + (size_t)c * h->nroots];
-        element_H(h, e, c, &v->Hlo[c], &v->Hhi[c]);
+        v->Hlo[c] = v->Hhi[c] = element_H(h, e, c);
     }
     v->scale = h->face_scale[e->face];
 }
@@ -623,13 +613,17 @@ rad_status hier_cluster_create(rad_hier *h)
                                                 h->cl[x->child[1]].rho[c]);
     }
     {
-        job_list jobs = {NULL, 0, 0};
+        job_list cj = {NULL, 0, 0}, sj = {NULL, 0, 0};
         for (size_t i = 0; i < h->ncl && st == RAD_OK; i++)
             if (h->cl[i].root < 0)
-                st = push_job(&jobs, end_of(h, h->cl[i].child[0]), end_of(h, h->cl[i].child[1]));
+                st = queue_pair(&cj, &sj, end_of(h, h->cl[i].child[0]),
+                                end_of(h, h->cl[i].child[1]));
         if (st == RAD_OK)
-            st = estimate_batch(h, jobs.j, jobs.n);
-        free(jobs.j);
+            st = estimate_batch(h, cj.j, cj.n);
+        if (st == RAD_OK)
+            st = hier_estimate_batch(h, sj.j, sj.n);
+        free(cj.j);
+        free(sj.j);
     }
     if (st == RAD_OK) {
         long long count = 0;
@@ -817,17 +811,11 @@ void hier_cluster_local(rad_hier *h)
             for (int c = 0; c < 3; c++) {
                 double rho = h->rho[(size_t)x->root + (size_t)c * n], w = x->qb[c];
                 if (h->p.sealed && rho > 0.0 && x->q[c] > 0.0) {
-                    double lo, hi, span = x->bmax[c] - x->bmin[c];
-                    element_H(h, e, c, &lo, &hi);
+                    double H = element_H(h, e, c), span = x->bmax[c] - x->bmin[c];
                     /* weights on bmin and bmax with the sums' mean */
                     double whi = span > 0.0 ? (x->qb[c] - x->q[c] * x->bmin[c]) / span : 0.0;
                     whi = rad_dmax(0.0, rad_dmin(x->q[c], whi));
-                    double wlo = x->q[c] - whi;
-                    w = 0.0;
-                    for (int end = 0; end < 2; end++) {
-                        double H = end ? hi : lo;
-                        w = rad_dmax(w, wlo * fabs(x->bmin[c] - H) + whi * fabs(x->bmax[c] - H));
-                    }
+                    w = (x->q[c] - whi) * fabs(x->bmin[c] - H) + whi * fabs(x->bmax[c] - H);
                 }
                 e->q[c] += rho * w;
                 e->d[c] += rho * rho * x->d[c];
