@@ -7,7 +7,8 @@
 #    triangles: links n^1.15, time n^1.3; 120k triangles in 2 min and 6 GB);
 #  - error against the Monte Carlo references (Cornell: L1 <= 1.5% at eps
 #    0.01, checked in make test; many_64: L1 <= 2% and power within 1% at
-#    eps 0.01).
+#    eps 0.01);
+#  - the effects plan's clustering for hier on the 1 280-triangle sphere.
 # The sizes the experiment runs (SIZES, default up to 125 boxes = 1 512
 # triangles) are far below the targets' 3.6k to 1.2M: the table says what
 # was measured, the targets stay open.  Writes bench/cluster.tsv and prints
@@ -24,6 +25,14 @@ data="$ROOT/experiments/clustering/data"
   grep -v '^#' "$data/scaling.dat"
   echo "# log-log slopes against input triangles (targets: links <= 1.15, time <= 1.3, from 3.6k to 36k triangles)"
   cat "$data/slopes.dat"
+  echo "# the effects plan's clustering for --method hier on the 1 280-triangle sphere (closed, no occlusion): wall time and links without and with"
+  printf 'clustering\ttime_s\tlinks\n'
+  for c in off on; do
+    t=$(mktemp)
+    (cd "$ROOT" && "$RADKIT" solve scenes/sphere/sphere_3.obj --method hier --clustering "$c" --quiet --out "$t")
+    printf '%s\t%s\t%s\n' "$c" "$(sed -n 's/^# time_total_s = //p' "$t")" "$(sed -n 's/^# links = //p' "$t")"
+    rm -f "$t"
+  done
   echo "# against the Monte Carlo references: error_l1, error_worst, error_power (targets at eps 0.01: Cornell L1 <= 1.5%; many_64 L1 <= 2%, |power| <= 1%)"
   grep -v '^#' "$data/accuracy.dat"
 } > "$TSV"

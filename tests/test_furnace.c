@@ -167,11 +167,11 @@ static double compare_figure(const char *table, const char *key)
 /* The Cornell box against the committed Monte Carlo reference
  * (experiments/reference: area-weighted relative standard error 8e-5):
  * hierarchical radiosity, with and without clusters, with its defaults and
- * at eps 0.01, and dense at refinement 2.  Each run's error (radkit compare) is checked against what
- * it reports of itself: the error estimate bounds the worst face and the
- * area-weighted L1 error.  The hier eps 0.01 limits are issue 13's targets
- * (L1 1%, worst face 5%; measured 0.14% and 1.4%), and cluster's within
- * issue 17's L1 1.5% (measured 0.165%, worst face 1.9%; defaults 0.50%, 7.9%); the others are the
+ * at eps 0.01, and dense at refinement 2.  Each run's error (radkit compare)
+ * is checked against what it reports of itself: the error estimate bounds
+ * the worst face and the area-weighted L1 error.  The eps 0.01 limits are
+ * the targets of the accuracy and clustering issues (L1 1%, worst face 5%;
+ * measured 0.14% and 1.4% for hier and cluster alike); the others are the
  * measured figures with headroom (defaults: 0.53%, 8.0%; dense refine 2:
  * 1.28%, 18%). */
 TEST(cornell_against_the_monte_carlo_reference)

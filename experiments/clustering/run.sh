@@ -22,7 +22,7 @@ case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
 SIZES=${SIZES:-"8 27 64 125"}
 HIER_MAX=${HIER_MAX:-125}
 EPS=${EPS:-0.1}
-EPS_ACC=${EPS_ACC:-"0.1 0.03 0.01"}
+EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 cd "$root"
 for r in cornell many_64; do
   [ -s "experiments/reference/data/$r.tsv" ] || RADKIT=$RADKIT sh experiments/reference/run.sh
