@@ -128,7 +128,8 @@ struct rad_hier {
     rad_hier_params p;
     const rad_vis *vis;
     int use_vis;
-    unsigned char *can_block; /* per pair of input triangles, or NULL (ask each time) */
+    unsigned char *can_block; /* per pair of input triangles, or NULL (ask each time):
+                                 HIER_CAN_BLOCK | HIER_MAY_TOUCH */
     rad_vec3 *normal;         /* unit normal per input triangle */
     size_t nroots;
     double *rho, *E;          /* per input triangle, ntris x 3 */
@@ -168,7 +169,12 @@ typedef struct hier_job {
 /* Estimate jobs[0..n) (pairs) in parallel and append the facing ones to the
  * links in job order (the result does not depend on the thread count). */
 rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n);
+enum { HIER_CAN_BLOCK = 1, HIER_MAY_TOUCH = 2 };
 int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
+/* 0 when no element of input triangle r can touch one of s (their distance
+ * exceeds the contact test's 1e-9 of the larger's longest edge, which no
+ * sub-element pair can then meet); 1 when they may. */
+int hier_pair_may_touch(const rad_hier *h, int face_r, int face_s);
 
 /* ---- cluster.c ---- */
 /* Build the cluster hierarchy over the roots and its initial links (every

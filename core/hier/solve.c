@@ -178,18 +178,20 @@ void hier_row_caps(rad_hier *h)
 
 static void pull_gradient(rad_hier *h, int e);
 
-/* int_x (g1 . (y - c)) (g2 . (y - c)) dy over triangle x (its second moment
- * about the centroid is A / 12 sum_i d_i d_i^T, d_i = p_i - c): the flux a
- * linear variation g2 of the source's B carries to the receiver through the
- * linear variation g1 of the form factor towards it. */
-static double moment(const hier_elem *x, rad_vec3 g1, rad_vec3 g2)
+/* int_x (g1 . (y - c)) (g2 . (y - c)) dy = g2 . moment(x, g1) over triangle
+ * x (its second moment about the centroid is A / 12 sum_i d_i d_i^T,
+ * d_i = p_i - c): the flux a linear variation g2 of the source's B carries to
+ * the receiver through the linear variation g1 of the form factor towards
+ * it.  The vector does not depend on the channel, so a link computes it once
+ * per step. */
+static rad_vec3 moment(const hier_elem *x, rad_vec3 g1)
 {
-    double s = 0.0;
+    rad_vec3 s = rad_vec3_make(0.0, 0.0, 0.0);
     for (int i = 0; i < 3; i++) {
         rad_vec3 d = rad_vec3_sub(x->p[i], x->c);
-        s += rad_vec3_dot(g1, d) * rad_vec3_dot(g2, d);
+        s = rad_vec3_add(s, rad_vec3_scale(d, rad_vec3_dot(g1, d)));
     }
-    return x->area / 12.0 * s;
+    return rad_vec3_scale(s, x->area / 12.0);
 }
 
 rad_status rad_hier_step(rad_hier *h)
@@ -210,12 +212,17 @@ rad_status rad_hier_step(rad_hier *h)
             continue;
         hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
         double Fab = l->G / a->area, Fba = l->G / b->area;
+        rad_vec3 mb = rad_vec3_make(0.0, 0.0, 0.0), ma = mb;
+        if (h->p.source_slope) {
+            mb = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
+            ma = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
+        }
         for (int c = 0; c < 3; c++) {
             a->Bg[c] += Fab * b->B[c];
             a->Gg[c] = rad_vec3_add(a->Gg[c], rad_vec3_scale(l->ga, b->B[c]));
             if (h->p.source_slope) {
-                a->Bg[c] += moment(b, l->gb, b->gB[c]) / a->area;
-                b->Bg[c] += moment(a, l->ga, a->gB[c]) / b->area;
+                a->Bg[c] += rad_vec3_dot(mb, b->gB[c]);
+                b->Bg[c] += rad_vec3_dot(ma, a->gB[c]);
             }
             b->Bg[c] += Fba * a->B[c];
             b->Gg[c] = rad_vec3_add(b->Gg[c], rad_vec3_scale(l->gb, a->B[c]));

@@ -284,9 +284,19 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
         for (long long r = 0; r < (long long)ntris; r++)
-            for (size_t s = 0; s < ntris; s++)
+            for (size_t s = 0; s < ntris; s++) {
+                if ((size_t)r == s) {
+                    tab[(size_t)r * ntris + s] = 0;
+                    continue;
+                }
+                const hier_elem *a = &h->el[r], *b = &h->el[s];
+                double gap = 1e-9 * rad_dmax(a->size, b->size);
+                int touch = rad_vec3_norm(rad_vec3_sub(a->c, b->c)) <= 1.001 * (a->size + b->size) &&
+                            rad_ff_triangle_distance(a->p, b->p) <= gap;
                 tab[(size_t)r * ntris + s] =
-                    (size_t)r != s && rad_vis_pair_can_block(vis, (size_t)r, s) ? 1 : 0;
+                    (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HIER_CAN_BLOCK : 0) |
+                                    (touch ? HIER_MAY_TOUCH : 0));
+            }
     }
     {
         hier_job *jobs = malloc(ntris * (ntris - 1 > 0 ? ntris - 1 : 1) / 2 * sizeof *jobs + 1);

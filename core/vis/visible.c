@@ -267,6 +267,18 @@ static void bbox2(poly2 *q)
     }
 }
 
+/* dst = src, copying only the corners in use (a poly2 holds room for
+ * POLY_MAX, and whole-struct copies were a tenth of the clipping's time). */
+static void poly_copy(poly2 *dst, const poly2 *src)
+{
+    dst->n = src->n;
+    dst->lo[0] = src->lo[0];
+    dst->lo[1] = src->lo[1];
+    dst->hi[0] = src->hi[0];
+    dst->hi[1] = src->hi[1];
+    memcpy(dst->p, src->p, (size_t)src->n * sizeof src->p[0]);
+}
+
 static int boxes_apart(const poly2 *p, const poly2 *q)
 {
     return p->lo[0] >= q->hi[0] || p->hi[0] <= q->lo[0] || p->lo[1] >= q->hi[1] ||
@@ -308,8 +320,9 @@ static void ws_free(pieces_ws *ws) { free(ws->heap); }
  * appended, one it covers is dropped. */
 static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
                           const plane_frame *f, const int *blockers, int nb, pieces_ws *ws,
-                          const poly2 **out)
+                          const poly2 **out, int *cut)
 {
+    *cut = 0;
     double d = rad_vec3_dot(f->n, rad_vec3_sub(x, f->o));
     poly2 *pieces = ws->list;
     *out = pieces;
@@ -335,7 +348,9 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
                 i++;
                 continue;
             }
-            poly2 rest = pieces[i];
+            *cut = 1;
+            poly2 rest;
+            poly_copy(&rest, &pieces[i]);
             int kept = 0;
             for (int e = 0; e < q.n && rest.n >= 3; e++) {
                 poly2 in, outside;
@@ -344,14 +359,14 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
                 if (outside.n >= 3 && area2(&outside) > min_area) {
                     bbox2(&outside);
                     if (!kept)
-                        pieces[i] = outside;
+                        poly_copy(&pieces[i], &outside);
                     else if (np < ws->cap)
-                        pieces[np++] = outside;
+                        poly_copy(&pieces[np++], &outside);
                     else
                         return -1;
                     kept = 1;
                 }
-                rest = in;
+                poly_copy(&rest, &in);
             }
             if (kept) {
                 i++;
@@ -359,8 +374,10 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
             }
             /* covered: the last piece not yet examined takes its place, the
                last appended one that piece's */
-            pieces[i] = pieces[--end];
-            pieces[end] = pieces[--np];
+            poly_copy(&pieces[i], &pieces[--end]);
+            --np;
+            if (end != np)
+                poly_copy(&pieces[end], &pieces[np]);
         }
     }
     return np;
@@ -410,16 +427,19 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
         *F = *F_open;
     } else {
         const poly2 *pieces;
-        int np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces);
+        int cut;
+        int np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces, &cut);
         if (np < 0 && ws_grow(ws))
-            np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces);
+            np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces, &cut);
         if (np < 0) {
             if (evals)
                 *evals += ev;
             return 0;
         }
-        /* rounding in slivers can leave a sum a hair below 0 */
-        *F = rad_dmax(0.0, pieces_ff(x, nx, &f, pieces, np, &ev));
+        if (!cut && np == 1 && F_open)
+            *F = *F_open; /* no shadow reached b: the open value, not the same sum again */
+        else /* rounding in slivers can leave a sum a hair below 0 */
+            *F = rad_dmax(0.0, pieces_ff(x, nx, &f, pieces, np, &ev));
     }
     if (evals)
         *evals += ev;
