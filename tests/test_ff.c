@@ -201,6 +201,35 @@ TEST(ff_exact_matches_howell_c14)
     }
 }
 
+/* The link parameters of hier and hierp (rad_ff_params_link_exact) keep
+ * `exact` within 1e-8 of Howell's C-14 on a wall standing on a floor, cut so
+ * that most triangle pairs touch without sharing a vertex (the contact links
+ * they are for) and the rest share one. */
+TEST(ff_exact_with_link_params_matches_howell_c14)
+{
+    double l = 1.3, w = 0.9, h = 0.7;
+    rad_vec3 A = V(0, 0, 0), B = V(l, 0, 0), C = V(l, 0, h), D = V(0, 0, h);
+    rad_vec3 P = V(l / 3, 0, 0), Q = V(l / 2, 0, 0), E = V(l, w, 0), Fp = V(0, w, 0);
+    rad_vec3 wall[3][3] = {{A, D, P}, {P, C, B}, {P, D, C}};  /* facing +y */
+    rad_vec3 floor_[3][3] = {{A, Q, Fp}, {Q, B, E}, {Q, E, Fp}}; /* facing +z */
+    rad_ff_params def, link;
+    rad_ff_params_default(&def);
+    link = rad_ff_params_link_exact(&def);
+    CHECK(link.exact_rel_tol > def.exact_rel_tol);
+    double G = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            rad_ff_result o, ref;
+            CHECK(rad_ff_compute(floor_[i], wall[j], (rad_ff_rule){RAD_FF_EXACT, 0}, &link, &o) ==
+                  RAD_OK);
+            CHECK(rad_ff_compute(floor_[i], wall[j], (rad_ff_rule){RAD_FF_EXACT, 0}, &def, &ref) ==
+                  RAD_OK);
+            CHECK_NEAR(o.G, ref.G, 1e-8, 0.0); /* each pair, against the reference's tolerance */
+            G += o.G;
+        }
+    CHECK_NEAR(G / (l * w), harness_howell_c14(l, w, h), 1e-8, 0.0);
+}
+
 /* Two coaxial regular n-gons (radius r1 at z = 0 facing up, r2 at z = h facing
  * down), each fanned from its centre; returns F_12 by `rule`. */
 static double coaxial_polygons(int n, double r1, double r2, double h, const char *rule)

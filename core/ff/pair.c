@@ -46,6 +46,15 @@ void rad_ff_params_default(rad_ff_params *params)
                               .singular_rules = 1};
 }
 
+rad_ff_params rad_ff_params_link_exact(const rad_ff_params *params)
+{
+    rad_ff_params p = *params;
+    p.exact_rel_tol = fmax(p.exact_rel_tol, 1e-9);
+    p.exact_retry_rel = fmax(p.exact_retry_rel, 1e-7);
+    p.exact_flag_rel = fmax(p.exact_flag_rel, 1e-6);
+    return p;
+}
+
 double rad_ff_kernel(rad_vec3 x, rad_vec3 nx, rad_vec3 y, rad_vec3 ny, long *guarded)
 {
     return ff_kernel(x, nx, y, ny, guarded);

@@ -241,15 +241,7 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
             rule.scheme = RAD_FF_EXACT;
             rule.order = 0;
         }
-        /* the contour integral to 1e-9, not its reference 1e-14: a link's
-           G is needed far less exactly, and the tighter outer integrals made
-           the contact links a sixth of a run's time */
-        rad_ff_params ffp = h->p.ff;
-        if (contact) {
-            ffp.exact_rel_tol = rad_dmax(ffp.exact_rel_tol, 1e-9);
-            ffp.exact_retry_rel = rad_dmax(ffp.exact_retry_rel, 1e-7);
-            ffp.exact_flag_rel = rad_dmax(ffp.exact_flag_rel, 1e-6);
-        }
+        rad_ff_params ffp = rad_ff_params_link_exact(&h->p.ff);
         rad_ff_result res, low;
         rad_status st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &res);
         if (st == RAD_OK && adjacent) {
