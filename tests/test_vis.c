@@ -373,6 +373,42 @@ TEST(vis_parallel_queries_match_serial)
     rad_vis_destroy(vis);
 }
 
+/* Embree's structures are made by the first ray (rad_vis_prepare_rays):
+ * here by eight threads at once, each of whose first query must find them
+ * made exactly once and answer as a serial query does (the axis through the
+ * occluder blocked, a corner-to-corner segment open); and a prepare after
+ * that is a no-op that still succeeds. */
+TEST(vis_rays_are_made_on_first_use_by_any_thread)
+{
+    double xyz[36];
+    int tri[18];
+    occluder_scene(1.0, 0.0, xyz, tri);
+    for (int round = 0; round < 4; round++) {
+        rad_vis *vis = NULL;
+        CHECK(rad_vis_create(xyz, 12, tri, 6, NULL, &vis) == RAD_OK);
+        if (!vis)
+            return;
+        int wrong = 0, failed = 0;
+#pragma omp parallel for num_threads(8) reduction(+ : wrong, failed) schedule(static, 1)
+        for (int k = 0; k < 64; k++) {
+            double from[6] = {0.5, 0.5, 0, 0, 0, 0}, to[6] = {0.5, 0.5, D, 0, 0, D};
+            unsigned char blocked[2] = {9, 9};
+            if (k % 2) {
+                double p[3] = {0.5, 0.5, 0}, q[3] = {0.5, 0.5, D};
+                failed += rad_vis_prepare_rays(vis) != RAD_OK;
+                wrong += rad_vis_segment_blocked(vis, p, q, -1, -1) != 1;
+            } else {
+                failed += rad_vis_occluded(vis, 2, from, to, blocked, NULL) != RAD_OK;
+                wrong += blocked[0] != 1 || blocked[1] != 0;
+            }
+        }
+        CHECK_MSG(failed == 0 && wrong == 0, "round %d: %d queries failed, %d answered wrong",
+                  round, failed, wrong);
+        CHECK(rad_vis_prepare_rays(vis) == RAD_OK);
+        rad_vis_destroy(vis);
+    }
+}
+
 TEST(vis_closest_hit_barycentrics)
 {
     double xyz[36];

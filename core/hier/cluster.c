@@ -549,6 +549,11 @@ rad_status hier_cluster_refine(rad_hier *h, double target, long long *count)
 rad_status hier_cluster_create(rad_hier *h)
 {
     size_t n = h->nroots;
+    if (h->use_vis) { /* cluster links sample visibility with rays */
+        rad_status rays_ready = rad_vis_prepare_rays(h->vis);
+        if (rays_ready != RAD_OK)
+            return rays_ready;
+    }
     double *xyz = malloc(9 * n * sizeof *xyz);
     int *tri = malloc(3 * n * sizeof *tri);
     rad_cluster_tree *tree = NULL;

@@ -254,6 +254,9 @@ rad_status rad_mc_solve(const double *xyz, size_t nverts, const int *tri, size_t
     if (rad_vis_triangle_count(vis) != ntris)
         return RAD_ERROR(RAD_EINVAL, "Monte Carlo: the visibility holds %zu triangles, the scene "
                                      "%zu", rad_vis_triangle_count(vis), ntris);
+    rad_status rays_ready = rad_vis_prepare_rays(vis); /* every path casts them */
+    if (rays_ready != RAD_OK)
+        return rays_ready;
     for (size_t k = 0; k < 3 * ntris; k++)
         if (tri[k] < 0 || (size_t)tri[k] >= nverts)
             return RAD_ERROR(RAD_EINPUT, "Monte Carlo: triangle %zu refers to vertex %d of %zu",

@@ -230,6 +230,8 @@ rad_status rad_radiosity_assemble_basis(const double *xyz, const int *tri, int n
     double rs[RAD_QUAD_TRI_MAX_POINTS], rt[RAD_QUAD_TRI_MAX_POINTS], rw[RAD_QUAD_TRI_MAX_POINTS];
     int np = 0;
     rad_status st = rad_quad_tri_symmetric(2 * order + BASIS_EXTRA_DEGREE, rs, rt, rw, &np);
+    if (st == RAD_OK && vis && !rad_vis_is_unoccluded(vis))
+        st = rad_vis_prepare_rays(vis); /* the higher modes' visibility is sampled by rays */
     if (st != RAD_OK)
         return st;
     size_t nn = (size_t)n, N = nn * (size_t)m;

@@ -91,6 +91,12 @@ rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double 
     rad_vis_triangle_samples(vis, i, pi);
     rad_vis_triangle_samples(vis, j, pj);
 
+    rad_status st = rad_vis_prepare_rays(vis);
+    if (st != RAD_OK) {
+        if (pts != stack_pts)
+            free(pts);
+        return st;
+    }
     vis_context vc;
     vis_context_init(&vc, (unsigned)i, (unsigned)j);
     /* Segments in batches of BATCH through the packet path of rad_vis_occluded. */
@@ -103,7 +109,7 @@ rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double 
         memcpy(from + 3 * filled, pi + 3 * (s / (size_t)m), 3 * sizeof *from);
         memcpy(to + 3 * filled, pj + 3 * (s % (size_t)m), 3 * sizeof *to);
         if (++filled == BATCH || s + 1 == total) {
-            vis_occluded_ctx(vis, &vc, filled, from, to, blocked, &rays);
+            vis_occluded_ctx(vis, &vc, filled, from, to, blocked, &rays); /* prepared above */
             for (size_t k = 0; k < filled; k++)
                 visible += !blocked[k]; /* too-short segments count as visible */
             filled = 0;

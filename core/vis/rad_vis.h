@@ -19,6 +19,9 @@
  * Every query may be called concurrently from several OpenMP threads on one
  * rad_vis (Embree allows concurrent queries on a committed scene); each call
  * adds its work to the caller's rad_vis_stats, so give each thread its own.
+ * Embree's device and scene are made by the first query that casts a ray
+ * (rad_vis_prepare_rays), so creating a rad_vis costs only the shaft
+ * hierarchy.
  *
  * Threads: Embree (built on TBB in Debian) would otherwise start one worker per
  * core for its BVH build and keep them spinning beside OpenMP's.  rad_vis creates
@@ -236,13 +239,26 @@ typedef struct rad_vis_hit {
     double t, u, v;
 } rad_vis_hit;
 
+/* Embree's device and scene, made by the first query that casts a ray (so
+ * that a run whose visibility is all clipped exactly, or that needs none,
+ * never builds them: Embree's start-up alone is several milliseconds, most
+ * of a small scene's visibility phase).  Safe to call from any thread, any
+ * number of times; RAD_OK once they exist, or the error that made them fail
+ * (RAD_EDEP with Embree's code, RAD_ENOMEM), every time.  The queries that
+ * return a status call it themselves; call it before rad_vis_ray_closest and
+ * rad_vis_segment_blocked, which cannot report its failure (they then read
+ * as no hit and blocked). */
+rad_status rad_vis_prepare_rays(const rad_vis *vis);
+
 /* The closest hit of org + t dir, t in (tnear, inf), ignoring `ignore`.
- * Returns 1 on a hit, 0 otherwise (hit->tri = -1). */
+ * Returns 1 on a hit, 0 otherwise (hit->tri = -1).  Needs
+ * rad_vis_prepare_rays. */
 int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double dir[3],
                         double tnear, int ignore, rad_vis_hit *hit);
 
 /* 1 when some triangle other than ignore0 and ignore1 (-1: none) crosses the
- * segment p -> q shortened by the ray epsilon at both ends, else 0. */
+ * segment p -> q shortened by the ray epsilon at both ends, else 0.  Needs
+ * rad_vis_prepare_rays. */
 int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double q[3],
                             int ignore0, int ignore1);
 

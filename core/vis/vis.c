@@ -83,6 +83,8 @@ void rad_vis_destroy(rad_vis *vis)
 {
     if (!vis)
         return;
+    if (vis->lock_ready)
+        pthread_mutex_destroy(&vis->rays_lock);
     if (vis->scene)
         rtcReleaseScene(vis->scene);
     if (vis->device)
@@ -94,6 +96,69 @@ void rad_vis_destroy(rad_vis *vis)
     free(vis->nodes);
     free(vis->order);
     free(vis);
+}
+
+/* Embree's device and scene over the triangles (rad_vis_prepare_rays). */
+static rad_status build_rays(rad_vis *vis)
+{
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d,set_affinity=0", vis->params.build_threads);
+    vis->device = rtcNewDevice(config);
+    if (!vis->device) {
+        return RAD_ERROR(RAD_EDEP, "visibility: Embree could not create a device (%d)",
+                         (int)rtcGetDeviceError(NULL));
+    }
+    vis->scene = rtcNewScene(vis->device);
+    rad_status status = embree_status(vis->device, "scene creation");
+    if (status != RAD_OK)
+        return status;
+    rtcSetSceneFlags(vis->scene, RTC_SCENE_FLAG_ROBUST);
+    if (vis->ntris > 0) {
+        RTCGeometry geom = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (!geom) {
+            status = embree_status(vis->device, "geometry creation");
+            return status != RAD_OK ? status
+                                    : RAD_ERROR(RAD_EDEP, "visibility: Embree geometry creation failed");
+        }
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                   vis->fverts, 0, 3 * sizeof(float), vis->nverts);
+        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                   vis->findex, 0, 3 * sizeof(unsigned), vis->ntris);
+        rtcSetGeometryMask(geom, VIS_MASK_OCCLUDER);
+        rtcSetGeometryOccludedFilterFunction(geom, vis_ignore_filter);
+        rtcSetGeometryIntersectFilterFunction(geom, vis_ignore_filter);
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(vis->scene, geom, 0);
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(vis->scene);
+    return embree_status(vis->device, "the BVH build");
+
+}
+
+rad_status rad_vis_prepare_rays(const rad_vis *cvis)
+{
+    if (!cvis)
+        return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument");
+    rad_vis *vis = (rad_vis *)cvis; /* the ray structures are a cache: logically const */
+    int state = __atomic_load_n(&vis->rays_state, __ATOMIC_ACQUIRE);
+    if (state == 0) {
+        pthread_mutex_lock(&vis->rays_lock);
+        state = __atomic_load_n(&vis->rays_state, __ATOMIC_ACQUIRE);
+        if (state == 0) {
+            rad_status st = build_rays(vis);
+            if (st != RAD_OK) {
+                vis->rays_status = st;
+                snprintf(vis->rays_message, sizeof vis->rays_message, "%s", rad_error_message());
+            }
+            state = st == RAD_OK ? 1 : 2;
+            __atomic_store_n(&vis->rays_state, state, __ATOMIC_RELEASE);
+        }
+        pthread_mutex_unlock(&vis->rays_lock);
+    }
+    if (state == 2)
+        return RAD_ERROR(vis->rays_status, "%s", vis->rays_message);
+    return RAD_OK;
 }
 
 rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
@@ -118,6 +183,11 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
     vis = calloc(1, sizeof *vis);
     if (!vis)
         return RAD_ERROR(RAD_ENOMEM, "visibility: no memory");
+    if (pthread_mutex_init(&vis->rays_lock, NULL) != 0) {
+        free(vis);
+        return RAD_ERROR(RAD_ENOMEM, "visibility: no lock for the ray structures");
+    }
+    vis->lock_ready = 1;
     vis->params = p;
     vis->nverts = nverts;
     vis->ntris = ntris;
@@ -176,41 +246,6 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
         vis->scale = 1.0; /* an empty or single-point scene: any scale will do */
     vis->eps = p.eps_rel * vis->scale;
     vis->tol = p.shaft_tol_rel * vis->scale;
-
-    char config[64];
-    snprintf(config, sizeof config, "threads=%d,set_affinity=0", p.build_threads);
-    vis->device = rtcNewDevice(config);
-    if (!vis->device) {
-        status = RAD_ERROR(RAD_EDEP, "visibility: Embree could not create a device (%d)",
-                           (int)rtcGetDeviceError(NULL));
-        goto fail;
-    }
-    vis->scene = rtcNewScene(vis->device);
-    if ((status = embree_status(vis->device, "scene creation")) != RAD_OK)
-        goto fail;
-    rtcSetSceneFlags(vis->scene, RTC_SCENE_FLAG_ROBUST);
-    if (ntris > 0) {
-        RTCGeometry geom = rtcNewGeometry(vis->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        if (!geom) {
-            status = embree_status(vis->device, "geometry creation");
-            if (status == RAD_OK)
-                status = RAD_ERROR(RAD_EDEP, "visibility: Embree geometry creation failed");
-            goto fail;
-        }
-        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                   vis->fverts, 0, 3 * sizeof(float), nverts);
-        rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                   vis->findex, 0, 3 * sizeof(unsigned), ntris);
-        rtcSetGeometryMask(geom, VIS_MASK_OCCLUDER);
-        rtcSetGeometryOccludedFilterFunction(geom, vis_ignore_filter);
-        rtcSetGeometryIntersectFilterFunction(geom, vis_ignore_filter);
-        rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(vis->scene, geom, 0);
-        rtcReleaseGeometry(geom);
-    }
-    rtcCommitScene(vis->scene);
-    if ((status = embree_status(vis->device, "the BVH build")) != RAD_OK)
-        goto fail;
 
     if (!vis_bvh_build(vis)) {
         status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy");
@@ -305,15 +340,19 @@ VIS_OCCLUDED_PACKET(4)
 VIS_OCCLUDED_PACKET(8)
 VIS_OCCLUDED_PACKET(16)
 
-void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
-                      const double *to, unsigned char *blocked, unsigned long long *rays)
+rad_status vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
+                            const double *to, unsigned char *blocked, unsigned long long *rays)
 {
+    rad_status st = rad_vis_prepare_rays(vis);
+    if (st != RAD_OK)
+        return st;
     switch (vis->params.packet) {
     case 4: occluded_packet4(vis, &vc->ctx, n, from, to, blocked, rays); break;
     case 8: occluded_packet8(vis, &vc->ctx, n, from, to, blocked, rays); break;
     case 16: occluded_packet16(vis, &vc->ctx, n, from, to, blocked, rays); break;
     default: occluded_single(vis, &vc->ctx, n, from, to, blocked, rays); break;
     }
+    return RAD_OK;
 }
 
 rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, const double *to,
@@ -324,10 +363,10 @@ rad_status rad_vis_occluded(const rad_vis *vis, size_t n, const double *from, co
     vis_context vc;
     vis_context_init(&vc, RTC_INVALID_GEOMETRY_ID, RTC_INVALID_GEOMETRY_ID);
     unsigned long long rays = 0;
-    vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
+    rad_status st = vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
     if (stats)
         stats->rays += rays;
-    return RAD_OK;
+    return st;
 }
 
 rad_status rad_vis_occluded_between(const rad_vis *vis, size_t i, size_t j, size_t n,
@@ -342,10 +381,10 @@ rad_status rad_vis_occluded_between(const rad_vis *vis, size_t i, size_t j, size
     vis_context vc;
     vis_context_init(&vc, (unsigned)i, (unsigned)j);
     unsigned long long rays = 0;
-    vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
+    rad_status st = vis_occluded_ctx(vis, &vc, n, from, to, blocked, &rays);
     if (stats)
         stats->rays += rays;
-    return RAD_OK;
+    return st;
 }
 
 rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, const double *dir,
@@ -356,6 +395,9 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
         return RAD_ERROR(RAD_EINVAL, "visibility: NULL argument to the intersection query");
     if (!(tnear >= 0.0) || !isfinite(tnear))
         return RAD_ERROR(RAD_EINVAL, "visibility: tnear %g must be finite and >= 0", tnear);
+    rad_status st = rad_vis_prepare_rays(vis);
+    if (st != RAD_OK)
+        return st;
     vis_context vc;
     vis_context_init(&vc, RTC_INVALID_GEOMETRY_ID, RTC_INVALID_GEOMETRY_ID);
     for (size_t k = 0; k < n; k++) {
@@ -392,6 +434,12 @@ static unsigned ignore_id(int t) { return t < 0 ? RTC_INVALID_GEOMETRY_ID : (uns
 int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double dir[3],
                         double tnear, int ignore, rad_vis_hit *hit)
 {
+    if (rad_vis_prepare_rays(vis) != RAD_OK) { /* the caller's prepare failed already */
+        hit->tri = -1;
+        hit->t = INFINITY;
+        hit->u = hit->v = 0.0;
+        return 0;
+    }
     vis_context vc;
     vis_context_init(&vc, ignore_id(ignore), RTC_INVALID_GEOMETRY_ID);
     struct RTCRayHit rh;
@@ -429,6 +477,8 @@ int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double 
     float org[3], dir[3], tn, tf;
     if (!segment_ray(vis, p, q, org, dir, &tn, &tf))
         return 0;
+    if (rad_vis_prepare_rays(vis) != RAD_OK)
+        return 1; /* the caller's prepare failed already */
     vis_context vc;
     vis_context_init(&vc, ignore_id(ignore0), ignore_id(ignore1));
     struct RTCRay ray;

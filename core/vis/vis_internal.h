@@ -3,6 +3,7 @@
 #define VIS_INTERNAL_H
 
 #include <embree3/rtcore.h>
+#include <pthread.h>
 
 #include "rad_geom.h"
 #include "rad_sys.h"
@@ -21,8 +22,16 @@ typedef struct vis_node {
 } vis_node;
 
 struct rad_vis {
+    /* Embree's device and scene are made by the first query that casts a ray
+       (rad_vis_prepare_rays), under rays_lock: a run that clips its
+       visibility exactly, or needs none, never pays for them */
     RTCDevice device;
     RTCScene scene;
+    pthread_mutex_t rays_lock;
+    int lock_ready;
+    int rays_state;     /* 0: not made, 1: ready, 2: failed (atomic loads and stores) */
+    rad_status rays_status;
+    char rays_message[256];
     float *fverts;      /* the float copy Embree reads (shared buffer) */
     unsigned *findex;   /* the index copy Embree reads (shared buffer) */
     double *xyz;        /* the double copy our own tests use */
@@ -55,9 +64,10 @@ typedef struct vis_context {
 
 void vis_context_init(vis_context *vc, unsigned ignore0, unsigned ignore1);
 void vis_ignore_filter(const struct RTCFilterFunctionNArguments *args);
-/* The batched occlusion of rad_vis_occluded under a given context. */
-void vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
-                      const double *to, unsigned char *blocked, unsigned long long *rays);
+/* The batched occlusion of rad_vis_occluded under a given context (what
+ * rad_vis_prepare_rays returns when the rays cannot be made). */
+rad_status vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
+                            const double *to, unsigned char *blocked, unsigned long long *rays);
 
 /* shaft.c */
 /* Classify the triangles (which can block at all; is the scene unoccluded?)

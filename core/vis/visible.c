@@ -586,6 +586,9 @@ static rad_status sampled(const rad_vis *vis, const rad_vec3 a[3], int face_a, c
     double wsum = 0.0, wopen = 0.0;
     long evals = 0;
     int filled = 0;
+    rad_status st = rad_vis_prepare_rays(vis);
+    if (st != RAD_OK)
+        return st;
     vis_context vc;
     vis_context_init(&vc, face_a < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_a,
                      face_b < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_b);
@@ -614,7 +617,7 @@ static rad_status sampled(const rad_vis *vis, const rad_vec3 a[3], int face_a, c
             from[3 * filled] = x.x; from[3 * filled + 1] = x.y; from[3 * filled + 2] = x.z;
             to[3 * filled] = y.x; to[3 * filled + 1] = y.y; to[3 * filled + 2] = y.z;
             if (++filled == BATCH || (i == m - 1 && j == m - 1)) {
-                vis_occluded_ctx(vis, &vc, (size_t)filled, from, to, blocked, &rays);
+                vis_occluded_ctx(vis, &vc, (size_t)filled, from, to, blocked, &rays); /* prepared */
                 for (int q = 0; q < filled; q++) {
                     wsum += w[q];
                     wopen += blocked[q] ? 0.0 : w[q];
