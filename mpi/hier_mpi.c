@@ -4,11 +4,12 @@
  * Every rank parses radkit solve's own options (cmd_solve.c's table), loads
  * the scene and runs radkit solve's pipeline (rad_solve_run) with the
  * library's exchange hook set (rad_hier_exchange over MPI, exchange.c):
- * each batch of link estimates is cut among the ranks and all-gathered, and
- * with --gather shared each gather / push-pull step too, by input
- * triangles; everything else (the oracle, the tree, the solve's push-pull
- * elsewhere) is replicated, so every rank holds the whole hierarchy, the
- * serial one bit for bit.  Rank 0 prints radkit solve's table and outputs
+ * each batch of link estimates is dealt among the ranks and all-gathered,
+ * and (--gather shared, the default) each gather / push-pull step is cut by
+ * input triangles and its values all-gathered; everything else (the oracle,
+ * the tree, the cluster links' gather, the error bound's figures) is
+ * replicated, so every rank holds the whole hierarchy, the serial one bit
+ * for bit.  Rank 0 prints radkit solve's table and outputs
  * with `# ranks`, `# memory_peak_bytes_per_rank` (the largest rank's) and the
  * exchanges' time (`# time_comm_s`, a part of link, refine and solve).  A
  * rank that fails by itself is agreed on before any rank waits (radkit_mpi.h). */
@@ -29,16 +30,16 @@ static const char help[] =
     "                    [radkit solve's options for hier and cluster]\n"
     "\n"
     "Hierarchical radiosity (radkit solve --method hier or cluster) with its work\n"
-    "shared among the MPI ranks: every batch of link estimates is cut into equal\n"
-    "shares, one per rank, and all-gathered; every rank keeps the whole hierarchy,\n"
-    "so the answers are radkit solve's, bit for bit, and the memory per rank is\n"
-    "the serial run's.  The table is radkit solve's, with '# ranks',\n"
+    "shared among the MPI ranks: the link estimates of every batch are dealt to\n"
+    "the ranks and all-gathered; every rank keeps the whole hierarchy, so the\n"
+    "answers are radkit solve's, bit for bit, and the memory per rank is the\n"
+    "serial run's.  The table is radkit solve's, with '# ranks',\n"
     "'# memory_peak_bytes_per_rank' (the largest rank's) and time_comm_s (the\n"
     "exchanges, a part of link, refine and solve).\n"
     "\n"
-    "  --gather G       shared: each gather / push-pull step is cut among the\n"
-    "                   ranks by input triangles and its values all-gathered;\n"
-    "                   replicated (default): every rank gathers every link\n";
+    "  --gather G       shared (default): each gather / push-pull step is cut\n"
+    "                   among the ranks by input triangles and its values\n"
+    "                   all-gathered; replicated: every rank gathers every link\n";
 
 static void hier_progress(int round, size_t leaves, size_t links, void *ctx)
 {
@@ -63,13 +64,13 @@ int radkit_mpi_hier(int argc, char **argv, int rank, int ranks)
             fputs(help, stdout);
         return 0;
     }
-    int split = 0;
+    int split = 1;
     if (st == RAD_OK && gather && strcmp(gather, "shared") != 0 &&
         strcmp(gather, "replicated") != 0)
         st = RAD_ERROR(RAD_EINVAL, "solve: --gather must be shared or replicated, got '%s'",
                        gather);
-    if (st == RAD_OK)
-        split = gather && strcmp(gather, "shared") == 0;
+    if (st == RAD_OK && gather)
+        split = strcmp(gather, "shared") == 0;
     if (st == RAD_OK && !o.scene)
         st = RAD_ERROR(RAD_EINVAL, "solve: no scene given");
     if (st == RAD_OK && rank == 0)

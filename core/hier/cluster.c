@@ -316,10 +316,10 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     const rad_hier *hc = h;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     /* shared among processes: a share each, then every slot everywhere (exchange.c) */
-    size_t lo, hi;
-    hier_share(h, n, &lo, &hi);
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (hi - lo > 64) num_threads(threads)
-    for (long long k = (long long)lo; k < (long long)hi; k++)
+    size_t first, step;
+    hier_share(h, &first, &step);
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n / step > 64) num_threads(threads)
+    for (long long k = (long long)first; k < (long long)n; k += (long long)step)
         keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, &out[k], &rays);
     if (hier_shared(h)) {
         long long evals = 0;

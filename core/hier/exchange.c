@@ -3,11 +3,13 @@
  * process itself: the caller's allgather does (radkit-mpi: MPI_Allgatherv),
  * so the plain build needs no MPI.
  *
- * 1. Link estimates.  A batch of n jobs is cut into `size` contiguous shares
- *    balanced by count (hier_share: the same cut on every process); each
- *    process estimates its share into the batch's own slots, and one
- *    all-gather of the slots (and one of the flags saying which pairs face)
- *    gives every process the whole batch in job order.  Everything after it
+ * 1. Link estimates.  The jobs of a batch are dealt to the processes like
+ *    cards (process r takes jobs r, r + size, ...: neighbouring jobs, which
+ *    tend to cost alike, go to different processes, so the shares balance
+ *    without a cost model); each process estimates its jobs into the
+ *    batch's own slots, and one all-gather of the slots (and one of the
+ *    flags saying which pairs face) gives every process the whole batch in
+ *    job order.  Everything after it
  *    reads only the batch, so every process keeps the same links in the same
  *    order as the serial run: the hierarchies are equal bit for bit.
  * 2. The shared gather (split_gather).  The input triangles are cut into
@@ -55,21 +57,11 @@ int hier_split_on(const rad_hier *h)
     return hier_shared(h) && h->p.exchange.split_gather;
 }
 
-/* share r of n jobs cut into `size` */
-static size_t cut(size_t n, int r, int size)
+void hier_share(const rad_hier *h, size_t *first, size_t *step)
 {
-    return (size_t)((unsigned long long)n * (unsigned long long)r / (unsigned long long)size);
-}
-
-void hier_share(const rad_hier *h, size_t n, size_t *lo, size_t *hi)
-{
-    if (!hier_shared(h)) {
-        *lo = 0;
-        *hi = n;
-        return;
-    }
-    *lo = cut(n, h->p.exchange.rank, h->p.exchange.size);
-    *hi = cut(n, h->p.exchange.rank + 1, h->p.exchange.size);
+    int shared = hier_shared(h);
+    *first = shared ? (size_t)h->p.exchange.rank : 0;
+    *step = shared ? (size_t)h->p.exchange.size : 1;
 }
 
 /* the allgather with its time counted; count/offset per process in items */
@@ -83,20 +75,37 @@ static rad_status gather(rad_hier *h, void *buf, size_t item_bytes, const size_t
     return st;
 }
 
+/* Process r's items are r, r + size, r + 2 size, ...: packed into a block of
+ * a scratch array (blocks in process order), all-gathered, and dealt back. */
 rad_status hier_share_gather(rad_hier *h, void *buf, size_t item_bytes, size_t n)
 {
-    int size = h->p.exchange.size;
+    int size = h->p.exchange.size, rank = h->p.exchange.rank;
     size_t *count = malloc(2 * (size_t)size * sizeof *count);
-    if (!count)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes",
-                         size);
-    size_t *offset = count + size;
-    for (int r = 0; r < size; r++) {
-        offset[r] = cut(n, r, size);
-        count[r] = cut(n, r + 1, size) - offset[r];
+    unsigned char *tmp = malloc(n * item_bytes + 1), *b = buf;
+    rad_status st = RAD_OK;
+    if (!count || !tmp) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %zu items", n);
+        goto done;
     }
-    rad_status st = gather(h, buf, item_bytes, count, offset);
+    size_t *offset = count + size, at = 0, z = (size_t)size;
+    for (int r = 0; r < size; r++) {
+        count[r] = (size_t)r < n ? (n - (size_t)r + z - 1) / z : 0;
+        offset[r] = at;
+        at += count[r];
+    }
+    for (size_t i = 0; i < count[rank]; i++)
+        memcpy(tmp + (offset[rank] + i) * item_bytes, b + ((size_t)rank + i * z) * item_bytes,
+               item_bytes);
+    if ((st = gather(h, tmp, item_bytes, count, offset)) != RAD_OK)
+        goto done;
+    for (int r = 0; r < size; r++)
+        if (r != rank)
+            for (size_t i = 0; i < count[r]; i++)
+                memcpy(b + ((size_t)r + i * z) * item_bytes, tmp + (offset[r] + i) * item_bytes,
+                       item_bytes);
+done:
     free(count);
+    free(tmp);
     return st;
 }
 

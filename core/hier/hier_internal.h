@@ -200,11 +200,11 @@ int hier_tighten_failing(rad_hier *h);
 /* ---- exchange.c: the work shared among processes (rad_hier_exchange) ---- */
 /* 1 when params.exchange shares the work among two or more processes. */
 int hier_shared(const rad_hier *h);
-/* This process's share [*lo, *hi) of n jobs: contiguous, balanced by count,
- * the same cut on every process (all n without sharing). */
-void hier_share(const rad_hier *h, size_t n, size_t *lo, size_t *hi);
-/* buf holds n items of item_bytes, this process's share filled (hier_share):
- * afterwards every share is filled.  Its time goes to time_comm_s. */
+/* This process's jobs of a batch: first, first + step, ... (process r of
+ * size: r, r + size, ...; without sharing all of them: 0, 1, ...). */
+void hier_share(const rad_hier *h, size_t *first, size_t *step);
+/* buf holds n items of item_bytes, this process's (hier_share) filled:
+ * afterwards all of them are.  Its time goes to time_comm_s. */
 rad_status hier_share_gather(rad_hier *h, void *buf, size_t item_bytes, size_t n);
 /* A batch's work counters summed over the processes (in process order). */
 rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *rays);

@@ -298,10 +298,10 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     /* shared among processes: this one estimates its share, then every
        process gets every slot and flag (exchange.c) */
-    size_t lo, hi;
-    hier_share(h, n, &lo, &hi);
-#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (hi - lo > 32) num_threads(threads)
-    for (long long k = (long long)lo; k < (long long)hi; k++) {
+    size_t first, step;
+    hier_share(h, &first, &step);
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
+    for (long long k = (long long)first; k < (long long)n; k += (long long)step) {
         work_count wc = {0, 0};
         int facing = 0;
         rad_status est = estimate(hc, jobs[k].a, jobs[k].b, &facing, &out[k], &wc);
