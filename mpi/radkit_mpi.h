@@ -27,7 +27,12 @@ typedef struct mpi_exchange {
     int rank, size;
     int failed_rank; /* the lowest rank that failed by itself, or size */
     int *count, *offset; /* size each: the all-gather's blocks in items */
+    double cpu_s;        /* processor time spent in the exchanges (waiting included:
+                            Open MPI polls while it waits) */
 } mpi_exchange;
+
+/* This process's processor time, in seconds. */
+double mpi_cpu_seconds(void);
 
 /* A duplicate of MPI_COMM_WORLD and the buffers; RAD_ENOMEM (then every rank
  * must still call mpi_exchange_agree). */
