@@ -37,7 +37,10 @@
  *    (each fit's residual has zero mean over its receiver), so its bound is
  *    the area-weighted mean of T + sqrt(d) / (1 - rho_max / 2).
  * 3. Solve: steps until the test passes; rad_hier_solve alternates solves and
- *    refinement rounds (refine.c), then solves to tol and computes the bound. */
+ *    refinement rounds (refine.c), then solves to tol and computes the bound.
+ * Shared among processes with split_gather (exchange.c), a step gathers only
+ * the link ends in this process's input triangles, pushes and pulls only
+ * their trees, and exchanges the elements' new values. */
 #include "hier_internal.h"
 
 #include <math.h>
@@ -46,7 +49,6 @@
 #include <string.h>
 
 #include "rad_sys.h"
-
 
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
