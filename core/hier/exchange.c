@@ -75,34 +75,46 @@ static rad_status gather(rad_hier *h, void *buf, size_t item_bytes, const size_t
     return st;
 }
 
-/* Process r's items are r, r + size, r + 2 size, ...: packed into a block of
- * a scratch array (blocks in process order), all-gathered, and dealt back. */
+/* At most this many items per process go through the scratch array at once:
+ * a batch's exchange then needs a few megabytes beside the batch, not a
+ * second copy of it (the initial links of n triangles are n^2 / 2 jobs). */
+enum { SHARE_CHUNK = 1 << 15 };
+
+/* Process r's items are r, r + size, r + 2 size, ...: in chunks of
+ * SHARE_CHUNK x size items (a multiple of size, so every chunk starts with
+ * process 0's item), each packed into blocks of a scratch array in process
+ * order, all-gathered, and dealt back. */
 rad_status hier_share_gather(rad_hier *h, void *buf, size_t item_bytes, size_t n)
 {
     int size = h->p.exchange.size, rank = h->p.exchange.rank;
-    size_t *count = malloc(2 * (size_t)size * sizeof *count);
-    unsigned char *tmp = malloc(n * item_bytes + 1), *b = buf;
+    size_t z = (size_t)size, chunk = SHARE_CHUNK * z;
+    size_t *count = malloc(2 * z * sizeof *count);
+    unsigned char *tmp = malloc((n < chunk ? n : chunk) * item_bytes + 1), *b = buf;
     rad_status st = RAD_OK;
     if (!count || !tmp) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %zu items", n);
         goto done;
     }
-    size_t *offset = count + size, at = 0, z = (size_t)size;
-    for (int r = 0; r < size; r++) {
-        count[r] = (size_t)r < n ? (n - (size_t)r + z - 1) / z : 0;
-        offset[r] = at;
-        at += count[r];
+    size_t *offset = count + size;
+    for (size_t c0 = 0; c0 < n && st == RAD_OK; c0 += chunk) {
+        size_t m = n - c0 < chunk ? n - c0 : chunk, at = 0;
+        unsigned char *base = b + c0 * item_bytes;
+        for (int r = 0; r < size; r++) {
+            count[r] = (size_t)r < m ? (m - (size_t)r + z - 1) / z : 0;
+            offset[r] = at;
+            at += count[r];
+        }
+        for (size_t i = 0; i < count[rank]; i++)
+            memcpy(tmp + (offset[rank] + i) * item_bytes,
+                   base + ((size_t)rank + i * z) * item_bytes, item_bytes);
+        if ((st = gather(h, tmp, item_bytes, count, offset)) != RAD_OK)
+            break;
+        for (int r = 0; r < size; r++)
+            if (r != rank)
+                for (size_t i = 0; i < count[r]; i++)
+                    memcpy(base + ((size_t)r + i * z) * item_bytes,
+                           tmp + (offset[r] + i) * item_bytes, item_bytes);
     }
-    for (size_t i = 0; i < count[rank]; i++)
-        memcpy(tmp + (offset[rank] + i) * item_bytes, b + ((size_t)rank + i * z) * item_bytes,
-               item_bytes);
-    if ((st = gather(h, tmp, item_bytes, count, offset)) != RAD_OK)
-        goto done;
-    for (int r = 0; r < size; r++)
-        if (r != rank)
-            for (size_t i = 0; i < count[r]; i++)
-                memcpy(b + ((size_t)r + i * z) * item_bytes, tmp + (offset[r] + i) * item_bytes,
-                       item_bytes);
 done:
     free(count);
     free(tmp);
