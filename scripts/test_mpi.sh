@@ -70,10 +70,11 @@ else echo "FAIL: stats lack ranks or memory_peak_bytes_per_rank"; fails=$((fails
 # ---- hierarchical runs (hier_mpi.c): link estimates dealt among the ranks,
 # the gather shared by input triangles (the default) or replicated; every
 # rank holds the whole hierarchy, so the tables must be the serial ones.
-# Beyond the faces, every '#' line of the table but the times, memory and
-# ranks (elements, links, rays, kernel_evals, iterations, the error
-# estimates) must be the serial one: the work counters are summed over ranks.
-headers() { grep '^#' "$1" | grep -v -e '^# time_' -e '^# memory_peak' -e '^# ranks' -e '^# gather'; }
+# Beyond the faces, every '#' line of the table but the times (wall and
+# processor), memory and ranks (elements, links, rays, kernel_evals,
+# iterations, the error estimates) must be the serial one: the work counters
+# are summed over ranks.
+headers() { grep '^#' "$1" | grep -v -e '^# time_' -e '^# memory_peak' -e '^# ranks' -e '^# gather' -e '^# cpu_work'; }
 check_all() { # name serial mpi
   check "$1" "$2" "$3"
   if headers "$2" > "$tmp/h1" && headers "$3" > "$tmp/h2" && [ -s "$tmp/h1" ] && cmp -s "$tmp/h1" "$tmp/h2"
