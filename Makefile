@@ -202,17 +202,20 @@ examples: deps
 	$(MAKE) --no-print-directory install DESTDIR=$(abspath $(BUILD)/stage) PREFIX=/usr/local
 	sh scripts/examples.sh $(abspath $(BUILD)/stage)/usr/local $(abspath $(BUILD)/examples)
 
-# radkit-mpi (issue 18): dense radiosity over MPI ranks with ScaLAPACK.  Its
-# own packages, its own target: the plain build and `make test` never need MPI.
+# radkit-mpi (issue 18): dense radiosity over MPI ranks with ScaLAPACK, and
+# hierarchical runs with their link estimates and gather shared among the
+# ranks.  Its own packages, its own target: the plain build and `make test`
+# never need MPI.
 MPI_PKGS   := openmpi-bin libopenmpi-dev libscalapack-openmpi-dev
 RADKIT_MPI := $(BUILD)/radkit-mpi
+MPI_SRC    := $(wildcard mpi/*.c)
 deps-mpi:
 	@sh scripts/deps.sh $(MPI_PKGS)
 
 mpi: deps-mpi $(RADKIT_MPI)
 
-$(RADKIT_MPI): mpi/radkit_mpi.c $(LIB) $(filter-out %/radkit.o,$(CLI_OBJ)) | deps-mpi
-	mpicc $(CPPFLAGS) -Icore/cli $(CFLAGS) mpi/radkit_mpi.c $(filter-out %/radkit.o,$(CLI_OBJ)) \
+$(RADKIT_MPI): $(MPI_SRC) $(wildcard mpi/*.h) $(LIB) $(filter-out %/radkit.o,$(CLI_OBJ)) | deps-mpi
+	mpicc $(CPPFLAGS) -Icore/cli $(CFLAGS) $(MPI_SRC) $(filter-out %/radkit.o,$(CLI_OBJ)) \
 	  $(LIB) -lscalapack-openmpi $(LDLIBS) -lstdc++ $(LDFLAGS) -o $@
 
 # 1, 2 and 4 ranks on this machine against the serial program's tables.

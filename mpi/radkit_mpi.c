@@ -1,6 +1,6 @@
 /* radkit-mpi: dense Galerkin radiosity over MPI ranks with ScaLAPACK (issue
- * 18, dense part).  Built only by `make mpi`; the plain build and `make test`
- * never need MPI.
+ * 18, dense part); `--method hier|cluster` goes to hier_mpi.c.  Built only by
+ * `make mpi`; the plain build and `make test` never need MPI.
  *
  *   mpirun -np 4 build/radkit-mpi solve SCENE [--refine K] [--rule R] [--tol T]
  *                [--block NB] [--out FILE] [--quiet] [scene options]
@@ -35,6 +35,7 @@
 #include "rad_solve.h"
 #include "rad_sys.h"
 #include "rad_vis.h"
+#include "radkit_mpi.h"
 #include "solve.h"
 
 /* ScaLAPACK and BLACS (Fortran and C entry points of libscalapack-openmpi) */
@@ -51,8 +52,11 @@ void pdposv_(const char *uplo, const int *n, const int *nrhs, double *a, const i
              const int *descb, int *info);
 
 static const char help[] =
-    "usage: mpirun -np N radkit-mpi solve SCENE [--refine K] [--rule RULE] [--tol T]\n"
-    "                    [--block NB] [--out FILE] [--stats FILE] [--quiet] [scene options]\n"
+    "usage: mpirun -np N radkit-mpi solve SCENE [--method dense] [--refine K] [--rule RULE]\n"
+    "                    [--tol T] [--block NB] [--out FILE] [--stats FILE] [--quiet]\n"
+    "                    [scene options]\n"
+    "       mpirun -np N radkit-mpi solve SCENE --method hier|cluster [--gather G] ...\n"
+    "                    (radkit-mpi solve --method hier --help)\n"
     "\n"
     "Dense Galerkin radiosity (as radkit solve --method dense --solver cholesky)\n"
     "with the coupling matrix distributed block-cyclically over the MPI ranks and\n"
@@ -102,13 +106,15 @@ int main(int argc, char **argv)
     memset(&m, 0, sizeof m);
     solve_options *o = &m.o;
     cli_scene_options_init(&o->scene_opts);
-    enum { OWN = 10 };
+    const char *method_opt = NULL;
+    enum { OWN = 11 };
     cli_option table[OWN + CLI_SCENE_OPTION_COUNT + 1] = {
         {"", &o->scene, NULL, "scene"},      {"--refine", &o->refine, NULL, NULL},
         {"--rule", &o->rule, NULL, NULL},    {"--tol", &o->tol, NULL, NULL},
         {"--block", &m.block, NULL, NULL},   {"--out", &o->out, NULL, NULL},
         {"--quiet", NULL, &o->quiet, NULL},  {"--help", NULL, &o->help, NULL},
         {"-h", NULL, &o->help, NULL},        {"--stats", &o->stats, NULL, NULL},
+        {"--method", &method_opt, NULL, NULL},
     };
     int nopt = OWN + cli_scene_options_add(&o->scene_opts, table + OWN);
     table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
@@ -118,6 +124,19 @@ int main(int argc, char **argv)
             fputs(help, stderr);
         MPI_Finalize();
         return 2;
+    }
+    /* hier and cluster take radkit solve's own options (hier_mpi.c) */
+    const char *method = NULL;
+    for (int i = 2; i < argc; i++) {
+        if (strncmp(argv[i], "--method=", 9) == 0)
+            method = argv[i] + 9;
+        else if (strcmp(argv[i], "--method") == 0 && i + 1 < argc)
+            method = argv[++i];
+    }
+    if (method && (strcmp(method, "hier") == 0 || strcmp(method, "cluster") == 0)) {
+        code = radkit_mpi_hier(argc, argv, rank, ranks);
+        MPI_Finalize();
+        return code;
     }
     if ((st = cli_parse("solve", argc, argv, 2, table)) != RAD_OK) {
         code = fail(rank, st);
@@ -145,6 +164,9 @@ int main(int argc, char **argv)
     double *work = NULL, *Gloc = NULL, *Kloc = NULL, *Bloc = NULL, *x = NULL;
     if (!o->scene)
         st = RAD_ERROR(RAD_EINVAL, "solve: no scene given");
+    if (st == RAD_OK && method_opt && strcmp(method_opt, "dense") != 0)
+        st = RAD_ERROR(RAD_EINVAL, "solve: radkit-mpi runs --method dense, hier or cluster, not "
+                                   "'%s'", method_opt);
     if (st == RAD_OK)
         st = cli_scene_options_apply("solve", &o->scene_opts, &sp, &ep);
     if (st == RAD_OK)

@@ -177,45 +177,51 @@ static void warn_target(const rad_solution *s)
                 pow(4.0, s->used.hier.max_tighten));
 }
 
+int solve_option_table(solve_options *o, cli_option *table)
+{
+    memset(o, 0, sizeof *o);
+    cli_scene_options_init(&o->scene_opts);
+    const cli_option own[SOLVE_OWN_OPTIONS] = {
+        {"", &o->scene, NULL, "scene"},
+        {"--method", &o->method, NULL, NULL},
+        {"--rule", &o->rule, NULL, NULL},
+        {"--tol", &o->tol, NULL, NULL},
+        {"--solver", &o->solver, NULL, NULL},
+        {"--solver-tol", &o->solver_tol, NULL, NULL},
+        {"--max-iter", &o->max_iter, NULL, NULL},
+        {"--refine", &o->refine, NULL, NULL},
+        {"--basis", &o->basis, NULL, NULL},
+        {"--threads", &o->threads, NULL, NULL},
+        {"--vis-strata", &o->strata, NULL, NULL},
+        {"--out", &o->out, NULL, NULL},
+        {"--ply", &o->ply, NULL, NULL},
+        {"--png", &o->png, NULL, NULL},
+        {"--image-size", &o->size, NULL, NULL},
+        {"--exposure", &o->exposure, NULL, NULL},
+        {"--stats", &o->stats, NULL, NULL},
+        {"--quiet", NULL, &o->quiet, NULL},
+        {"--help", NULL, &o->help, NULL},
+        {"-h", NULL, &o->help, NULL},
+        {"--eps", &o->eps, NULL, NULL},
+        {"--min-area", &o->min_area, NULL, NULL},
+        {"--oracle", &o->oracle, NULL, NULL},
+        {"--cluster-model", &o->cluster_model, NULL, NULL},
+        {"--edges", NULL, &o->edges, NULL},
+        {"--samples", &o->samples, NULL, NULL},
+        {"--seed", &o->seed, NULL, NULL},
+    };
+    memcpy(table, own, sizeof own);
+    int nopt = SOLVE_OWN_OPTIONS;
+    nopt += cli_scene_options_add(&o->scene_opts, table + nopt);
+    table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
+    return nopt;
+}
+
 int cli_solve(int argc, char **argv)
 {
     solve_options o;
-    memset(&o, 0, sizeof o);
-    cli_scene_options_init(&o.scene_opts);
-    /* the command's own options, the shared scene options and the terminator */
-    enum { SOLVE_OWN_OPTIONS = 27 };
-    cli_option table[SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1] = {
-        {"", &o.scene, NULL, "scene"},
-        {"--method", &o.method, NULL, NULL},
-        {"--rule", &o.rule, NULL, NULL},
-        {"--tol", &o.tol, NULL, NULL},
-        {"--solver", &o.solver, NULL, NULL},
-        {"--solver-tol", &o.solver_tol, NULL, NULL},
-        {"--max-iter", &o.max_iter, NULL, NULL},
-        {"--refine", &o.refine, NULL, NULL},
-        {"--basis", &o.basis, NULL, NULL},
-        {"--threads", &o.threads, NULL, NULL},
-        {"--vis-strata", &o.strata, NULL, NULL},
-        {"--out", &o.out, NULL, NULL},
-        {"--ply", &o.ply, NULL, NULL},
-        {"--png", &o.png, NULL, NULL},
-        {"--image-size", &o.size, NULL, NULL},
-        {"--exposure", &o.exposure, NULL, NULL},
-        {"--stats", &o.stats, NULL, NULL},
-        {"--quiet", NULL, &o.quiet, NULL},
-        {"--help", NULL, &o.help, NULL},
-        {"-h", NULL, &o.help, NULL},
-        {"--eps", &o.eps, NULL, NULL},
-        {"--min-area", &o.min_area, NULL, NULL},
-        {"--oracle", &o.oracle, NULL, NULL},
-        {"--cluster-model", &o.cluster_model, NULL, NULL},
-        {"--edges", NULL, &o.edges, NULL},
-        {"--samples", &o.samples, NULL, NULL},
-        {"--seed", &o.seed, NULL, NULL},
-    };
-    int nopt = SOLVE_OWN_OPTIONS;
-    nopt += cli_scene_options_add(&o.scene_opts, table + nopt);
-    table[nopt] = (cli_option){NULL, NULL, NULL, NULL};
+    cli_option table[SOLVE_OPTION_SLOTS];
+    solve_option_table(&o, table);
 
     rad_status st = cli_parse("solve", argc, argv, 2, table);
     if (st != RAD_OK)

@@ -22,6 +22,13 @@ typedef struct solve_options {
     cli_scene_options scene_opts;
 } solve_options;
 
+/* radkit solve's options (cmd_solve.c): o cleared, its scene options
+ * initialised, and table filled with the command's own options, the scene
+ * options and the terminator; returns the entries before the terminator.
+ * A table of SOLVE_OPTION_SLOTS holds them (radkit-mpi adds its own after). */
+enum { SOLVE_OWN_OPTIONS = 27, SOLVE_OPTION_SLOTS = SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1 };
+int solve_option_table(solve_options *o, cli_option *table);
+
 /* A number > lo; RAD_EINVAL naming the option otherwise. */
 rad_status solve_parse_double(const char *option, const char *text, double lo, double *out);
 

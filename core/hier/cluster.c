@@ -315,9 +315,22 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     unsigned long long rays = 0;
     const rad_hier *hc = h;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n > 64) num_threads(threads)
-    for (long long k = 0; k < (long long)n; k++)
+    /* shared among processes: a share each, then every slot everywhere (exchange.c) */
+    size_t first, step;
+    hier_share(h, &first, &step);
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n / step > 64) num_threads(threads)
+    for (long long k = (long long)first; k < (long long)n; k += (long long)step)
         keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, &out[k], &rays);
+    if (hier_shared(h)) {
+        long long evals = 0;
+        rad_status st;
+        if ((st = hier_share_gather(h, out, sizeof *out, n)) != RAD_OK ||
+            (st = hier_share_gather(h, keep, 1, n)) != RAD_OK ||
+            (st = hier_share_work(h, &evals, &rays)) != RAD_OK) {
+            free(keep);
+            return st;
+        }
+    }
     size_t w = h->ncln;
     for (size_t k = 0; k < n; k++)
         if (keep[k])

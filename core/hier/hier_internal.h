@@ -151,6 +151,10 @@ struct rad_hier {
     int *corder;              /* input triangles in cluster order */
     hier_clink *cln;
     size_t ncln, capcln;
+    /* the links or elements changed (refine.c): bumped so that exchange.c
+       rebuilds its plan of the shared gather */
+    unsigned long long version;
+    struct hier_share *share;  /* exchange.c's plan of the shared gather, or NULL */
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
@@ -198,6 +202,35 @@ void hier_cluster_local(rad_hier *h);
 /* Quarter the threshold scale of the input triangles whose bound exceeds
  * eps R; returns how many (0: none fails, or none may be tightened). */
 int hier_tighten_failing(rad_hier *h);
+
+/* ---- exchange.c: the work shared among processes (rad_hier_exchange) ---- */
+/* 1 when params.exchange shares the work among two or more processes. */
+int hier_shared(const rad_hier *h);
+/* This process's jobs of a batch: first, first + step, ... (process r of
+ * size: r, r + size, ...; without sharing all of them: 0, 1, ...). */
+void hier_share(const rad_hier *h, size_t *first, size_t *step);
+/* buf holds n items of item_bytes, this process's (hier_share) filled:
+ * afterwards all of them are.  Its time goes to time_comm_s. */
+rad_status hier_share_gather(rad_hier *h, void *buf, size_t item_bytes, size_t n);
+/* A batch's work counters summed over the processes (in process order). */
+rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *rays);
+/* What a push-pull carries: the radiosity B (gathered Bg, Gg) or the
+ * transported error bound T (gathered Tg, TGg), by the same operator. */
+enum { CARRY_B, CARRY_T };
+/* The shared gather (params.exchange.split_gather): 1 when it is on.  Its
+ * plan (which input triangles this process owns, the links that end in
+ * them, the elements in process order) is rebuilt when h->version moved. */
+int hier_split_on(const rad_hier *h);
+rad_status hier_split_plan(rad_hier *h);
+/* This process's links: indices into h->ln, in order, and for each which
+ * ends it owns (bit 1: a, bit 2: b); and its input triangles [*lo, *hi). */
+const int *hier_split_links(const rad_hier *h, const unsigned char **ends, size_t *n);
+void hier_split_roots(const rad_hier *h, size_t *lo, size_t *hi);
+/* After this process pushed and pulled its own trees: every element's
+ * carried values (B: B, gB, var; T: T) from its owner, and the step's
+ * largest change and value over every process. */
+rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *vmax);
+void hier_share_destroy(rad_hier *h);
 
 /* ---- solve.c ---- */
 /* Every leaf's cap: its row sum (the form factors of the links over it, the

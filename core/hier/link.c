@@ -23,7 +23,9 @@
  *    rays) scales the open point values, and the link counts as partly hidden
  *    (its variation is the hidden part, so that the oracle refines it).
  * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
- * each job into its own slot: the result does not depend on the thread count. */
+ * each job into its own slot: the result does not depend on the thread count.
+ * Shared among processes (rad_hier_exchange), each estimates a share of the
+ * batch's slots and all of them are exchanged (exchange.c). */
 #include "hier_internal.h"
 
 #include <math.h>
@@ -301,14 +303,24 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     const rad_hier *hc = h;
     hier_link *out = h->ln + h->nln;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n > 32) num_threads(threads)
-    for (long long k = 0; k < (long long)n; k++) {
+    /* shared among processes: this one estimates its share, then every
+       process gets every slot and flag (exchange.c) */
+    size_t first, step;
+    hier_share(h, &first, &step);
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
+    for (long long k = (long long)first; k < (long long)n; k += (long long)step) {
         work_count wc = {0, 0};
         int facing = 0;
         rad_status est = estimate(hc, jobs[k].a, jobs[k].b, &facing, &out[k], &wc);
         evals += wc.evals;
         rays += wc.rays;
         ok[k] = est == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
+    }
+    if (hier_shared(h) && ((st = hier_share_gather(h, out, sizeof *out, n)) != RAD_OK ||
+                           (st = hier_share_gather(h, ok, 1, n)) != RAD_OK ||
+                           (st = hier_share_work(h, &evals, &rays)) != RAD_OK)) {
+        free(ok);
+        return st;
     }
     h->st.kernel_evals += evals;
     h->st.rays += rays;
@@ -323,7 +335,8 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     }
     free(ok);
     if (failed >= 0) {
-        /* estimated again on this thread, so that its (thread-local) message is the caller's */
+        /* estimated again on this thread, so that its (thread-local) message is the
+           caller's (and every process's: the estimate is the same everywhere) */
         work_count wc = {0, 0};
         int facing = 0;
         hier_link l;

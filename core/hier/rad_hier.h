@@ -93,6 +93,39 @@ typedef enum rad_hier_cluster_model {
 rad_status rad_hier_cluster_model_parse(const char *text, rad_hier_cluster_model *model);
 const char *rad_hier_cluster_model_name(rad_hier_cluster_model model);
 
+/* Sharing the work of one rad_hier among cooperating processes (radkit-mpi:
+ * MPI ranks), without this library knowing how they talk.  Every process
+ * builds the same rad_hier from the same input with the same exchange
+ * (rank differing) and calls the same functions in the same order.  Then
+ *  - each batch of link estimates (initial links, every refinement
+ *    generation, cluster links) is dealt round-robin (process r estimates
+ *    jobs r, r + size, ...: neighbouring jobs cost alike, so the shares
+ *    do too), and `allgather` gives every
+ *    process the whole batch in job order, so that everything after it (the
+ *    links kept, the oracle, the solve) is computed alike everywhere and
+ *    every hierarchy is the serial one bit for bit;
+ *  - with split_gather = 1, every gather / push-pull step (and every step of
+ *    the error transport) is cut by input triangles: each process gathers
+ *    the links into the elements of its own triangles (in link order, so
+ *    every sum is the serial sum) and pushes and pulls their trees, and
+ *    `allgather` shares the elements' new values;
+ *  - the work counters (kernel_evals, rays) are summed over the processes,
+ *    so the statistics are the serial run's.
+ * allgather is an in-place all-gather: buf holds count[r] items of
+ * item_bytes bytes at item offset[r] for every process r, this process's
+ * own block filled; on return every block holds its owner's.  It returns
+ * RAD_OK on every process or a failure on every process (one of them
+ * failed elsewhere and left: see mpi/), and the caller then returns that
+ * failure without another exchange.  size <= 1 or allgather NULL (the
+ * default): one process, nothing exchanged. */
+typedef struct rad_hier_exchange {
+    int rank, size;
+    rad_status (*allgather)(void *ctx, void *buf, size_t item_bytes, const size_t *count,
+                            const size_t *offset);
+    void *ctx;
+    int split_gather;     /* 1: share the gather too (see above); default 0 */
+} rad_hier_exchange;
+
 typedef struct rad_hier_params {
     rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_ERROR */
     int cluster;          /* 1: link through a cluster hierarchy over the input triangles
@@ -155,6 +188,7 @@ typedef struct rad_hier_params {
      * with the leaves and links at that point; may be NULL (default). */
     void (*progress)(int round, size_t leaves, size_t links, void *ctx);
     void *progress_ctx;
+    rad_hier_exchange exchange; /* cooperating processes (above); default: none */
 } rad_hier_params;
 
 void rad_hier_params_default(rad_hier_params *params);
@@ -194,6 +228,8 @@ typedef struct rad_hier_stats {
     double time_link_s;   /* initial linking (rad_hier_create) */
     double time_refine_s; /* oracle passes and the links they make */
     double time_solve_s;  /* gather / push-pull and the error transport */
+    double time_comm_s;   /* exchanges between processes (params.exchange), inside the
+                             three times above; 0 for one process */
 } rad_hier_stats;
 
 /* Build the roots (one per input triangle; xyz: 3 * nverts doubles, tri:

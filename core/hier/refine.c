@@ -185,6 +185,7 @@ done:
     }
     if (count > 0)
         hier_row_caps(h);
+    h->version++; /* the shared gather's plan is rebuilt (exchange.c) */
     h->st.refinements += count;
     h->st.time_refine_s += rad_sys_seconds() - t0;
     if (count > 0) {

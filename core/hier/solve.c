@@ -37,7 +37,10 @@
  *    (each fit's residual has zero mean over its receiver), so its bound is
  *    the area-weighted mean of T + sqrt(d) / (1 - rho_max / 2).
  * 3. Solve: steps until the test passes; rad_hier_solve alternates solves and
- *    refinement rounds (refine.c), then solves to tol and computes the bound. */
+ *    refinement rounds (refine.c), then solves to tol and computes the bound.
+ * Shared among processes with split_gather (exchange.c), a step gathers only
+ * the link ends in this process's input triangles, pushes and pulls only
+ * their trees, and exchanges the elements' new values. */
 #include "hier_internal.h"
 
 #include <math.h>
@@ -46,10 +49,6 @@
 #include <string.h>
 
 #include "rad_sys.h"
-
-/* What a push-pull carries: the radiosity B (gathered Bg, Gg) or the
- * transported error bound T (gathered Tg, TGg), by the same operator. */
-enum { CARRY_B, CARRY_T };
 
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
@@ -194,6 +193,83 @@ static rad_vec3 moment(const hier_elem *x, rad_vec3 g1)
     return rad_vec3_scale(s, x->area / 12.0);
 }
 
+/* What link l brings its ends (ends: bit 1 a, bit 2 b; 3 both), in the
+ * order of the serial sum at each end. */
+static void gather_link(const rad_hier *h, const hier_link *l, unsigned ends)
+{
+    hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    double Fab = l->G / a->area, Fba = l->G / b->area;
+    rad_vec3 mb = rad_vec3_make(0.0, 0.0, 0.0), ma = mb;
+    if (h->p.source_slope) {
+        if (ends & 1)
+            mb = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
+        if (ends & 2)
+            ma = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
+    }
+    for (int c = 0; c < 3; c++) {
+        if (ends & 1) {
+            a->Bg[c] += Fab * b->B[c];
+            a->Gg[c] = rad_vec3_add(a->Gg[c], rad_vec3_scale(l->ga, b->B[c]));
+            if (h->p.source_slope)
+                a->Bg[c] += rad_vec3_dot(mb, b->gB[c]);
+        }
+        if (ends & 2) {
+            if (h->p.source_slope)
+                b->Bg[c] += rad_vec3_dot(ma, a->gB[c]);
+            b->Bg[c] += Fba * a->B[c];
+            b->Gg[c] = rad_vec3_add(b->Gg[c], rad_vec3_scale(l->gb, a->B[c]));
+        }
+    }
+}
+
+/* The same for the error transport T. */
+static void gather_link_T(const rad_hier *h, const hier_link *l, unsigned ends)
+{
+    hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+    for (int c = 0; c < 3; c++) {
+        if (ends & 1) {
+            a->Tg[c] += l->G / a->area * b->T[c];
+            a->TGg[c] = rad_vec3_add(a->TGg[c], rad_vec3_scale(l->ga, b->T[c]));
+        }
+        if (ends & 2) {
+            b->Tg[c] += l->G / b->area * a->T[c];
+            b->TGg[c] = rad_vec3_add(b->TGg[c], rad_vec3_scale(l->gb, a->T[c]));
+        }
+    }
+}
+
+/* Gather every link (carry B or T) and push-pull every tree; shared among
+ * processes (split_gather), only this process's ends and trees, then the
+ * exchange (exchange.c). */
+static rad_status gather_push_pull(rad_hier *h, int carry, double *change, double *vmax)
+{
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0), zerog[3] = {zero_v, zero_v, zero_v};
+    double zero[3] = {0, 0, 0};
+    void (*one)(const rad_hier *, const hier_link *, unsigned) =
+        carry == CARRY_B ? gather_link : gather_link_T;
+    size_t lo = 0, hi = h->nroots;
+    int split = hier_split_on(h);
+    rad_status st;
+    if (split && (st = hier_split_plan(h)) != RAD_OK)
+        return st;
+    if (split) {
+        const unsigned char *ends;
+        size_t n;
+        const int *mine = hier_split_links(h, &ends, &n);
+        for (size_t i = 0; i < n; i++)
+            one(h, &h->ln[mine[i]], ends[i]);
+        hier_split_roots(h, &lo, &hi);
+    } else {
+        for (size_t k = 0; k < h->nln; k++)
+            if (h->ln[k].a >= 0)
+                one(h, &h->ln[k], 3);
+    }
+    hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T);
+    for (size_t t = lo; t < hi; t++)
+        push_pull(h, (int)t, carry, zero, zerog, change, vmax);
+    return split ? hier_split_exchange(h, carry, change, vmax) : RAD_OK;
+}
+
 rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
@@ -206,33 +282,10 @@ rad_status rad_hier_step(rad_hier *h)
             h->el[e].Bg[c] = 0.0;
             h->el[e].Gg[c] = zero_v;
         }
-    for (size_t k = 0; k < h->nln; k++) {
-        const hier_link *l = &h->ln[k];
-        if (l->a < 0)
-            continue;
-        hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
-        double Fab = l->G / a->area, Fba = l->G / b->area;
-        rad_vec3 mb = rad_vec3_make(0.0, 0.0, 0.0), ma = mb;
-        if (h->p.source_slope) {
-            mb = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
-            ma = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
-        }
-        for (int c = 0; c < 3; c++) {
-            a->Bg[c] += Fab * b->B[c];
-            a->Gg[c] = rad_vec3_add(a->Gg[c], rad_vec3_scale(l->ga, b->B[c]));
-            if (h->p.source_slope) {
-                a->Bg[c] += rad_vec3_dot(mb, b->gB[c]);
-                b->Bg[c] += rad_vec3_dot(ma, a->gB[c]);
-            }
-            b->Bg[c] += Fba * a->B[c];
-            b->Gg[c] = rad_vec3_add(b->Gg[c], rad_vec3_scale(l->gb, a->B[c]));
-        }
-    }
-    double change = 0.0, bmax = 0.0, zero[3] = {0, 0, 0};
-    rad_vec3 zerog[3] = {zero_v, zero_v, zero_v};
-    hier_cluster_gather(h, CLUSTER_B);
-    for (size_t t = 0; t < h->nroots; t++)
-        push_pull(h, (int)t, CARRY_B, zero, zerog, &change, &bmax);
+    double change = 0.0, bmax = 0.0;
+    rad_status st = gather_push_pull(h, CARRY_B, &change, &bmax);
+    if (st != RAD_OK)
+        return st;
     if (!isfinite(change) || !isfinite(bmax))
         return RAD_ERROR(RAD_ENUMERIC, "hier: a radiosity is not finite after step %lld",
                          h->st.iterations + 1);
@@ -454,28 +507,15 @@ rad_status hier_error_estimate(rad_hier *h)
        light between receivers, and q is not carried through the bounces
        (hier_leaf_bound divides it like the other zero-mean terms). */
     for (it = h->p.sealed ? h->p.max_iterations + 1 : 0; it < h->p.max_iterations; it++) {
-        rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0), zerog[3] = {zv, zv, zv};
+        rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
         for (size_t e = 0; e < h->nel; e++)
             for (int c = 0; c < 3; c++) {
                 h->el[e].Tg[c] = 0.0;
                 h->el[e].TGg[c] = zv;
             }
-        for (size_t k = 0; k < h->nln; k++) {
-            const hier_link *l = &h->ln[k];
-            if (l->a < 0)
-                continue;
-            hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
-            for (int c = 0; c < 3; c++) {
-                a->Tg[c] += l->G / a->area * b->T[c];
-                a->TGg[c] = rad_vec3_add(a->TGg[c], rad_vec3_scale(l->ga, b->T[c]));
-                b->Tg[c] += l->G / b->area * a->T[c];
-                b->TGg[c] = rad_vec3_add(b->TGg[c], rad_vec3_scale(l->gb, a->T[c]));
-            }
-        }
-        double change = 0.0, tmax = 0.0;
-        hier_cluster_gather(h, CLUSTER_T);
-        for (size_t t = 0; t < n; t++) /* one step of T = q + rho K T */
-            push_pull(h, (int)t, CARRY_T, zero, zerog, &change, &tmax);
+        double change = 0.0, tmax = 0.0; /* one step of T = q + rho K T */
+        if ((st = gather_push_pull(h, CARRY_T, &change, &tmax)) != RAD_OK)
+            break;
         if (!isfinite(change) || !isfinite(tmax)) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error bound is not finite");
             break;

@@ -96,6 +96,12 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
                                      "iso (got %d, %d)", p->cluster, (int)p->cluster_model);
     if (p->max_elements < 1 || p->max_links < 1)
         return RAD_ERROR(RAD_EINVAL, "hier: max_elements and max_links must be >= 1");
+    const rad_hier_exchange *x = &p->exchange;
+    if (x->size > 1 && (!x->allgather || x->rank < 0 || x->rank >= x->size ||
+                        (x->split_gather != 0 && x->split_gather != 1)))
+        return RAD_ERROR(RAD_EINVAL, "hier: an exchange among %d processes needs an allgather, "
+                                     "a rank in 0..%d and split_gather 0 or 1 (got rank %d)",
+                         x->size, x->size - 1, x->rank);
     return RAD_OK;
 }
 
@@ -333,6 +339,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->normal);
     free(h->face_scale);
     hier_cluster_destroy(h);
+    hier_share_destroy(h);
     free(h->el);
     free(h->ln);
     free(h);

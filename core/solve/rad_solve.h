@@ -83,7 +83,9 @@ typedef struct rad_solve_params {
 void rad_solve_params_default(rad_solve_params *params);
 
 typedef struct rad_solve_phase {
-    const char *name; /* "setup", "visibility", "assemble", "link", "refine", "solve", "paths" */
+    const char *name; /* "setup", "visibility", "assemble", "link", "refine", "solve", "paths";
+                         "comm": hier shared among processes, the exchanges (a part of
+                         link, refine and solve) */
     double seconds;
 } rad_solve_phase;
 

@@ -599,6 +599,9 @@ static void hier_figures(rad_solution *s)
     add_phase(s, "link", s->hier.time_link_s);
     add_phase(s, "refine", s->hier.time_refine_s);
     add_phase(s, "solve", s->hier.time_solve_s);
+    /* shared among processes: the exchanges, a part of the three phases above */
+    if (s->used.hier.exchange.size > 1)
+        add_phase(s, "comm", s->hier.time_comm_s);
     s->elements = s->hier.elements;
     s->links = (long long)s->hier.links;
     s->rays = s->hier.rays;

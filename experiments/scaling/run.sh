@@ -1,8 +1,18 @@
 #!/bin/sh
-# Dense radiosity over MPI ranks on this machine (papers/scaling.md): the
-# Cornell box at refinements 2 and 3 on 1, 2 and 4 ranks (OMP_NUM_THREADS=1,
-# so a rank is a core; this machine has 2, so 4 ranks oversubscribe it),
-# wall time per phase and peak memory per rank.  Builds radkit-mpi with
+# radkit over MPI ranks on this machine (papers/scaling.md), OMP_NUM_THREADS=1
+# so that a rank is a core; this machine has 2, so 4 ranks oversubscribe it.
+#  dense: the Cornell box at refinements 2 and 3 on 1, 2 and 4 ranks, wall
+#    time per phase and peak memory per rank (data/scaling.dat);
+#  hier: strong scaling of hierarchical runs (data/hier_scaling.dat): the
+#    Cornell box with hier at eps 0.01 and 0.002 and the room of 64 cubes
+#    with cluster at eps 0.1, on 1, 2 and 4 ranks, the gather shared (the
+#    default) and, on 2 and 4 ranks, replicated; each run REPEAT times (default 3), the
+#    fastest kept, with the machine's load average beside it (other work on
+#    the machine slows a run down, never speeds it up) and the processor
+#    time of each rank's work outside the exchanges, which that other work
+#    does not inflate.  Every table must equal the 1-rank table (the script
+#    stops otherwise).
+# PARTS="dense hier" (default) selects the parts.  Builds radkit-mpi with
 # `make mpi` (Open MPI and ScaLAPACK from Debian) when it is missing.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -10,9 +20,12 @@ root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
 MPI=$(dirname "$RADKIT")/radkit-mpi
+PARTS=${PARTS:-dense hier}
+REPEAT=${REPEAT:-3}
 cd "$root"
 [ -x "$MPI" ] || make --no-print-directory mpi BUILD="$(dirname "$RADKIT")" >/dev/null
 mkdir -p "$here/data"
+case " $PARTS " in *" dense "*)
 dat=$here/data/scaling.dat
 {
   echo "# experiment = scaling: radkit-mpi on the Cornell box, 1-4 ranks on one $(nproc)-core machine"
@@ -36,3 +49,57 @@ for r in 2 3; do
   done
 done
 echo "scaling: $dat written"
+;; esac
+
+case " $PARTS " in *" hier "*)
+dat=$here/data/hier_scaling.dat
+field() { sed -n "s/^# $1 = //p" "$2"; }
+{
+  echo "# experiment = scaling: radkit-mpi --method hier|cluster, 1-4 ranks on one $(nproc)-core machine"
+  echo "# generator = $("$RADKIT" --version); OMP_NUM_THREADS=1 per rank; the fastest of $REPEAT runs"
+  echo "# link_s, refine_s, solve_s: phases (the slowest rank's view is rank 0's: every phase ends in a collective);"
+  echo "# comm_s: the exchanges, a part of them; speedup: the 1-rank total over this total;"
+  echo "# load: the 1-minute load average before the run (other work on the machine)"
+  echo "# work_max_s, work_sum_s: processor time of the solve outside the exchanges, the largest rank's and"
+  echo "# the sum over ranks (other work on the machine does not inflate it); work_speedup: the 1-rank work"
+  echo "# over work_max_s"
+  printf "scene\tmethod\teps\telements\tlinks\tranks\tgather\tlink_s\trefine_s\tsolve_s\tcomm_s\ttotal_s\tspeedup\twork_max_s\twork_sum_s\twork_speedup\tmemory_peak_bytes_per_rank\tload\n"
+} > "$dat"
+for case in "cornell hier 0.01 scenes/cornell/cornell.obj" "cornell hier 0.002 scenes/cornell/cornell.obj" \
+            "many_64 cluster 0.1 scenes/many_objects/many_64.obj"; do
+  set -- $case
+  name=$1 method=$2 eps=$3 scene=$4
+  base= base_work=
+  for run in "1 shared" "2 shared" "2 replicated" "4 shared" "4 replicated"; do
+    np=${run% *} gather=${run#* }
+    out=$here/data/${name}_${method}_eps${eps}_np${np}_$gather.tsv
+    best=
+    for k in $(seq "$REPEAT"); do
+      load=$(cut -d' ' -f1 /proc/loadavg)
+      OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -np "$np" "$MPI" solve "$scene" \
+        --method "$method" --eps "$eps" --gather "$gather" --quiet --out "$out.tmp"
+      t=$(field time_total_s "$out.tmp")
+      if [ -z "$best" ] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+        best=$t; bestload=$load; mv "$out.tmp" "$out"
+      else rm -f "$out.tmp"; fi
+    done
+    [ -n "$base" ] || base=$best
+    work=$(field cpu_work_max_rank_s "$out")
+    [ -n "$base_work" ] || base_work=$work
+    comm=$(field time_comm_s "$out")
+    ref=$here/data/${name}_${method}_eps${eps}_np1_shared.tsv
+    grep -v '^#' "$ref" > "$out.a"
+    grep -v '^#' "$out" > "$out.b"
+    cmp -s "$out.a" "$out.b" || { echo "scaling: $out differs from the 1-rank table" >&2; exit 1; }
+    rm -f "$out.a" "$out.b"
+    printf "%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%.2f\t%s\t%s\t%.2f\t%s\t%s\n" "$name" "$method" \
+      "$eps" "$(field elements "$out")" "$(field links "$out")" "$np" "$gather" \
+      "$(field time_link_s "$out")" "$(field time_refine_s "$out")" "$(field time_solve_s "$out")" \
+      "${comm:-0}" "$best" "$(echo "$base $best" | awk '{print $1 / $2}')" "$work" \
+      "$(field cpu_work_sum_s "$out")" "$(echo "$base_work $work" | awk '{print $1 / $2}')" \
+      "$(field memory_peak_bytes_per_rank "$out")" "$bestload" >> "$dat"
+    echo "$name $method eps $eps, $np ranks, gather $gather: total $best s (load $bestload)"
+  done
+done
+echo "scaling: $dat written"
+;; esac
