@@ -12,7 +12,14 @@
 #    time of each rank's work outside the exchanges, which that other work
 #    does not inflate.  Every table must equal the 1-rank table (the script
 #    stops otherwise).
-# PARTS="dense hier" (default) selects the parts.  Builds radkit-mpi with
+#  weak: weak scaling, the problem grown with the ranks so that each rank's
+#    share of the work stays about the same (data/weak_scaling.dat): dense
+#    on rooms of 16, 24, 33 boxes (204, 300, 408 triangles: n^2 pairs in
+#    the ratios 1 : 2.2 : 4.0) on 1, 2, 4 ranks, and hier on the Cornell box
+#    at eps 0.03, 0.01, 0.004 (48.7k, 101k, 189k links: 1 : 2.1 : 3.9); the
+#    efficiency is the 1-rank processor time per unit of work over the
+#    busiest rank's time per unit of its share (pairs or links / ranks).
+# PARTS="dense hier weak" (default) selects the parts.  Builds radkit-mpi with
 # `make mpi` (Open MPI and ScaLAPACK from Debian) when it is missing.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -20,7 +27,7 @@ root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
 MPI=$(dirname "$RADKIT")/radkit-mpi
-PARTS=${PARTS:-dense hier}
+PARTS=${PARTS:-dense hier weak}
 REPEAT=${REPEAT:-3}
 cd "$root"
 [ -x "$MPI" ] || make --no-print-directory mpi BUILD="$(dirname "$RADKIT")" >/dev/null
@@ -100,6 +107,64 @@ for case in "cornell hier 0.01 scenes/cornell/cornell.obj" "cornell hier 0.002 s
       "$(field memory_peak_bytes_per_rank "$out")" "$bestload" >> "$dat"
     echo "$name $method eps $eps, $np ranks, gather $gather: total $best s (load $bestload)"
   done
+done
+echo "scaling: $dat written"
+;; esac
+
+case " $PARTS " in *" weak "*)
+dat=$here/data/weak_scaling.dat
+field() { sed -n "s/^# $1 = //p" "$2"; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cp scenes/many_objects/many_objects.mtl "$tmp/"
+{
+  echo "# experiment = weak scaling: radkit-mpi, the problem grown with the ranks, 1-4 ranks on one $(nproc)-core machine"
+  echo "# generator = $("$RADKIT" --version); OMP_NUM_THREADS=1 per rank; the fastest of $REPEAT runs"
+  echo "# work: pairs n (n - 1) / 2 (dense) or links (hier); work_max_s: the busiest rank's processor time"
+  echo "# outside the exchanges (hier) or its total time (dense, whose ranks run no other work);"
+  echo "# efficiency: (1-rank time per unit of work) / (busiest rank's time per unit of its share);"
+  echo "# dense on 4 ranks: wall time of 4 processes on $(nproc) cores, so at most $(nproc)/4 of the ideal"
+  printf "method	case	ranks	elements	work	work_per_rank	total_s	work_max_s	efficiency	memory_peak_bytes_per_rank	load
+"
+} > "$dat"
+base_rate=
+for run in "dense 16 1" "dense 24 2" "dense 33 4" "hier 0.03 1" "hier 0.01 2" "hier 0.004 4"; do
+  set -- $run
+  method=$1 size=$2 np=$3
+  if [ "$method" = dense ]; then
+    [ "$np" = 1 ] && base_rate=
+    python3 scenes/gen/many_objects.py "$size" > "$tmp/boxes_$size.obj"
+    args="$tmp/boxes_$size.obj"
+  else
+    [ "$np" = 1 ] && base_rate=
+    args="scenes/cornell/cornell.obj --method hier --eps $size"
+  fi
+  best=
+  for k in $(seq "$REPEAT"); do
+    load=$(cut -d' ' -f1 /proc/loadavg)
+    # shellcheck disable=SC2086
+    OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -np "$np" "$MPI" solve $args \
+      --quiet --out "$tmp/t.tsv"
+    t=$(field time_total_s "$tmp/t.tsv")
+    if [ -z "$best" ] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+      best=$t; bestload=$load; mv "$tmp/t.tsv" "$tmp/best.tsv"
+    fi
+  done
+  n=$(field elements "$tmp/best.tsv")
+  if [ "$method" = dense ]; then
+    work=$(echo "$n" | awk '{printf "%.0f", $1 * ($1 - 1) / 2}')
+    busy=$best
+  else
+    work=$(field links "$tmp/best.tsv")
+    busy=$(field cpu_work_max_rank_s "$tmp/best.tsv")
+  fi
+  rate=$(echo "$busy $work $np" | awk '{print $1 / ($2 / $3)}')
+  [ -n "$base_rate" ] || base_rate=$rate
+  printf "%s\t%s\t%s\t%s\t%s\t%.0f\t%s\t%s\t%.2f\t%s\t%s\n" "$method" "$size" "$np" "$n" "$work" \
+    "$(echo "$work $np" | awk '{print $1 / $2}')" "$best" "$busy" \
+    "$(echo "$base_rate $rate" | awk '{print $1 / $2}')" \
+    "$(field memory_peak_bytes_per_rank "$tmp/best.tsv")" "$bestload" >> "$dat"
+  echo "weak: $method $size on $np ranks: total $best s (load $bestload)"
 done
 echo "scaling: $dat written"
 ;; esac
