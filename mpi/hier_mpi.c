@@ -117,12 +117,13 @@ int radkit_mpi_hier(int argc, char **argv, int rank, int ranks)
     int code = 0;
     if (failed < ranks) {
         /* the lowest rank that failed by itself explains; the others
-           (failed alike, or stopped by it) only exit */
+           (failed alike, or stopped by it) exit with its code, whichever
+           process mpirun happens to see end first */
         if (rank == failed)
             code = cli_fail(st);
-        else
-            code = st != RAD_OK ? rad_status_exit_code(st) : 1;
         if (code == 0)
+            code = 1;
+        if (MPI_Bcast(&code, 1, MPI_INT, failed, x.comm) != MPI_SUCCESS && code == 0)
             code = 1;
         goto done;
     }

@@ -121,35 +121,43 @@ done:
     return st;
 }
 
-rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *rays)
+/* An all-gather of one pair of 8-byte figures per process: pairs[2 r] and
+ * pairs[2 r + 1] are process r's, this process's filled. */
+static rad_status gather_pairs(rad_hier *h, void *pairs)
 {
-    int size = h->p.exchange.size, rank = h->p.exchange.rank;
-    /* one item per process: its evaluations and its rays */
-    unsigned long long *w = calloc(2 * (size_t)size, sizeof *w);
+    int size = h->p.exchange.size;
     size_t *count = malloc(2 * (size_t)size * sizeof *count);
-    rad_status st = RAD_OK;
-    if (!w || !count) {
-        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes", size);
-        goto done;
-    }
+    if (!count)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes", size);
     for (int r = 0; r < size; r++) {
         count[r] = 1;
         count[size + r] = (size_t)r;
     }
+    rad_status st = gather(h, pairs, 16, count, count + size);
+    free(count);
+    return st;
+}
+
+rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *rays)
+{
+    int size = h->p.exchange.size, rank = h->p.exchange.rank;
+    /* one pair per process: its evaluations and its rays */
+    unsigned long long *w = calloc(2 * (size_t)size, sizeof *w);
+    if (!w)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes", size);
     w[2 * rank] = (unsigned long long)*evals;
     w[2 * rank + 1] = *rays;
-    if ((st = gather(h, w, 2 * sizeof *w, count, count + size)) != RAD_OK)
-        goto done;
-    unsigned long long e = 0, r = 0;
-    for (int k = 0; k < size; k++) {
-        e += w[2 * k];
-        r += w[2 * k + 1];
+    rad_status st = gather_pairs(h, w);
+    if (st == RAD_OK) {
+        unsigned long long e = 0, r = 0;
+        for (int k = 0; k < size; k++) {
+            e += w[2 * k];
+            r += w[2 * k + 1];
+        }
+        *evals = (long long)e;
+        *rays = r;
     }
-    *evals = (long long)e;
-    *rays = r;
-done:
     free(w);
-    free(count);
     return st;
 }
 
@@ -316,19 +324,12 @@ rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *v
     size_t m = carry == CARRY_B ? SHARE_B_DOUBLES : SHARE_T_DOUBLES;
     /* the step's figures first, one item per process */
     double fig[2 * 64], *f = size <= 64 ? fig : malloc(2 * (size_t)size * sizeof *f);
-    size_t cnt[2 * 64], *c = size <= 64 ? cnt : malloc(2 * (size_t)size * sizeof *c);
     rad_status st = RAD_OK;
-    if (!f || !c) {
-        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes", size);
-        goto done;
-    }
-    for (int r = 0; r < size; r++) {
-        c[r] = 1;
-        c[size + r] = (size_t)r;
-    }
+    if (!f)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for an exchange of %d processes", size);
     f[2 * rank] = *change;
     f[2 * rank + 1] = *vmax;
-    if ((st = gather(h, f, 2 * sizeof *f, c, c + size)) != RAD_OK)
+    if ((st = gather_pairs(h, f)) != RAD_OK)
         goto done;
     for (int r = 0; r < size; r++) {
         *change = worst(*change, f[2 * r]);
@@ -372,7 +373,5 @@ rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *v
 done:
     if (f != fig)
         free(f);
-    if (c != cnt)
-        free(c);
     return st;
 }

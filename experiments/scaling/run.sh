@@ -32,6 +32,7 @@ REPEAT=${REPEAT:-3}
 cd "$root"
 [ -x "$MPI" ] || make --no-print-directory mpi BUILD="$(dirname "$RADKIT")" >/dev/null
 mkdir -p "$here/data"
+field() { sed -n "s/^# $1 = //p" "$2"; }
 case " $PARTS " in *" dense "*)
 dat=$here/data/scaling.dat
 {
@@ -60,7 +61,6 @@ echo "scaling: $dat written"
 
 case " $PARTS " in *" hier "*)
 dat=$here/data/hier_scaling.dat
-field() { sed -n "s/^# $1 = //p" "$2"; }
 {
   echo "# experiment = scaling: radkit-mpi --method hier|cluster, 1-4 ranks on one $(nproc)-core machine"
   echo "# generator = $("$RADKIT" --version); OMP_NUM_THREADS=1 per rank; the fastest of $REPEAT runs"
@@ -113,7 +113,6 @@ echo "scaling: $dat written"
 
 case " $PARTS " in *" weak "*)
 dat=$here/data/weak_scaling.dat
-field() { sed -n "s/^# $1 = //p" "$2"; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cp scenes/many_objects/many_objects.mtl "$tmp/"
