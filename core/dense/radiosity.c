@@ -58,6 +58,7 @@ rad_status rad_dense_method_parse(const char *text, rad_dense_method *out)
 
 void rad_dense_params_default(rad_dense_params *params)
 {
+    memset(params, 0, sizeof *params); /* every field a later one adds starts at 0 */
     params->method = RAD_DENSE_LU;
     params->tol = 1e-10;
     params->max_iter = 10000;

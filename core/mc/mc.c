@@ -41,6 +41,7 @@
 
 void rad_mc_params_default(rad_mc_params *params)
 {
+    memset(params, 0, sizeof *params); /* every field a later one adds starts at 0 */
     params->samples = 4096;
     params->seed = 1;
     params->batches = 32;

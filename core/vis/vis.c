@@ -24,6 +24,7 @@
 
 void rad_vis_params_default(rad_vis_params *params)
 {
+    memset(params, 0, sizeof *params); /* every field a later one adds starts at 0 */
     params->eps_rel = 1e-5;
     params->strata_per_edge = 3;
     params->jitter = 1;

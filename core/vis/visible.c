@@ -62,6 +62,7 @@ typedef struct poly2 {
 
 void rad_vis_visible_params_default(rad_vis_visible_params *p)
 {
+    memset(p, 0, sizeof *p); /* every field a later one adds starts at 0 */
     p->degree = 2;
     p->tol = 5e-3;
     p->max_depth = 0;
