@@ -10,8 +10,8 @@
 #    eps 0.01);
 #  - the effects plan's clustering for hier on the 1 280-triangle sphere.
 # The sizes the experiment runs (SIZES, default up to 125 boxes = 1 512
-# triangles) are far below the targets' 3.6k to 1.2M: the table says what
-# was measured, the targets stay open.  Writes bench/cluster.tsv and prints
+# triangles) are far below the targets' 3.6k to 1.2M: the table holds
+# what these sizes measure, not the targets'.  Writes bench/cluster.tsv and prints
 # it.  REUSE=1 takes the data of the last run of the experiment.
 set -eu
 RADKIT=${1:?usage: bench/cluster.sh path/to/radkit}

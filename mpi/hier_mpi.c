@@ -1,5 +1,5 @@
 /* radkit-mpi solve --method hier|cluster: hierarchical radiosity with its
- * work shared among the MPI ranks (issue 18, item 3).
+ * work shared among the MPI ranks.
  *
  * Every rank parses radkit solve's own options (cmd_solve.c's table), loads
  * the scene and runs radkit solve's pipeline (rad_solve_run) with the

@@ -170,10 +170,9 @@ static double compare_figure(const char *table, const char *key)
  * at eps 0.01, and dense at refinement 2.  Each run's error (radkit compare)
  * is checked against what it reports of itself: the error estimate bounds
  * the worst face and the area-weighted L1 error.  The eps 0.01 limits are
- * the targets of the accuracy and clustering issues (L1 1%, worst face 5%;
- * measured 0.14% and 1.4% for hier and cluster alike); the others are the
- * measured figures with headroom (defaults: 0.53%, 8.0%; dense refine 2:
- * 1.28%, 18%). */
+ * the accuracy targets (L1 1%, worst face 5%); the others leave headroom
+ * above what the defaults and dense at refinement 2 reach (their figures:
+ * papers/accuracy.md). */
 TEST(cornell_against_the_monte_carlo_reference)
 {
     char dir[] = "/tmp/radkit-cornell-XXXXXX";

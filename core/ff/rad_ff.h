@@ -128,8 +128,7 @@ typedef struct rad_ff_params {
 void rad_ff_params_default(rad_ff_params *params);
 /* params with `exact` integrating its contour to 1e-9 (its retry and flag
  * thresholds raised alike): for callers that need a pair's G to about 1e-8,
- * such as hierarchical links, not to the reference's 1e-14, which costs
- * about twice the outer panels. */
+ * such as hierarchical links, not to the reference's 1e-14. */
 rad_ff_params rad_ff_params_link_exact(const rad_ff_params *params);
 
 typedef struct rad_ff_result {

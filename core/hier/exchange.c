@@ -34,7 +34,7 @@
 enum { SHARE_B_DOUBLES = 15, SHARE_T_DOUBLES = 3 };
 
 struct hier_share {
-    unsigned long long version; /* h->version the plan was built for */
+    unsigned long long version; /* the h->version this plan matches (when built) */
     int built;
     size_t root_lo, root_hi;    /* this process's input triangles */
     int *links;                 /* its links (indices into h->ln), in order */

@@ -241,8 +241,7 @@ typedef struct rad_vis_hit {
 
 /* Embree's device and scene, made by the first query that casts a ray (so
  * that a run whose visibility is all clipped exactly, or that needs none,
- * never builds them: Embree's start-up alone is several milliseconds, most
- * of a small scene's visibility phase).  Safe to call from any thread, any
+ * never starts Embree).  Safe to call from any thread, any
  * number of times; RAD_OK once they exist, or the error that made them fail
  * (RAD_EDEP with Embree's code, RAD_ENOMEM), every time.  The queries that
  * return a status call it themselves; call it before rad_vis_ray_closest and

@@ -269,7 +269,7 @@ static void bbox2(poly2 *q)
 }
 
 /* dst = src, copying only the corners in use (a poly2 holds room for
- * POLY_MAX, and whole-struct copies were a tenth of the clipping's time). */
+ * POLY_MAX; the pieces are copied in the clipping's inner loop). */
 static void poly_copy(poly2 *dst, const poly2 *src)
 {
     dst->n = src->n;
