@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
+#include "rad_ff.h"
 #include "rad_geom.h"
 #include "rad_mesh.h"
 #include "rad_scene.h"
@@ -106,7 +107,7 @@ TEST(vis_point_queries_on_the_occluder_scene)
         CHECK(!rad_vis_is_unoccluded(vis));
         /* Axis: blocked.  Corner to corner: free.  Then 203 random segments
          * between the two squares against the brute-force test. */
-        enum { N = 205 };
+        enum { N = 12 };
         double from[3 * N], to[3 * N];
         unsigned char blocked[N];
         double axis_from[3] = {0.5, 0.5, 0}, axis_to[3] = {0.5, 0.5, D};
@@ -614,5 +615,103 @@ TEST(vis_inner_corner_walls_still_block)
     rad_vis_stats st = {0, 0, 0};
     CHECK(rad_vis_pair_fraction(vis, 4, 5, &frac, &st) == RAD_OK);
     CHECK_MSG(frac < 0.5, "fraction across the inner corner = %g", frac);
+    rad_vis_destroy(vis);
+}
+
+/* rad_vis_point_visible_limited: a point 2 above the unit square z = 0 sees it
+ * through a screen at z = 1 of n x n small squares on a checkerboard (2 n^2
+ * triangles).  The squares are disjoint, so their shadows from the point are
+ * disjoint squares twice their size, and the visible form factor is the open
+ * one minus each shadow's (the closed form of rad_ff_point_polygon, clipped
+ * to the unit square here).  Unlimited, the clipping gives that value; a
+ * budget it needs less than gives the same bits; a budget it exceeds
+ * refuses, so that the caller falls back to rays. */
+TEST(vis_point_visible_within_a_work_budget)
+{
+    enum { N = 12 }; /* squares per row: N^2 / 2 on the checkerboard */
+    const double side = 0.4 / N, h = 1.0;
+    double xyz[3 * (4 + 4 * N * N)];
+    int tri[3 * (2 + 2 * N * N)], nv = 0, nt = 0, sq = 0;
+    const double floor_v[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    for (int k = 0; k < 4; k++)
+        for (int c = 0; c < 3; c++)
+            xyz[3 * nv + 3 * k + c] = floor_v[k][c];
+    nv = 4;
+    tri[0] = 0; tri[1] = 1; tri[2] = 2;
+    tri[3] = 0; tri[4] = 2; tri[5] = 3;
+    nt = 2;
+    /* the screen's squares sit over the middle of the floor, where their
+       doubled shadows (about the point (0.5, 0.5, 2)) land inside it */
+    double lo[N * N][2];
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            if ((i + j) % 2)
+                continue;
+            double x0 = 0.3 + i * side, y0 = 0.3 + j * side;
+            const double v[4][2] = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+            for (int k = 0; k < 4; k++) {
+                xyz[3 * (nv + k)] = v[k][0];
+                xyz[3 * (nv + k) + 1] = v[k][1];
+                xyz[3 * (nv + k) + 2] = h;
+            }
+            int t[6] = {nv, nv + 2, nv + 1, nv, nv + 3, nv + 2};
+            memcpy(tri + 3 * nt, t, sizeof t);
+            nv += 4;
+            nt += 2;
+            lo[sq][0] = x0;
+            lo[sq][1] = y0;
+            sq++;
+        }
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)nt, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    int blockers[2 * N * N];
+    for (int k = 2; k < nt; k++)
+        blockers[k - 2] = k;
+    int nb = nt - 2;
+    /* the point, a little off the centre so that shadows do not meet the
+       floor's diagonal edge at a corner; it faces down */
+    rad_vec3 x = rad_vec3_make(0.5 + 1e-3, 0.5 - 2e-3, 2.0 * h), nx = rad_vec3_make(0, 0, -1);
+    rad_vec3 b[2][3];
+    for (int t = 0; t < 2; t++)
+        for (int v = 0; v < 3; v++)
+            b[t][v] = rad_vec3_make(xyz[3 * tri[3 * t + v]], xyz[3 * tri[3 * t + v] + 1],
+                                    xyz[3 * tri[3 * t + v] + 2]);
+    /* the expected value over the whole floor (both triangles): open minus the
+       shadows, each the square doubled about x's foot */
+    rad_vec3 quad[4] = {rad_vec3_make(0, 0, 0), rad_vec3_make(1, 0, 0), rad_vec3_make(1, 1, 0),
+                        rad_vec3_make(0, 1, 0)};
+    double expect = rad_ff_point_polygon(x, nx, quad, 4);
+    for (int s = 0; s < sq; s++) {
+        rad_vec3 shadow[4];
+        const double c[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (int k = 0; k < 4; k++) {
+            double px = lo[s][0] + c[k][0] * side, py = lo[s][1] + c[k][1] * side;
+            shadow[k] = rad_vec3_make(x.x + 2.0 * (px - x.x), x.y + 2.0 * (py - x.y), 0.0);
+        }
+        expect -= rad_ff_point_polygon(x, nx, shadow, 4);
+    }
+    double unlimited = 0.0, within = 0.0, F, Fo;
+    long evals = 0;
+    int ok_unlimited = 1, ok_within = 1, refused = 0;
+    for (int t = 0; t < 2; t++) {
+        ok_unlimited &= rad_vis_point_visible_limited(vis, x, nx, b[t], blockers, nb, 0, &F, &Fo, &evals);
+        unlimited += F;
+        double G;
+        ok_within &= rad_vis_point_visible_limited(vis, x, nx, b[t], blockers, nb, 1L << 30, &G, &Fo,
+                                                   &evals);
+        ok_within &= G == F; /* the same clipping, to the bit */
+        within += G;
+        refused += !rad_vis_point_visible_limited(vis, x, nx, b[t], blockers, nb,
+                                                  RAD_VIS_LINK_POINT_WORK, &G, &Fo, &evals);
+    }
+    CHECK_MSG(ok_unlimited && fabs(unlimited - expect) <= 1e-10 * expect,
+              "unlimited: %.15g, expected %.15g (ok %d)", unlimited, expect, ok_unlimited);
+    CHECK_MSG(ok_within && within == unlimited, "a budget it needs less than: %.15g vs %.15g",
+              within, unlimited);
+    CHECK_MSG(refused == 2, "the links' budget refused %d of 2 halves (%d blockers)", refused, nb);
+    printf("# %d blockers: F_vis %.12g (open %.6g), expected %.12g; refused within %d tests\n", nb,
+           unlimited, rad_ff_point_polygon(x, nx, quad, 4), expect, RAD_VIS_LINK_POINT_WORK);
     rad_vis_destroy(vis);
 }

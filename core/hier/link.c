@@ -8,9 +8,10 @@
  *    (rad_vis_blockers).
  * 3. Point values at the nodes x_k of the symmetric rule on a and y_k on b:
  *    F(x_k, b) and F(y_k, a), the closed-form point-to-triangle form factor
- *    over the part visible from the point (rad_vis_point_visible), or, for a
- *    far pair nothing can block, from the kernel at the degree-2 nodes of the
- *    other element (the kernel is smooth there).
+ *    over the part visible from the point (rad_vis_point_visible_limited:
+ *    exact clipping within a work budget), or, for a far pair nothing can
+ *    block, from the kernel at the degree-2 nodes of the other element (the
+ *    kernel is smooth there).
  * 4. G_a = A_a sum w_k F(x_k, b), G_b = A_b sum w_k F(y_k, a); G is their
  *    mean weighted towards the smaller element (one G for both directions:
  *    reciprocity exact), and dG = |G_a - G_b| / 2 its error.  Each side's
@@ -18,10 +19,10 @@
  *    gradient the gather pushes down, solve.c, and, over the same element as
  *    a source, the kernel's variation) with its largest residual.  With an explicit rule the unoccluded G
  *    comes from rad_ff and the point values give the visible fraction.
- * 5. Fallback: where the clipping needs too many blockers or pieces, the
- *    visible integral of the pair (rad_vis_pair_visible, which falls back to
- *    rays) scales the open point values, and the link counts as partly hidden
- *    (its variation is the hidden part, so that the oracle refines it).
+ * 5. Fallback: where the clipping needs too many blockers, pieces or work
+ *    (a pair seen between many objects), each point's open value is scaled
+ *    by the kernel-weighted share of open rays to 16 points of the other
+ *    element (side_values_rays): a fixed cost, whatever the scene holds.
  * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
  * each job into its own slot: the result does not depend on the thread count.
  * Shared among processes (rad_hier_exchange), each estimates a share of the
@@ -33,7 +34,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { LINK_MAX_BLOCKERS = 256 };
+enum { LINK_MAX_BLOCKERS = 256, LINK_RAY_STRATA = 4 };
 
 int hier_pair_can_block(const rad_hier *h, int r, int s)
 {
@@ -87,13 +88,53 @@ static int side_values(const rad_hier *h, const hier_elem *e, const hier_elem *t
             wc->evals++;
         } else {
             long ev = 0;
-            int ok = rad_vis_point_visible(h->vis, x, ne, t->p, blk, nb, &F[k], &Fo[k], &ev);
+            int ok = rad_vis_point_visible_limited(h->vis, x, ne, t->p, blk, nb,
+                                                   RAD_VIS_LINK_POINT_WORK, &F[k], &Fo[k], &ev);
             wc->evals += ev;
             if (!ok)
                 return 0;
         }
     }
     return 1;
+}
+
+/* The point values of side e towards t where clipping would cost too much
+ * (too many blockers, pieces or clipping work: a pair seen between many
+ * objects): at each node x, the open closed form times the kernel-weighted
+ * share of open rays from x to the centres of t's LINK_RAY_STRATA^2 equal
+ * cells.  A fixed cost, whatever the scene holds; a shadow narrower than a
+ * cell is missed, as by any sampled visibility, and the link's error terms
+ * see only what its points see. */
+static void side_values_rays(const rad_hier *h, const hier_elem *e, const hier_elem *t,
+                             double *F, double *Fo, work_count *wc)
+{
+    enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA };
+    rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
+    double q[CELLS][3];
+    for (int j = 0; j < CELLS; j++) {
+        double s, u;
+        rad_geom_triangle_stratum(LINK_RAY_STRATA, j, 0.5, 0.5, &s, &u);
+        rad_vec3 y = rad_geom_triangle_point(t->p[0], t->p[1], t->p[2], s, u);
+        q[j][0] = y.x;
+        q[j][1] = y.y;
+        q[j][2] = y.z;
+    }
+    for (int k = 0; k < h->nodes; k++) {
+        rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
+        double p[3] = {x.x, x.y, x.z}, all = 0.0, open = 0.0;
+        for (int j = 0; j < CELLS; j++) {
+            double w = rad_ff_kernel(x, ne, rad_vec3_make(q[j][0], q[j][1], q[j][2]), nt, NULL);
+            if (!(w > 0.0))
+                continue;
+            all += w;
+            wc->rays++;
+            if (!rad_vis_segment_blocked(h->vis, p, q[j], e->face, t->face))
+                open += w;
+        }
+        Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
+        F[k] = all > 0.0 ? Fo[k] * (open / all) : Fo[k];
+        wc->evals += 1 + CELLS;
+    }
 }
 
 /* The weighted least-squares linear fit m + g (x - c) of the point values
@@ -157,12 +198,13 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
               h->p.far_ratio * rad_dmax(ea->size, eb->size);
     double Fa[RAD_HIER_MAX_NODES], Fao[RAD_HIER_MAX_NODES];
     double Fb[RAD_HIER_MAX_NODES], Fbo[RAD_HIER_MAX_NODES];
-    if (!side_values(h, ea, eb, far, blk, nb, Fa, Fao, wc) ||
+    if (too_many || !side_values(h, ea, eb, far, blk, nb, Fa, Fao, wc) ||
         !side_values(h, eb, ea, far, blk, nb, Fb, Fbo, wc)) {
-        too_many = 1; /* the open values are there; visibility from the pair integral */
-        nb = 0;
-        side_values(h, ea, eb, far, blk, 0, Fa, Fao, wc);
-        side_values(h, eb, ea, far, blk, 0, Fb, Fbo, wc);
+        rad_status st = rad_vis_prepare_rays(h->vis);
+        if (st != RAD_OK)
+            return st;
+        side_values_rays(h, ea, eb, Fa, Fao, wc);
+        side_values_rays(h, eb, ea, Fb, Fbo, wc);
     }
     double ma = 0.0, mb = 0.0, mao = 0.0, mbo = 0.0;
     for (int k = 0; k < h->nodes; k++) {
@@ -200,22 +242,6 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
             all_hidden &= Fa[k] == 0.0 && Fb[k] == 0.0;
         }
         vis = all_open ? 1 : all_hidden ? 3 : 2;
-    }
-    if (too_many) {
-        /* the pair's visible integral scales the open values; the hidden part
-           counts as residual, so the link is refined where it matters */
-        rad_vis_visible_result vr;
-        rad_status st = rad_vis_pair_visible(h->vis, ea->p, ea->face, eb->p, eb->face, Go, NULL,
-                                             &vr);
-        if (st != RAD_OK)
-            return st;
-        wc->evals += vr.evals;
-        wc->rays += (unsigned long long)vr.rays;
-        G = vr.G;
-        dG += vr.error;
-        ra = rad_dmax(ra, (Go - G) / ea->area);
-        rb = rad_dmax(rb, (Go - G) / eb->area);
-        vis = G >= Go ? 1 : G > 0.0 ? 2 : 3;
     }
     /* Elements that touch have a kernel singular where they meet, and no
      * point rule's error shrinks as they do.  Their unoccluded G comes from

@@ -93,7 +93,8 @@ static int side_values(const rad_hierp *h, const hp_elem *e, const hp_elem *t, c
             wc->evals++;
         } else {
             long ev = 0;
-            int ok = rad_vis_point_visible(h->vis, x, ne, t->p, blk, nb, &F[i], &Fo[i], &ev);
+            int ok = rad_vis_point_visible_limited(h->vis, x, ne, t->p, blk, nb,
+                                                   RAD_VIS_LINK_POINT_WORK, &F[i], &Fo[i], &ev);
             wc->evals += ev;
             if (!ok)
                 return 0;

@@ -71,42 +71,61 @@ rad_status hp_incidence(rad_hierp *h)
     return RAD_OK;
 }
 
+/* Element x's H from its own links, with m a constant at each call (below)
+ * so that the m x m products unroll. */
+static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int m)
+{
+    hp_elem *x = &h->el[e];
+    const size_t mm = (size_t)m * (size_t)m;
+    double H[3][HP_M] = {{0.0}};
+    for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+        size_t k = h->inc[i] >> 1;
+        int is_b = (int)(h->inc[i] & 1);
+        const hp_link *l = &h->ln[k];
+        const double *K = h->K + k * mm;
+        const hp_elem *s = &h->el[is_b ? l->a : l->b];
+        if (unit) {
+            /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
+            double u = sqrt(s->area);
+            for (int r = 0; r < m; r++)
+                H[0][r] += K[is_b ? r : r * m] * u;
+            continue;
+        }
+        /* as a: K b_s; as b: K^T b_s */
+        if (is_b) {
+            for (int c = 0; c < 3; c++)
+                for (int r = 0; r < m; r++) {
+                    double v = 0.0;
+                    for (int t = 0; t < m; t++)
+                        v += K[t * m + r] * s->B[c][t];
+                    H[c][r] += v;
+                }
+        } else {
+            for (int c = 0; c < 3; c++)
+                for (int r = 0; r < m; r++) {
+                    double v = 0.0;
+                    for (int t = 0; t < m; t++)
+                        v += K[r * m + t] * s->B[c][t];
+                    H[c][r] += v;
+                }
+        }
+    }
+    memcpy(x->H, H, sizeof H);
+}
+
 /* Every element's H from its own links (in parallel over the elements, each
  * summing its links in link order: the result does not depend on the
  * thread count), then the push. */
 static void gather(rad_hierp *h, int unit)
 {
     int m = h->m;
-    size_t mm = (size_t)(m * m);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
     for (long long e = 0; e < (long long)h->nel; e++) {
-        hp_elem *x = &h->el[e];
-        memset(x->H, 0, sizeof x->H);
-        for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
-            size_t k = h->inc[i] >> 1;
-            int is_b = (int)(h->inc[i] & 1);
-            const hp_link *l = &h->ln[k];
-            const double *K = h->K + k * mm;
-            const hp_elem *s = &h->el[is_b ? l->a : l->b];
-            /* as a: K b_s; as b: K^T b_s */
-            size_t rs = is_b ? 1 : (size_t)m, cs = is_b ? (size_t)m : 1;
-            if (unit) {
-                /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
-                double u = sqrt(s->area);
-                for (int r = 0; r < m; r++)
-                    x->H[0][r] += K[(size_t)r * rs] * u;
-                continue;
-            }
-            for (int c = 0; c < 3; c++) {
-                const double *bs = s->B[c];
-                for (int r = 0; r < m; r++) {
-                    double v = 0.0;
-                    for (int t = 0; t < m; t++)
-                        v += K[(size_t)r * rs + (size_t)t * cs] * bs[t];
-                    x->H[c][r] += v;
-                }
-            }
+        switch (m) {
+        case 1: gather_elem(h, (size_t)e, unit, 1); break;
+        case 3: gather_elem(h, (size_t)e, unit, 3); break;
+        default: gather_elem(h, (size_t)e, unit, HP_M); break; /* p2: m = 6 */
         }
     }
     /* push: parents first */

@@ -187,6 +187,17 @@ int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const 
 int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
                           const int *blockers, int nb, double *F, double *F_open, long *evals);
 
+/* The same within a budget: 0 also when the clipping would take more than
+ * max_work piece-against-shadow tests (> 0; 0: no limit).  Its cost grows
+ * like blockers x visible pieces, so a point that sees b between many
+ * objects could take 10^4 tests and more, where rays estimate the value at
+ * a fixed cost; scenes of a few objects stay far below
+ * RAD_VIS_LINK_POINT_WORK, the budget of the hierarchical solvers' links. */
+#define RAD_VIS_LINK_POINT_WORK 1024
+int rad_vis_point_visible_limited(const rad_vis *vis, rad_vec3 x, rad_vec3 nx,
+                                  const rad_vec3 b[3], const int *blockers, int nb, long max_work,
+                                  double *F, double *F_open, long *evals);
+
 typedef struct rad_vis_visible_params {
     int degree;       /* symmetric rule of this degree on each outer cell; default 2 */
     double tol;       /* accept a cell when its 4 children change the value by at most

@@ -315,13 +315,15 @@ static void ws_free(pieces_ws *ws) { free(ws->heap); }
 
 /* The visible part of b from x as convex pieces (*out points into ws); -1
  * when it needs more pieces, or pieces with more corners, than the
- * workspace holds (the caller falls back), else their count.  The pieces
+ * workspace holds (a larger one may do), -2 when it would take more than
+ * max_work piece-against-shadow tests (> 0; the caller falls back), else
+ * their count.  The pieces
  * are kept in one list: a piece a shadow misses stays where it is, one it
  * cuts is replaced by its first part outside the shadow and the others are
  * appended, one it covers is dropped. */
 static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
-                          const plane_frame *f, const int *blockers, int nb, pieces_ws *ws,
-                          const poly2 **out, int *cut)
+                          const plane_frame *f, const int *blockers, int nb, long max_work,
+                          pieces_ws *ws, const poly2 **out, int *cut)
 {
     *cut = 0;
     double d = rad_vec3_dot(f->n, rad_vec3_sub(x, f->o));
@@ -334,6 +336,7 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
         pieces[0].p[v] = to2(f, b[v]);
     bbox2(&pieces[0]);
     int np = 1;
+    long work = 0;
     double min_area = 1e-13 * f->area;
     shadow_planes sp;
     if (nb > 0)
@@ -344,6 +347,8 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
             continue;
         bbox2(&q);
         int end = np; /* the pieces before this shadow; those appended lie outside it */
+        if (max_work > 0 && (work += end) > max_work)
+            return -2;
         for (int i = 0; i < end;) {
             if (boxes_apart(&pieces[i], &q) || separated(&pieces[i], &q, 1e-18 * f->area)) {
                 i++;
@@ -410,7 +415,7 @@ static double pieces_ff(rad_vec3 x, rad_vec3 nx, const plane_frame *f, const pol
 }
 
 static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
-                            const int *blockers, int nb, pieces_ws *ws, double *F,
+                            const int *blockers, int nb, long max_work, pieces_ws *ws, double *F,
                             double *F_open, long *evals)
 {
     plane_frame f;
@@ -429,9 +434,9 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
     } else {
         const poly2 *pieces;
         int cut;
-        int np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces, &cut);
-        if (np < 0 && ws_grow(ws))
-            np = visible_pieces(vis, x, b, &f, blockers, nb, ws, &pieces, &cut);
+        int np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
+        if (np == -1 && ws_grow(ws))
+            np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
         if (np < 0) {
             if (evals)
                 *evals += ev;
@@ -447,14 +452,21 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
     return 1;
 }
 
-int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
-                          const int *blockers, int nb, double *F, double *F_open, long *evals)
+int rad_vis_point_visible_limited(const rad_vis *vis, rad_vec3 x, rad_vec3 nx,
+                                  const rad_vec3 b[3], const int *blockers, int nb, long max_work,
+                                  double *F, double *F_open, long *evals)
 {
     pieces_ws ws;
     ws_init(&ws);
-    int ok = point_visible_ws(vis, x, nx, b, blockers, nb, &ws, F, F_open, evals);
+    int ok = point_visible_ws(vis, x, nx, b, blockers, nb, max_work, &ws, F, F_open, evals);
     ws_free(&ws);
     return ok;
+}
+
+int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                          const int *blockers, int nb, double *F, double *F_open, long *evals)
+{
+    return rad_vis_point_visible_limited(vis, x, nx, b, blockers, nb, 0, F, F_open, evals);
 }
 
 /* ---- the outer integral ------------------------------------------------- */
@@ -480,10 +492,10 @@ typedef struct outer_ctx {
 static void cell_rule(outer_ctx *o, const rad_vec3 c[3], double *vis_sum, double *open_sum)
 {
     double area = rad_geom_triangle_area(c[0], c[1], c[2]), sv = 0.0, so = 0.0;
-    for (int k = 0; k < o->npts; k++) {
+    for (int k = 0; k < o->npts && !o->failed; k++) { /* failed: the pair goes to rays */
         rad_vec3 x = rad_geom_triangle_point(c[0], c[1], c[2], o->s[k], o->t[k]);
         double F = 0.0, Fo = 0.0;
-        if (!point_visible_ws(o->vis, x, o->na, o->b, o->blockers, o->nb, &o->ws, &F, &Fo,
+        if (!point_visible_ws(o->vis, x, o->na, o->b, o->blockers, o->nb, 0, &o->ws, &F, &Fo,
                               &o->evals))
             o->failed = 1;
         sv += o->w[k] * F;
