@@ -14,17 +14,23 @@
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
 #    error_power of radkit compare, the error estimate, links, time; and
-#    many_64 with cluster (oriented) at EPS_FINE (some 2 minutes).
+#    many_64 with cluster (oriented) at EPS_FINE (about a minute).
+# 3. Furnaces of FURNACE_BOXES boxes (below).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
-SIZES=${SIZES:-"8 27 64 125"}
+SIZES=${SIZES:-"8 27 64 125 216 343"}
 HIER_MAX=${HIER_MAX:-125}
 EPS=${EPS:-0.1}
 EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the issue's target
+FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
+FURNACE_RHO=${FURNACE_RHO:-0.9}
+FURNACE_EPS=${FURNACE_EPS:-0.01}
+PARTS=${PARTS:-"scaling accuracy furnace"} # any of them, e.g. PARTS=furnace
+want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
 for r in cornell many_64; do
   [ -s "experiments/reference/data/$r.tsv" ] || RADKIT=$RADKIT sh experiments/reference/run.sh
@@ -46,6 +52,7 @@ method_args() {
   esac
 }
 
+if want scaling; then
 dat=data/scaling.dat
 {
   echo "# experiment = clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS"
@@ -83,6 +90,8 @@ awk -F'\t' '!/^#/ && $1 != "method" {
   }
 }' "$dat" > data/slopes.dat
 
+fi
+if want accuracy; then
 acc=data/accuracy.dat
 {
   echo "# experiment = clustering accuracy against the Monte Carlo references (experiments/reference)"
@@ -113,8 +122,41 @@ for scene in cornell/cornell many_objects/many_64; do
     done
   done
 done
+fi
+
+# 3. Furnaces: a room of FURNACE_BOXES boxes where every surface emits 1 and
+#    reflects FURNACE_RHO (B = 1 / (1 - rho) everywhere), cluster at eps
+#    FURNACE_EPS: the largest and the area-weighted mean relative error of
+#    the faces, links and time.
+if want furnace; then
+  fur=data/furnace.dat
+  {
+    echo "# experiment = clustering furnaces: rooms of boxes, every surface E = 1, rho = $FURNACE_RHO (exact B = 1 / (1 - rho))"
+    echo "# generator = $version; machine = $(nproc) cores"
+    printf 'boxes\tfaces\teps\tlinks\tlinks_cluster\ttime_s\tmemory_bytes\tmax_error\tmean_error\n'
+  } > "$fur"
+  mkdir -p "$tmp/furnace"
+  printf 'newmtl %s\nKd %s %s %s\nKe 1 1 1\n' wall $FURNACE_RHO $FURNACE_RHO $FURNACE_RHO \
+    ceiling $FURNACE_RHO $FURNACE_RHO $FURNACE_RHO object $FURNACE_RHO $FURNACE_RHO $FURNACE_RHO \
+    > "$tmp/furnace/many_objects.mtl"
+  for n in $FURNACE_BOXES; do
+    echo "clustering: furnace of $n boxes, eps $FURNACE_EPS" >&2
+    python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/furnace/f.obj"
+    "$RADKIT" solve "$tmp/furnace/f.obj" --method cluster --eps "$FURNACE_EPS" --quiet \
+      --out "$tmp/t.tsv" 2>/dev/null || true
+    [ -s "$tmp/t.tsv" ] || continue
+    errs=$(awk -v rho="$FURNACE_RHO" '!/^#/ && $1 != "face" {
+        b = 1 / (1 - rho); for (c = 3; c <= 5; c++) { d = ($c - b) / b; if (d < 0) d = -d
+        if (d > m) m = d; s += $2 * d; a += $2 } }
+      END { printf "%.3e\t%.3e", m, s / a }' "$tmp/t.tsv")
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$n" "$(hdr $tmp/t.tsv faces)" "$FURNACE_EPS" \
+      "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv time_total_s)" \
+      "$(hdr $tmp/t.tsv memory_peak_bytes)" "$errs" >> "$fur"
+    rm -f "$tmp/t.tsv"
+  done
+fi
 if command -v gnuplot > /dev/null; then gnuplot plot.gp; fi
 # gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
 # changes only what it measured.
 find figures -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
-echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, figures/scaling.png" >&2
+echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, data/furnace.dat, figures/scaling.png" >&2
