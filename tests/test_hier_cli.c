@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "rad_ff.h"
+#include "rad_geom.h"
 
 /* Furnace cube (rho 0.375, E 2.385): B = 3.816.  --eps 1e-9 asks for
  * refinement until min_area stops it; --min-area 0.19 lets each face
@@ -189,4 +191,109 @@ TEST(hier_cli_oracle_option)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--oracle", "fast", NULL}, "oracle");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--oracle", "bf", NULL}, "--method hier");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--refine", "1", NULL}, "--refine");
+}
+
+/* Where a link's clipping would exceed its budget it takes rays
+ * (rad_vis_point_visible_limited, link.c): a floor (rho 0.5) lit by a ceiling
+ * (E 1, rho 0) through a black screen of 72 small squares on a checkerboard
+ * (144 triangles) halfway between.  The floor's radiosity is 0.5 F_vis(x,
+ * ceiling); from any x the squares' shadows on the ceiling are disjoint
+ * squares twice their size about x, so F_vis is the open form factor minus
+ * theirs (clipped to the ceiling), and a midpoint rule over each floor
+ * triangle gives its reference.  hier with its defaults (eps 0.1) must use
+ * rays here, keep each floor triangle within eps R of its reference (R the
+ * mean reflected radiosity) and within its own error estimate; without
+ * visibility the floor would be 2.6 times too bright. */
+TEST(hier_rays_past_the_clipping_budget_stay_within_eps)
+{
+    enum { N = 12, MAXF = 256 };
+    const double side = 0.4 / N, h = 1.0;
+    /* the temporary files carry the process id: the OBJ names its MTL by that name */
+    const char *mtl = harness_write_file("screen.mtl", "newmtl floor\nKd 0.5 0.5 0.5\n"
+                                                       "newmtl light\nKd 0 0 0\nKe 1 1 1\n"
+                                                       "newmtl black\nKd 0 0 0\n");
+    char obj[32768], *w = obj;
+    size_t room = sizeof obj;
+    int n = snprintf(w, room, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                              "v 0 0 %g\nv 1 0 %g\nv 1 1 %g\nv 0 1 %g\n"
+                              "usemtl floor\nf 1 2 3\nf 1 3 4\nusemtl light\nf 5 7 6\nf 5 8 7\n"
+                              "usemtl black\n", strrchr(mtl, '/') + 1, h, h, h, h);
+    w += n;
+    room -= (size_t)n;
+    int nv = 8, sq = 0;
+    double lo[N * N][2];
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            if ((i + j) % 2)
+                continue;
+            double x0 = 0.3 + i * side, y0 = 0.3 + j * side;
+            n = snprintf(w, room,
+                         "v %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\n"
+                         "f %d %d %d\nf %d %d %d\n",
+                         x0, y0, h / 2, x0 + side, y0, h / 2, x0 + side, y0 + side, h / 2, x0,
+                         y0 + side, h / 2, nv + 1, nv + 3, nv + 2, nv + 1, nv + 4, nv + 3);
+            w += n;
+            room -= (size_t)n;
+            nv += 4;
+            lo[sq][0] = x0;
+            lo[sq][1] = y0;
+            sq++;
+        }
+    const char *scene = harness_write_file("screen.obj", obj);
+    /* the references: 0.5 x each floor triangle's mean of F_vis(x, ceiling)
+       (face 0 below the diagonal y = x, face 1 above it); polygons wound
+       counter-clockwise seen from the floor */
+    enum { Q = 120 };
+    rad_vec3 nx = rad_vec3_make(0, 0, 1);
+    rad_vec3 ceiling[4] = {rad_vec3_make(0, 0, h), rad_vec3_make(0, 1, h), rad_vec3_make(1, 1, h),
+                           rad_vec3_make(1, 0, h)};
+    double sum[2] = {0, 0}, weight[2] = {0, 0}, open = 0.0;
+    for (int a = 0; a < Q; a++)
+        for (int b = 0; b < Q; b++) {
+            rad_vec3 x = rad_vec3_make((a + 0.5) / Q, (b + 0.5) / Q, 0.0);
+            double F = rad_ff_point_polygon(x, nx, ceiling, 4);
+            open += F / (Q * Q);
+            for (int s = 0; s < sq; s++) {
+                /* the shadow 2 p - x of the square, clipped to the unit square */
+                double x0 = fmax(0.0, 2 * lo[s][0] - x.x), x1 = fmin(1.0, 2 * (lo[s][0] + side) - x.x);
+                double y0 = fmax(0.0, 2 * lo[s][1] - x.y), y1 = fmin(1.0, 2 * (lo[s][1] + side) - x.y);
+                if (!(x1 > x0) || !(y1 > y0))
+                    continue;
+                rad_vec3 shadow[4] = {rad_vec3_make(x0, y0, h), rad_vec3_make(x0, y1, h),
+                                      rad_vec3_make(x1, y1, h), rad_vec3_make(x1, y0, h)};
+                F -= rad_ff_point_polygon(x, nx, shadow, 4);
+            }
+            double part0 = a > b ? 1.0 : a == b ? 0.5 : 0.0; /* on the diagonal: half each */
+            sum[0] += part0 * F;
+            weight[0] += part0;
+            sum[1] += (1.0 - part0) * F;
+            weight[1] += 1.0 - part0;
+        }
+    double ref[2] = {0.5 * sum[0] / weight[0], 0.5 * sum[1] / weight[1]};
+    /* R: the area-weighted mean of B - E over every face (the screen's is 0,
+       the ceiling's B - E is 0) */
+    double R = 0.5 * (ref[0] + ref[1]) / (2.0 + sq * side * side);
+    char *out = NULL, *err = NULL, rays[64], est[64];
+    CHECK(harness_radkit_run("solve", (const char *[]){scene, "--method", "hier", "--quiet", NULL},
+                             &out, &err) == 0);
+    double B[3 * MAXF];
+    CHECK_MSG(ref[0] > 0.05 && ref[1] > 0.05 && ref[0] < 0.5 * open, "references %g %g (open %g)",
+              ref[0], ref[1], 0.5 * open);
+    if (out && harness_face_table(out, B, MAXF) == 2 + 2 * sq + 2) {
+        CHECK(harness_header(out, "rays", rays, sizeof rays) && atof(rays) > 0);
+        CHECK(harness_header(out, "error_estimate", est, sizeof est));
+        for (int f = 0; f < 2; f++) {
+            double e = fabs(B[3 * f] - ref[f]) / R;
+            CHECK_MSG(e <= 0.1 && e <= atof(est), "floor face %d: %.6g against %.6g: %.3g R "
+                      "(eps 0.1, estimate %s)", f, B[3 * f], ref[f], e, est);
+            printf("# floor face %d: %.6g, reference %.6g (open %.6g): error %.3f R, estimate %s; "
+                   "%s rays\n", f, B[3 * f], ref[f], 0.5 * open, e, est, rays);
+        }
+    } else {
+        CHECK_MSG(0, "no table of %d faces", 2 + 2 * sq + 2);
+    }
+    free(out);
+    free(err);
+    remove(scene);
+    remove(mtl);
 }

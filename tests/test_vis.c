@@ -107,7 +107,7 @@ TEST(vis_point_queries_on_the_occluder_scene)
         CHECK(!rad_vis_is_unoccluded(vis));
         /* Axis: blocked.  Corner to corner: free.  Then 203 random segments
          * between the two squares against the brute-force test. */
-        enum { N = 12 };
+        enum { N = 205 };
         double from[3 * N], to[3 * N];
         unsigned char blocked[N];
         double axis_from[3] = {0.5, 0.5, 0}, axis_to[3] = {0.5, 0.5, D};
