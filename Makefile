@@ -3,6 +3,7 @@
 #   make            build build/radkit (the program) and build/libradkit.a
 #   make test       install missing Debian packages, build, run every test
 #   make demo       the main job: the Cornell box (dense, hier, against Monte Carlo), the 1D problem
+#   make demo-large what clustering is for: a room of 512 boxes (minutes; BOXES=, EPS=)
 #   make experiments / make bench    the long studies and the benchmark table
 #   make fuzz       5000 mutated scenes and options (FUZZ_CASES, FUZZ_SEED); make test runs 200
 #   make install    PREFIX=/usr/local DESTDIR=: program, libradkit.so and .a, headers, radkit.pc, radkit.1
@@ -98,7 +99,7 @@ MANDIR     ?= $(PREFIX)/share/man
 INSTALL    ?= install
 
 # ---- targets ---------------------------------------------------------------
-.PHONY: all deps test demo experiments bench fuzz clean echo help install uninstall examples \
+.PHONY: all deps test demo demo-large experiments bench fuzz clean echo help install uninstall examples \
         deps-mpi mpi test-mpi
 all: $(RADKIT)
 
@@ -157,6 +158,10 @@ fuzz: deps $(RADKIT) $(UNIT)
 
 demo: deps $(RADKIT)
 	@sh scripts/demo.sh $(RADKIT)
+
+# What clustering is for: a room of hundreds of boxes (minutes; BOXES=, EPS=).
+demo-large: deps $(RADKIT)
+	@sh scripts/demo_large.sh $(RADKIT)
 
 # The Monte Carlo references first: the other studies measure against them.
 experiments: deps $(RADKIT)
@@ -238,6 +243,6 @@ echo:
 	@echo "MODULES  = $(MODULE_DIRS)"
 
 help:
-	@sed -n '2,11p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,12p' Makefile | sed 's/^# \{0,1\}//'
 
 -include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(PIC_OBJ:.o=.d)

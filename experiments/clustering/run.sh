@@ -16,6 +16,8 @@
 #    error_power of radkit compare, the error estimate, links, time; and
 #    many_64 with cluster (oriented) at EPS_FINE (about a minute).
 # 3. Furnaces of FURNACE_BOXES boxes (below).
+# 4. The picture of a large scene: make demo-large's room of 512 boxes
+#    (figures/room_512.png, its figures in data/room_512.txt).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -29,7 +31,7 @@ EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the issue's t
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
 FURNACE_EPS=${FURNACE_EPS:-0.01}
-PARTS=${PARTS:-"scaling accuracy furnace"} # any of them, e.g. PARTS=furnace
+PARTS=${PARTS:-"scaling accuracy furnace picture"} # any of them, e.g. PARTS=furnace
 want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
 for r in cornell many_64; do
@@ -155,8 +157,13 @@ if want furnace; then
     rm -f "$tmp/t.tsv"
   done
 fi
+if want picture; then
+  echo "clustering: the room of 512 boxes (scripts/demo_large.sh)" >&2
+  (cd "$root" && BOXES=512 EPS=0.5 sh scripts/demo_large.sh "$RADKIT") | grep '^ ' > data/room_512.txt
+  cp "$root/build/demo/room_512.png" figures/room_512.png
+fi
 if command -v gnuplot > /dev/null; then gnuplot plot.gp; fi
 # gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
 # changes only what it measured.
 find figures -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
-echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, data/furnace.dat, figures/scaling.png" >&2
+echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, data/furnace.dat, data/room_512.txt, figures/scaling.png, figures/room_512.png" >&2
