@@ -328,3 +328,16 @@ int main(int argc, char **argv)
     printf("%d passed, %d failed\n", passed, failed);
     return failed == 0 && passed > 0 ? 0 : 1;
 }
+
+int harness_checkerboard(int n, double origin, double side, double (*lo)[2])
+{
+    int count = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            if ((i + j) % 2 == 0) {
+                lo[count][0] = origin + i * side;
+                lo[count][1] = origin + j * side;
+                count++;
+            }
+    return count;
+}

@@ -119,6 +119,11 @@ double harness_howell_c14(double l, double w, double h);
  * blocked form factor between the unit plates (fixed seed; see harness.c). */
 double harness_occluder_form_factor_mc(long samples);
 
+/* The squares of side `side` on an n x n checkerboard from (origin, origin)
+ * whose (i + j) is even (so they touch only at corners): their lower corners
+ * into lo[0 .. n^2), in row order; returns their count. */
+int harness_checkerboard(int n, double origin, double side, double (*lo)[2]);
+
 /* The whole of a file, NUL-terminated (free it), or NULL. */
 char *harness_read_file(const char *path);
 

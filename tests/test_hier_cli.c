@@ -220,25 +220,20 @@ TEST(hier_rays_past_the_clipping_budget_stay_within_eps)
                               "usemtl black\n", strrchr(mtl, '/') + 1, h, h, h, h);
     w += n;
     room -= (size_t)n;
-    int nv = 8, sq = 0;
+    int nv = 8;
     double lo[N * N][2];
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < N; j++) {
-            if ((i + j) % 2)
-                continue;
-            double x0 = 0.3 + i * side, y0 = 0.3 + j * side;
-            n = snprintf(w, room,
-                         "v %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\n"
-                         "f %d %d %d\nf %d %d %d\n",
-                         x0, y0, h / 2, x0 + side, y0, h / 2, x0 + side, y0 + side, h / 2, x0,
-                         y0 + side, h / 2, nv + 1, nv + 3, nv + 2, nv + 1, nv + 4, nv + 3);
-            w += n;
-            room -= (size_t)n;
-            nv += 4;
-            lo[sq][0] = x0;
-            lo[sq][1] = y0;
-            sq++;
-        }
+    int sq = harness_checkerboard(N, 0.3, side, lo);
+    for (int s = 0; s < sq; s++) {
+        double x0 = lo[s][0], y0 = lo[s][1];
+        n = snprintf(w, room,
+                     "v %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\nv %.17g %.17g %g\n"
+                     "f %d %d %d\nf %d %d %d\n",
+                     x0, y0, h / 2, x0 + side, y0, h / 2, x0 + side, y0 + side, h / 2, x0,
+                     y0 + side, h / 2, nv + 1, nv + 3, nv + 2, nv + 1, nv + 4, nv + 3);
+        w += n;
+        room -= (size_t)n;
+        nv += 4;
+    }
     const char *scene = harness_write_file("screen.obj", obj);
     /* the references: 0.5 x each floor triangle's mean of F_vis(x, ceiling)
        (face 0 below the diagonal y = x, face 1 above it); polygons wound

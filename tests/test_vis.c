@@ -643,25 +643,20 @@ TEST(vis_point_visible_within_a_work_budget)
     /* the screen's squares sit over the middle of the floor, where their
        doubled shadows (about the point (0.5, 0.5, 2)) land inside it */
     double lo[N * N][2];
-    for (int i = 0; i < N; i++)
-        for (int j = 0; j < N; j++) {
-            if ((i + j) % 2)
-                continue;
-            double x0 = 0.3 + i * side, y0 = 0.3 + j * side;
-            const double v[4][2] = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
-            for (int k = 0; k < 4; k++) {
-                xyz[3 * (nv + k)] = v[k][0];
-                xyz[3 * (nv + k) + 1] = v[k][1];
-                xyz[3 * (nv + k) + 2] = h;
-            }
-            int t[6] = {nv, nv + 2, nv + 1, nv, nv + 3, nv + 2};
-            memcpy(tri + 3 * nt, t, sizeof t);
-            nv += 4;
-            nt += 2;
-            lo[sq][0] = x0;
-            lo[sq][1] = y0;
-            sq++;
+    sq = harness_checkerboard(N, 0.3, side, lo);
+    for (int s = 0; s < sq; s++) {
+        double x0 = lo[s][0], y0 = lo[s][1];
+        const double v[4][2] = {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+        for (int k = 0; k < 4; k++) {
+            xyz[3 * (nv + k)] = v[k][0];
+            xyz[3 * (nv + k) + 1] = v[k][1];
+            xyz[3 * (nv + k) + 2] = h;
         }
+        int t[6] = {nv, nv + 2, nv + 1, nv, nv + 3, nv + 2};
+        memcpy(tri + 3 * nt, t, sizeof t);
+        nv += 4;
+        nt += 2;
+    }
     rad_vis *vis = NULL;
     CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)nt, NULL, &vis) == RAD_OK);
     if (!vis)

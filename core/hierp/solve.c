@@ -92,23 +92,14 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
             continue;
         }
         /* as a: K b_s; as b: K^T b_s */
-        if (is_b) {
-            for (int c = 0; c < 3; c++)
-                for (int r = 0; r < m; r++) {
-                    double v = 0.0;
-                    for (int t = 0; t < m; t++)
-                        v += K[t * m + r] * s->B[c][t];
-                    H[c][r] += v;
-                }
-        } else {
-            for (int c = 0; c < 3; c++)
-                for (int r = 0; r < m; r++) {
-                    double v = 0.0;
-                    for (int t = 0; t < m; t++)
-                        v += K[r * m + t] * s->B[c][t];
-                    H[c][r] += v;
-                }
-        }
+        const int rs = is_b ? 1 : m, cs = is_b ? m : 1;
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < m; r++) {
+                double v = 0.0;
+                for (int t = 0; t < m; t++)
+                    v += K[r * rs + t * cs] * s->B[c][t];
+                H[c][r] += v;
+            }
     }
     memcpy(x->H, H, sizeof H);
 }
