@@ -710,3 +710,86 @@ TEST(vis_point_visible_within_a_work_budget)
            unlimited, rad_ff_point_polygon(x, nx, quad, 4), expect, RAD_VIS_LINK_POINT_WORK);
     rad_vis_destroy(vis);
 }
+
+/* A screen over a floor whose pieces are pairs of triangles sharing an
+ * edge: a convex quad (clipped as one, partner.c), a dart (not convex: two
+ * shadows; pairing it fails this test), and a pair folded by 1e-6 along
+ * its shared edge.  The floor's visible form factor from a point above must equal
+ * the open one minus every triangle's shadow in closed form (the screen's
+ * triangles do not overlap, nor do their shadows); and the parts call, on
+ * the four midpoint children of each floor triangle, must tile it: each
+ * child as clipped alone, their sum the whole. */
+TEST(vis_quads_and_parts_clip_exactly)
+{
+    const double h = 1.0;
+    const double xyz[] = {
+        0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,                 /* floor 0..3 */
+        0.30, 0.30, h, 0.45, 0.30, h, 0.45, 0.42, h, 0.30, 0.42, h, /* quad 4..7 */
+        0.55, 0.30, h, 0.70, 0.30, h, 0.60, 0.36, h, 0.62, 0.45, h, /* dart 8..11 */
+        0.35, 0.55, h, 0.50, 0.55, h, 0.50, 0.70, h, 0.35, 0.70, h + 1e-6, /* fold 12..15 */
+    };
+    const int tri[] = {0, 1, 2, 0, 2, 3,                    /* floor, facing up */
+                       4, 6, 5, 4, 7, 6,                    /* facing down */
+                       8, 10, 9, 10, 11, 9,                 /* dart: 8-10-9 and 10-11-9 share 10-9 */
+                       12, 14, 13, 12, 15, 14};
+    int nt = (int)(sizeof tri / sizeof tri[0] / 3);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, sizeof xyz / sizeof xyz[0] / 3, tri, (size_t)nt, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    int blockers[8], nb = 0;
+    for (int k = 2; k < nt; k++)
+        blockers[nb++] = k;
+    rad_vec3 x = rad_vec3_make(0.5 + 1e-3, 0.5 - 2e-3, 2.0 * h), nx = rad_vec3_make(0, 0, -1);
+    rad_vec3 quad[4] = {rad_vec3_make(0, 0, 0), rad_vec3_make(1, 0, 0), rad_vec3_make(1, 1, 0),
+                        rad_vec3_make(0, 1, 0)};
+    double expect = rad_ff_point_polygon(x, nx, quad, 4);
+    for (int k = 2; k < nt; k++) {
+        rad_vec3 s[3];
+        for (int v = 0; v < 3; v++) {
+            const double *p = xyz + 3 * tri[3 * k + v];
+            double t = x.z / (x.z - p[2]); /* from x through p down to z = 0 */
+            s[v] = rad_vec3_make(x.x + t * (p[0] - x.x), x.y + t * (p[1] - x.y), 0.0);
+        }
+        if (rad_vec3_cross(rad_vec3_sub(s[1], s[0]), rad_vec3_sub(s[2], s[0])).z < 0.0) {
+            rad_vec3 swap = s[1]; /* facing up, towards x, as the floor */
+            s[1] = s[2];
+            s[2] = swap;
+        }
+        expect -= rad_ff_point_polygon(x, nx, s, 3);
+    }
+    double whole = 0.0, parts_sum = 0.0, worst = 0.0;
+    int ok = 1;
+    long evals = 0;
+    for (int t = 0; t < 2; t++) {
+        rad_vec3 b[3], mid[3], parts[4][3];
+        for (int v = 0; v < 3; v++)
+            b[v] = rad_vec3_make(xyz[3 * tri[3 * t + v]], xyz[3 * tri[3 * t + v] + 1],
+                                 xyz[3 * tri[3 * t + v] + 2]);
+        for (int v = 0; v < 3; v++)
+            mid[v] = rad_vec3_scale(rad_vec3_add(b[v], b[(v + 1) % 3]), 0.5);
+        const rad_vec3 ch[4][3] = {{b[0], mid[0], mid[2]}, {mid[0], b[1], mid[1]},
+                                   {mid[2], mid[1], b[2]}, {mid[0], mid[1], mid[2]}};
+        memcpy(parts, ch, sizeof parts);
+        double F, Fo, Fp[4], Fpo[4];
+        ok &= rad_vis_point_visible(vis, x, nx, b, blockers, nb, &F, &Fo, &evals);
+        whole += F;
+        ok &= rad_vis_point_visible_parts(vis, x, nx, b, (const rad_vec3(*)[3])parts, 4, blockers,
+                                          nb, 0, Fp, Fpo, &evals);
+        for (int i = 0; i < 4; i++) {
+            double alone, alone_open;
+            ok &= rad_vis_point_visible(vis, x, nx, parts[i], blockers, nb, &alone, &alone_open,
+                                        &evals);
+            worst = fmax(worst, fabs(Fp[i] - alone) + fabs(Fpo[i] - alone_open));
+            parts_sum += Fp[i];
+        }
+    }
+    CHECK_MSG(ok && fabs(whole - expect) <= 1e-12 * expect, "whole floor %.15g, expected %.15g",
+              whole, expect);
+    CHECK_MSG(fabs(parts_sum - expect) <= 1e-12 * expect, "the parts %.15g, expected %.15g",
+              parts_sum, expect);
+    CHECK_MSG(worst <= 1e-13, "a part differs from its own clipping by %.3g", worst);
+    printf("# quads, dart and fold: F_vis %.15g, expected %.15g, parts %.15g\n", whole, expect,
+           parts_sum);
+    rad_vis_destroy(vis);
+}

@@ -172,11 +172,20 @@ static double linear_fit(const rad_hier *h, const hier_elem *e, const double *F,
     return res;
 }
 
+/* What a job of a split brings from its parent pair (estimate_split): the
+ * parent pair's blockers (nb >= 0), from which the job's are filtered, and
+ * b's point values towards a (Fb, Fbo; NULL when not given). */
+typedef struct link_pre {
+    const int *blk;
+    int nb;
+    const double *Fb, *Fbo;
+} link_pre;
+
 /* Estimate the link between elements a and b (both directions); *facing = 0
- * when there is nothing to link.  Reads h only (re-entrant); its work goes to
- * *wc. */
-static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_link *out,
-                           work_count *wc)
+ * when there is nothing to link.  pre: see link_pre, or NULL.  Reads h only
+ * (re-entrant); its work goes to *wc. */
+static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pre, int *facing,
+                           hier_link *out, work_count *wc)
 {
     const hier_elem *ea = &h->el[ia], *eb = &h->el[ib];
     if (!rad_ff_facing(ea->p, eb->p, &h->p.ff)) {
@@ -186,7 +195,9 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
     *facing = 1;
     int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0;
     int blocked = hier_pair_can_block(h, ea->face, eb->face);
-    if (blocked) {
+    if (blocked && pre && pre->nb >= 0) {
+        nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
+    } else if (blocked) {
         nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
         too_many = nb > LINK_MAX_BLOCKERS;
         if (too_many)
@@ -198,8 +209,13 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
               h->p.far_ratio * rad_dmax(ea->size, eb->size);
     double Fa[RAD_HIER_MAX_NODES], Fao[RAD_HIER_MAX_NODES];
     double Fb[RAD_HIER_MAX_NODES], Fbo[RAD_HIER_MAX_NODES];
+    int given = blocked && pre && pre->Fb;
+    if (given) {
+        memcpy(Fb, pre->Fb, (size_t)h->nodes * sizeof *Fb);
+        memcpy(Fbo, pre->Fbo, (size_t)h->nodes * sizeof *Fbo);
+    }
     if (too_many || !side_values(h, ea, eb, far, blk, nb, Fa, Fao, wc) ||
-        !side_values(h, eb, ea, far, blk, nb, Fb, Fbo, wc)) {
+        (!given && !side_values(h, eb, ea, far, blk, nb, Fb, Fbo, wc))) {
         rad_status st = rad_vis_prepare_rays(h->vis);
         if (st != RAD_OK)
             return st;
@@ -315,6 +331,60 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, int *facing, hier_
     return RAD_OK;
 }
 
+/* The four jobs of a split, (child i of one element, the same other end b):
+ * the parent pair's blockers are found once and each child pair's filtered
+ * from them, and each of b's nodes clips the parent once for all four
+ * children (rad_vis_point_visible_parts), where estimating the jobs one by
+ * one would clip each child. */
+static void estimate_split(const rad_hier *h, const hier_job *job, rad_status *st, int *facing,
+                           hier_link *out, work_count *wc)
+{
+    const hier_elem *eo = &h->el[job[0].b];
+    const hier_elem *ep = &h->el[h->el[job[0].a].parent];
+    int blk[LINK_MAX_BLOCKERS], nb = -1, have = 0;
+    double F[4][RAD_HIER_MAX_NODES], Fo[4][RAD_HIER_MAX_NODES];
+    if (hier_pair_can_block(h, ep->face, eo->face)) {
+        nb = rad_vis_blockers(h->vis, ep->p, ep->face, eo->p, eo->face, blk, LINK_MAX_BLOCKERS);
+        if (nb > LINK_MAX_BLOCKERS)
+            nb = -1; /* each child finds its own, which may be fewer */
+    }
+    if (nb > 0) {
+        rad_vec3 parts[4][3], no = h->normal[eo->face];
+        for (int i = 0; i < 4; i++)
+            memcpy(parts[i], h->el[job[i].a].p, sizeof parts[i]);
+        have = 1;
+        for (int k = 0; k < h->nodes && have; k++) {
+            rad_vec3 y = rad_geom_triangle_point(eo->p[0], eo->p[1], eo->p[2], h->rs[k], h->rt[k]);
+            double f4[4], fo4[4];
+            long ev = 0;
+            have = rad_vis_point_visible_parts(h->vis, y, no, ep->p, (const rad_vec3(*)[3])parts,
+                                               4, blk, nb, RAD_VIS_LINK_POINT_WORK, f4, fo4, &ev);
+            wc->evals += ev;
+            for (int i = 0; i < 4; i++) {
+                F[i][k] = f4[i];
+                Fo[i][k] = fo4[i];
+            }
+        }
+    }
+    for (int i = 0; i < 4; i++) {
+        link_pre pre = {blk, nb, have ? F[i] : NULL, have ? Fo[i] : NULL};
+        st[i] = estimate(h, job[i].a, job[i].b, nb >= 0 ? &pre : NULL, &facing[i], &out[i], wc);
+    }
+}
+
+/* 1 when jobs[0..4) are the four children of one element, in order, with
+ * one other end. */
+static int split_jobs(const rad_hier *h, const hier_job *job)
+{
+    int parent = h->el[job[0].a].parent;
+    if (parent < 0 || h->el[parent].first_child != job[0].a)
+        return 0;
+    for (int i = 1; i < 4; i++)
+        if (job[i].a != job[0].a + i || job[i].b != job[0].b)
+            return 0;
+    return 1;
+}
+
 rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
 {
     if (n == 0)
@@ -333,17 +403,30 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
        process gets every slot and flag (exchange.c) */
     size_t first, step;
     hier_share(h, &first, &step);
-#pragma omp parallel for schedule(dynamic, 32) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
-    for (long long k = (long long)first; k < (long long)n; k += (long long)step) {
+    /* a refinement's batch comes in splits of four jobs: estimated a split at
+       a time (estimate_split), the unit of the threads' and processes' shares */
+    size_t unit = n % 4 == 0 ? 4 : 1;
+    for (size_t k = 0; unit == 4 && k < n; k += 4)
+        if (!split_jobs(h, jobs + k))
+            unit = 1;
+    size_t units = n / unit;
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
+    for (long long u = (long long)first; u < (long long)units; u += (long long)step) {
         work_count wc = {0, 0};
-        int facing = 0;
-        rad_status est = estimate(hc, jobs[k].a, jobs[k].b, &facing, &out[k], &wc);
+        int facing[4] = {0, 0, 0, 0};
+        rad_status est[4];
+        size_t k = (size_t)u * unit;
+        if (unit == 4)
+            estimate_split(hc, jobs + k, est, facing, out + k, &wc);
+        else
+            est[0] = estimate(hc, jobs[k].a, jobs[k].b, NULL, &facing[0], &out[k], &wc);
         evals += wc.evals;
         rays += wc.rays;
-        ok[k] = est == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
+        for (size_t i = 0; i < unit; i++)
+            ok[k + i] = est[i] == RAD_OK ? (unsigned char)(facing[i] ? 1 : 0) : 2;
     }
-    if (hier_shared(h) && ((st = hier_share_gather(h, out, sizeof *out, n)) != RAD_OK ||
-                           (st = hier_share_gather(h, ok, 1, n)) != RAD_OK ||
+    if (hier_shared(h) && ((st = hier_share_gather(h, out, unit * sizeof *out, units)) != RAD_OK ||
+                           (st = hier_share_gather(h, ok, unit, units)) != RAD_OK ||
                            (st = hier_share_work(h, &evals, &rays)) != RAD_OK)) {
         free(ok);
         return st;
@@ -366,7 +449,7 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
         work_count wc = {0, 0};
         int facing = 0;
         hier_link l;
-        st = estimate(h, jobs[failed].a, jobs[failed].b, &facing, &l, &wc);
+        st = estimate(h, jobs[failed].a, jobs[failed].b, NULL, &facing, &l, &wc);
         if (st == RAD_OK)
             st = RAD_ERROR(RAD_ENUMERIC, "hier: link %d, %d failed on a worker thread",
                            jobs[failed].a, jobs[failed].b);

@@ -110,8 +110,17 @@ static int ray_open(const rad_hierp *h, rad_vec3 x, rad_vec3 y, int fa, int fb, 
     return !rad_vis_segment_blocked(h->vis, p, q, fa, fb);
 }
 
-static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_link *out,
-                           double *K, work_count *wc)
+/* What a job of a split brings from its parent pair (estimate_split): the
+ * parent pair's blockers (nb >= 0), from which the job's are filtered, and
+ * b's point values towards a (Fb, Fbo; NULL when not given). */
+typedef struct link_pre {
+    const int *blk;
+    int nb;
+    const double *Fb, *Fbo;
+} link_pre;
+
+static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *pre, int *facing,
+                           hp_link *out, double *K, work_count *wc)
 {
     const hp_elem *ea = &h->el[ia], *eb = &h->el[ib];
     if (!rad_ff_facing(ea->p, eb->p, &h->p.ff)) {
@@ -122,7 +131,10 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_l
     int n = h->nodes, m = h->m;
     int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0;
     int blocked = pair_can_block(h, ea->face, eb->face);
-    if (blocked) {
+    if (blocked && pre && pre->nb >= 0) {
+        nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
+        blocked = nb > 0;
+    } else if (blocked) {
         nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
         too_many = nb > LINK_MAX_BLOCKERS;
         if (too_many)
@@ -155,8 +167,12 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_l
             Fa[i] = Fao[i] = eb->area * sa;
             Fb[i] = Fbo[i] = ea->area * sb;
         }
-    } else if (too_many || !side_values(h, ea, eb, blk, nb, Fa, Fao, wc) ||
-               !side_values(h, eb, ea, blk, nb, Fb, Fbo, wc)) {
+    } else if (too_many || !side_values(h, ea, eb, blk, nb, Fa, Fao, wc)) {
+        too_many = 1;
+    } else if (blocked && pre && pre->Fb) {
+        memcpy(Fb, pre->Fb, (size_t)n * sizeof *Fb);
+        memcpy(Fbo, pre->Fbo, (size_t)n * sizeof *Fbo);
+    } else if (!side_values(h, eb, ea, blk, nb, Fb, Fbo, wc)) {
         too_many = 1;
     }
     /* visibility of the node pairs */
@@ -328,6 +344,60 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, int *facing, hp_l
     return RAD_OK;
 }
 
+/* The four jobs of a split, (child i of one element, the same other end b):
+ * the parent pair's blockers are found once and each child pair's filtered
+ * from them, and each of b's nodes clips the parent once for all four
+ * children (rad_vis_point_visible_parts). */
+static void estimate_split(const rad_hierp *h, const hp_job *job, rad_status *st, int *facing,
+                           hp_link *out, double *K, size_t mm, work_count *wc)
+{
+    const hp_elem *eo = &h->el[job[0].b];
+    const hp_elem *ep = &h->el[h->el[job[0].a].parent];
+    int blk[LINK_MAX_BLOCKERS], nb = -1, have = 0;
+    double F[4][HP_MAX_NODES], Fo[4][HP_MAX_NODES];
+    if (pair_can_block(h, ep->face, eo->face)) {
+        nb = rad_vis_blockers(h->vis, ep->p, ep->face, eo->p, eo->face, blk, LINK_MAX_BLOCKERS);
+        if (nb > LINK_MAX_BLOCKERS)
+            nb = -1; /* each child finds its own, which may be fewer */
+    }
+    if (nb > 0) {
+        rad_vec3 parts[4][3], no = h->normal[eo->face];
+        for (int i = 0; i < 4; i++)
+            memcpy(parts[i], h->el[job[i].a].p, sizeof parts[i]);
+        have = 1;
+        for (int k = 0; k < h->nodes && have; k++) {
+            double f4[4], fo4[4];
+            long ev = 0;
+            have = rad_vis_point_visible_parts(h->vis, node(h, eo, k), no, ep->p,
+                                               (const rad_vec3(*)[3])parts, 4, blk, nb,
+                                               RAD_VIS_LINK_POINT_WORK, f4, fo4, &ev);
+            wc->evals += ev;
+            for (int i = 0; i < 4; i++) {
+                F[i][k] = f4[i];
+                Fo[i][k] = fo4[i];
+            }
+        }
+    }
+    for (int i = 0; i < 4; i++) {
+        link_pre pre = {blk, nb, have ? F[i] : NULL, have ? Fo[i] : NULL};
+        st[i] = estimate(h, job[i].a, job[i].b, nb >= 0 ? &pre : NULL, &facing[i], &out[i],
+                         K + (size_t)i * mm, wc);
+    }
+}
+
+/* 1 when jobs[0..4) are the four children of one element, in order, with
+ * one other end. */
+static int split_jobs(const rad_hierp *h, const hp_job *job)
+{
+    int parent = h->el[job[0].a].parent;
+    if (parent < 0 || h->el[parent].first_child != job[0].a)
+        return 0;
+    for (int i = 1; i < 4; i++)
+        if (job[i].a != job[0].a + i || job[i].b != job[0].b)
+            return 0;
+    return 1;
+}
+
 rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n)
 {
     if (n == 0)
@@ -344,15 +414,28 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n)
     hp_link *out = h->ln + h->nln;
     double *Kout = h->K + h->nln * mm;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 16) reduction(+ : evals, rays) if (n > 16) num_threads(threads)
-    for (long long k = 0; k < (long long)n; k++) {
+    /* a refinement's batch comes in splits of four jobs: estimated a split at
+       a time (estimate_split) */
+    size_t unit = n % 4 == 0 ? 4 : 1;
+    for (size_t k = 0; unit == 4 && k < n; k += 4)
+        if (!split_jobs(h, jobs + k))
+            unit = 1;
+    long long units = (long long)(n / unit);
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : evals, rays) if (n > 16) num_threads(threads)
+    for (long long u = 0; u < units; u++) {
         work_count wc = {0, 0};
-        int facing = 0;
-        rad_status est =
-            estimate(hc, jobs[k].a, jobs[k].b, &facing, &out[k], Kout + (size_t)k * mm, &wc);
+        int facing[4] = {0, 0, 0, 0};
+        rad_status est[4];
+        size_t k = (size_t)u * unit;
+        if (unit == 4)
+            estimate_split(hc, jobs + k, est, facing, out + k, Kout + k * mm, mm, &wc);
+        else
+            est[0] = estimate(hc, jobs[k].a, jobs[k].b, NULL, &facing[0], &out[k],
+                              Kout + k * mm, &wc);
         evals += wc.evals;
         rays += wc.rays;
-        ok[k] = est == RAD_OK ? (unsigned char)(facing ? 1 : 0) : 2;
+        for (size_t i = 0; i < unit; i++)
+            ok[k + i] = est[i] == RAD_OK ? (unsigned char)(facing[i] ? 1 : 0) : 2;
     }
     h->st.kernel_evals += evals;
     h->st.rays += rays;
@@ -375,7 +458,7 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n)
         int facing = 0;
         hp_link l;
         double Kl[HP_M * HP_M];
-        st = estimate(h, jobs[failed].a, jobs[failed].b, &facing, &l, Kl, &wc);
+        st = estimate(h, jobs[failed].a, jobs[failed].b, NULL, &facing, &l, Kl, &wc);
         if (st == RAD_OK)
             st = RAD_ERROR(RAD_ENUMERIC, "hier: link %d, %d failed on a worker thread",
                            jobs[failed].a, jobs[failed].b);

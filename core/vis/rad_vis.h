@@ -198,6 +198,22 @@ int rad_vis_point_visible_limited(const rad_vis *vis, rad_vec3 x, rad_vec3 nx,
                                   const rad_vec3 b[3], const int *blockers, int nb, long max_work,
                                   double *F, double *F_open, long *evals);
 
+/* rad_vis_point_visible_limited towards each of nparts triangles that tile
+ * b in b's plane (a hierarchy's children of b), from one clipping of b: the
+ * visible part of b is cut to each part.  F[i], F_open[i] per part; 0 as
+ * there (and when a cut piece would have too many corners).  A part no
+ * shadow reaches gets its F_open exactly. */
+int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                                const rad_vec3 (*parts)[3], int nparts, const int *blockers,
+                                int nb, long max_work, double *F, double *F_open, long *evals);
+
+/* The blockers in[0..n) of a pair that the shaft of triangles a and b does
+ * not dismiss, in order, into out (which may be in); their count.  A pair
+ * inside another's shaft (a child of one of its triangles with the other)
+ * gets its rad_vis_blockers from its parent's this way. */
+int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3],
+                            const int *in, int n, int *out);
+
 typedef struct rad_vis_visible_params {
     int degree;       /* symmetric rule of this degree on each outer cell; default 2 */
     double tol;       /* accept a cell when its 4 children change the value by at most

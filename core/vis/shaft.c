@@ -442,6 +442,12 @@ int vis_shaft_filter(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3
     return kept;
 }
 
+int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3],
+                            const int *in, int n, int *out)
+{
+    return vis && n > 0 ? vis_shaft_filter(vis, a, b, in, n, out) : 0;
+}
+
 int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
                      int face_b, int *out, int max)
 {

@@ -96,6 +96,8 @@ void rad_vis_destroy(rad_vis *vis)
     free(vis->tri);
     free(vis->nodes);
     free(vis->order);
+    free(vis->partner);
+    free(vis->quad);
     free(vis);
 }
 
@@ -248,7 +250,7 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
     vis->eps = p.eps_rel * vis->scale;
     vis->tol = p.shaft_tol_rel * vis->scale;
 
-    if (!vis_bvh_build(vis)) {
+    if (!vis_bvh_build(vis) || !vis_partners_build(vis)) {
         status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy");
         goto fail;
     }

@@ -44,6 +44,8 @@ struct rad_vis {
     int nnodes;
     int *order;         /* blocker triangle indices in BVH leaf order */
     size_t blockers;    /* triangles not on a supporting plane of the scene */
+    int *partner;       /* per triangle, the one it makes a convex quad with, or -1 */
+    int (*quad)[4];     /* that quad's corners (vertex indices), counter-clockwise */
 };
 
 static inline rad_vec3 vis_vertex(const rad_vis *vis, size_t t, int corner)
@@ -68,6 +70,10 @@ void vis_ignore_filter(const struct RTCFilterFunctionNArguments *args);
  * rad_vis_prepare_rays returns when the rays cannot be made). */
 rad_status vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const double *from,
                             const double *to, unsigned char *blocked, unsigned long long *rays);
+
+/* partner.c */
+/* Pair the triangles that make convex quads (partner, quad).  0: no memory. */
+int vis_partners_build(rad_vis *vis);
 
 /* shaft.c */
 /* Classify the triangles (which can block at all; is the scene unoccluded?)

@@ -7,7 +7,8 @@
  * 1. Blockers: the triangles the shaft of the pair does not dismiss
  *    (rad_vis_blockers), the pair's own input faces excluded.
  * 2. The visible part of b from a point x (visible_pieces): in b's plane, b
- *    minus the shadow of every blocker.  A blocker's shadow is its part
+ *    minus the shadow of every blocker (of the convex quad a blocker makes
+ *    with its partner, partner.c, once for both).  A blocker's shadow is its part
  *    strictly between b's plane and x (clipped to the slab 0 < h < d, h the
  *    height above b's plane, d that of x) and inside the cone from x over b
  *    (clipped by the three planes through x and an edge of b), projected from
@@ -48,7 +49,7 @@
 #include "rad_ff.h"
 #include "rad_quad.h"
 
-enum { POLY_MAX = 20, PIECES_SMALL = 96, PIECES_MAX = 8192 };
+enum { POLY_MAX = 20, PIECES_SMALL = 96, PIECES_MAX = 8192, PARTNER_SCAN = 64 };
 
 typedef struct v2 {
     double x, y;
@@ -106,7 +107,7 @@ static int split_line(const poly2 *q, v2 a, v2 b, poly2 *left, poly2 *right)
     return 1;
 }
 
-/* Clip a 3D polygon (n <= 8: a triangle cut by at most five planes) to
+/* Clip a 3D polygon (n <= 9: a quad cut by at most five planes) to
  * dot(m, p) - c >= 0. */
 static int clip3(const rad_vec3 *in, int n, rad_vec3 m, double c, rad_vec3 *out)
 {
@@ -186,27 +187,36 @@ static void make_shadow_planes(rad_vec3 x, double d, const rad_vec3 b[3], const 
     }
 }
 
-/* The shadow of blocker k on b's plane from x, as a counter-clockwise convex
- * polygon in the frame; 0 when it casts none.  A blocker wholly outside one
- * plane is dismissed at once, one wholly inside all five is projected
- * without clipping. */
+/* The shadow of blocker k (with its partner, the quad they make: partner.c)
+ * on b's plane from x, as a counter-clockwise convex polygon in the frame; 0
+ * when it casts none.  A blocker wholly outside one plane is dismissed at
+ * once, one wholly inside all five is projected without clipping. */
 static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, const shadow_planes *sp,
                   const plane_frame *f, poly2 *out)
 {
     rad_vec3 buf[2][POLY_MAX];
-    for (int v = 0; v < 3; v++)
-        buf[0][v] = vis_vertex(vis, k, v);
+    int n = 3;
+    if (vis->partner && vis->partner[k] >= 0) {
+        n = 4;
+        for (int v = 0; v < 4; v++) {
+            const double *p = vis->xyz + 3 * (size_t)vis->quad[k][v];
+            buf[0][v] = rad_vec3_make(p[0], p[1], p[2]);
+        }
+    } else {
+        for (int v = 0; v < 3; v++)
+            buf[0][v] = vis_vertex(vis, k, v);
+    }
     int clip_mask = 0;
     for (int q = 0; q < 5; q++) {
         int inside = 0;
-        for (int v = 0; v < 3; v++)
+        for (int v = 0; v < n; v++)
             inside += rad_vec3_dot(sp->m[q], buf[0][v]) >= sp->c[q];
         if (inside == 0)
             return 0;
-        if (inside < 3)
+        if (inside < n)
             clip_mask |= 1 << q;
     }
-    int n = 3, cur = 0;
+    int cur = 0;
     for (int q = 0; q < 5 && n >= 3; q++)
         if (clip_mask & (1 << q)) {
             n = clip3(buf[cur], n, sp->m[q], sp->c[q], buf[1 - cur]);
@@ -313,6 +323,21 @@ static int ws_grow(pieces_ws *ws)
 
 static void ws_free(pieces_ws *ws) { free(ws->heap); }
 
+/* 1 when blocker k's partner (partner.c) comes earlier in the list: the
+ * quad they make was subtracted there.  Past PARTNER_SCAN blockers the list
+ * is not searched and a quad may be subtracted twice, which removes nothing
+ * more. */
+static int listed_partner(const rad_vis *vis, const int *blockers, int nb, int k)
+{
+    int p = vis->partner ? vis->partner[blockers[k]] : -1;
+    if (p < 0 || nb > PARTNER_SCAN)
+        return 0;
+    for (int i = 0; i < k; i++)
+        if (blockers[i] == p)
+            return 1;
+    return 0;
+}
+
 /* The visible part of b from x as convex pieces (*out points into ws); -1
  * when it needs more pieces, or pieces with more corners, than the
  * workspace holds (a larger one may do), -2 when it would take more than
@@ -343,7 +368,8 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
         make_shadow_planes(x, d, b, f, &sp);
     for (int k = 0; k < nb && np > 0; k++) {
         poly2 q;
-        if (!shadow(vis, (size_t)blockers[k], x, &sp, f, &q))
+        if (listed_partner(vis, blockers, nb, k) ||
+            !shadow(vis, (size_t)blockers[k], x, &sp, f, &q))
             continue;
         bbox2(&q);
         int end = np; /* the pieces before this shadow; those appended lie outside it */
@@ -467,6 +493,82 @@ int rad_vis_point_visible(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
                           const int *blockers, int nb, double *F, double *F_open, long *evals)
 {
     return rad_vis_point_visible_limited(vis, x, nx, b, blockers, nb, 0, F, F_open, evals);
+}
+
+/* Cut convex q to the counter-clockwise triangle t (2D): out->n < 3 when
+ * they do not overlap; 0 when a part would have too many corners. */
+static int cut_to_triangle(const poly2 *q, const v2 t[3], poly2 *out)
+{
+    poly2 outside;
+    poly_copy(out, q);
+    for (int e = 0; e < 3 && out->n >= 3; e++) {
+        poly2 in;
+        if (!split_line(out, t[e], t[(e + 1) % 3], &in, &outside))
+            return 0;
+        out->n = in.n;
+        memcpy(out->p, in.p, (size_t)in.n * sizeof in.p[0]);
+    }
+    return 1;
+}
+
+int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
+                                const rad_vec3 (*parts)[3], int nparts, const int *blockers,
+                                int nb, long max_work, double *F, double *F_open, long *evals)
+{
+    plane_frame f;
+    long ev = 0;
+    int ok = 1, flat = !make_frame(b, &f);
+    for (int i = 0; i < nparts; i++) {
+        F[i] = 0.0;
+        F_open[i] = flat ? 0.0 : rad_ff_point_polygon(x, nx, parts[i], 3);
+        ev += !flat;
+    }
+    if (!flat) {
+        pieces_ws ws;
+        ws_init(&ws);
+        const poly2 *pieces;
+        int cut;
+        int np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
+        if (np == -1 && ws_grow(&ws))
+            np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
+        ok = np >= 0;
+        for (int i = 0; ok && i < nparts; i++) {
+            if (!cut && np == 1) { /* no shadow reached b */
+                F[i] = F_open[i];
+                continue;
+            }
+            v2 t[3];
+            for (int v = 0; v < 3; v++)
+                t[v] = to2(&f, parts[i][v]);
+            poly2 tri = {.n = 3, .p = {t[0], t[1], t[2]}};
+            double whole = area2(&tri);
+            if (whole < 0.0) {
+                v2 s = t[1];
+                t[1] = t[2];
+                t[2] = s;
+                whole = -whole;
+            }
+            double sum = 0.0, seen = 0.0;
+            for (int k = 0; k < np && ok; k++) {
+                poly2 piece;
+                if (!cut_to_triangle(&pieces[k], t, &piece)) {
+                    ok = 0;
+                    break;
+                }
+                double a = piece.n >= 3 ? area2(&piece) : 0.0;
+                if (!(a > 1e-13 * f.area))
+                    continue;
+                seen += a;
+                sum += pieces_ff(x, nx, &f, &piece, 1, &ev);
+            }
+            /* rounding in slivers can leave a sum a hair below 0 */
+            F[i] = seen >= (1.0 - 1e-12) * whole ? F_open[i] : rad_dmax(0.0, sum);
+        }
+        ws_free(&ws);
+    }
+    if (evals)
+        *evals += ev;
+    return ok;
 }
 
 /* ---- the outer integral ------------------------------------------------- */
