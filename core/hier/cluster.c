@@ -538,7 +538,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
         if (st == RAD_OK)
             st = estimate_batch(h, cj.j, cj.n);
         if (st == RAD_OK)
-            st = hier_estimate_batch(h, sj.j, sj.n);
+            st = hier_estimate_batch(h, sj.j, sj.n, 0);
         begin = end;
         end = h->ncln;
     }
@@ -639,7 +639,7 @@ rad_status hier_cluster_create(rad_hier *h)
         if (st == RAD_OK)
             st = estimate_batch(h, cj.j, cj.n);
         if (st == RAD_OK)
-            st = hier_estimate_batch(h, sj.j, sj.n);
+            st = hier_estimate_batch(h, sj.j, sj.n, 0);
         free(cj.j);
         free(sj.j);
     }

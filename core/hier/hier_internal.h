@@ -171,8 +171,10 @@ typedef struct hier_job {
     int a, b;
 } hier_job;
 /* Estimate jobs[0..n) (pairs) in parallel and append the facing ones to the
- * links in job order (the result does not depend on the thread count). */
-rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n);
+ * links in job order (the result does not depend on the thread count).
+ * splits: the jobs come in fours, (child i of one element, the same other
+ * element), i = 0..3, as a refinement makes them. */
+rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int splits);
 enum { HIER_CAN_BLOCK = 1, HIER_MAY_TOUCH = 2 };
 int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
 /* 0 when no element of input triangle r can touch one of s (their distance

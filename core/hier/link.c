@@ -334,37 +334,26 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
 /* The four jobs of a split, (child i of one element, the same other end b):
  * the parent pair's blockers are found once and each child pair's filtered
  * from them, and each of b's nodes clips the parent once for all four
- * children (rad_vis_point_visible_parts), where estimating the jobs one by
- * one would clip each child. */
+ * children (rad_vis_split_values), where estimating the jobs one by one
+ * would clip each child. */
 static void estimate_split(const rad_hier *h, const hier_job *job, rad_status *st, int *facing,
                            hier_link *out, work_count *wc)
 {
-    const hier_elem *eo = &h->el[job[0].b];
-    const hier_elem *ep = &h->el[h->el[job[0].a].parent];
+    const hier_elem *eo = &h->el[job[0].b], *ep = &h->el[h->el[job[0].a].parent];
     int blk[LINK_MAX_BLOCKERS], nb = -1, have = 0;
     double F[4][RAD_HIER_MAX_NODES], Fo[4][RAD_HIER_MAX_NODES];
     if (hier_pair_can_block(h, ep->face, eo->face)) {
-        nb = rad_vis_blockers(h->vis, ep->p, ep->face, eo->p, eo->face, blk, LINK_MAX_BLOCKERS);
-        if (nb > LINK_MAX_BLOCKERS)
-            nb = -1; /* each child finds its own, which may be fewer */
-    }
-    if (nb > 0) {
-        rad_vec3 parts[4][3], no = h->normal[eo->face];
+        rad_vec3 y[RAD_HIER_MAX_NODES], parts[4][3];
+        for (int k = 0; k < h->nodes; k++)
+            y[k] = rad_geom_triangle_point(eo->p[0], eo->p[1], eo->p[2], h->rs[k], h->rt[k]);
         for (int i = 0; i < 4; i++)
             memcpy(parts[i], h->el[job[i].a].p, sizeof parts[i]);
-        have = 1;
-        for (int k = 0; k < h->nodes && have; k++) {
-            rad_vec3 y = rad_geom_triangle_point(eo->p[0], eo->p[1], eo->p[2], h->rs[k], h->rt[k]);
-            double f4[4], fo4[4];
-            long ev = 0;
-            have = rad_vis_point_visible_parts(h->vis, y, no, ep->p, (const rad_vec3(*)[3])parts,
-                                               4, blk, nb, RAD_VIS_LINK_POINT_WORK, f4, fo4, &ev);
-            wc->evals += ev;
-            for (int i = 0; i < 4; i++) {
-                F[i][k] = f4[i];
-                Fo[i][k] = fo4[i];
-            }
-        }
+        long ev = 0;
+        have = rad_vis_split_values(h->vis, eo->p, eo->face, y, h->nodes, h->normal[eo->face], ep->p,
+                                    ep->face, (const rad_vec3(*)[3])parts, blk, LINK_MAX_BLOCKERS,
+                                    &nb, RAD_VIS_LINK_POINT_WORK, F[0], Fo[0], RAD_HIER_MAX_NODES,
+                                    &ev);
+        wc->evals += ev;
     }
     for (int i = 0; i < 4; i++) {
         link_pre pre = {blk, nb, have ? F[i] : NULL, have ? Fo[i] : NULL};
@@ -372,20 +361,7 @@ static void estimate_split(const rad_hier *h, const hier_job *job, rad_status *s
     }
 }
 
-/* 1 when jobs[0..4) are the four children of one element, in order, with
- * one other end. */
-static int split_jobs(const rad_hier *h, const hier_job *job)
-{
-    int parent = h->el[job[0].a].parent;
-    if (parent < 0 || h->el[parent].first_child != job[0].a)
-        return 0;
-    for (int i = 1; i < 4; i++)
-        if (job[i].a != job[0].a + i || job[i].b != job[0].b)
-            return 0;
-    return 1;
-}
-
-rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
+rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int splits)
 {
     if (n == 0)
         return RAD_OK;
@@ -405,11 +381,7 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     hier_share(h, &first, &step);
     /* a refinement's batch comes in splits of four jobs: estimated a split at
        a time (estimate_split), the unit of the threads' and processes' shares */
-    size_t unit = n % 4 == 0 ? 4 : 1;
-    for (size_t k = 0; unit == 4 && k < n; k += 4)
-        if (!split_jobs(h, jobs + k))
-            unit = 1;
-    size_t units = n / unit;
+    size_t unit = splits ? 4 : 1, units = n / unit;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
     for (long long u = (long long)first; u < (long long)units; u += (long long)step) {
         work_count wc = {0, 0};

@@ -168,7 +168,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
                 jobs[nj++] = (hier_job){first + c4, other};
             count++;
         }
-        if ((st = hier_estimate_batch(h, jobs, nj)) != RAD_OK)
+        if ((st = hier_estimate_batch(h, jobs, nj, 1)) != RAD_OK)
             goto done;
         begin = end;
         end = h->nln;

@@ -315,7 +315,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         for (size_t r = 0; r < ntris; r++)
             for (size_t s = r + 1; s < ntris; s++)
                 jobs[nj++] = (hier_job){(int)r, (int)s};
-        st = hier_estimate_batch(h, jobs, nj);
+        st = hier_estimate_batch(h, jobs, nj, 0);
         free(jobs);
         if (st != RAD_OK)
             goto fail;

@@ -110,7 +110,10 @@ void hp_limit(const rad_hierp *h, double *v);
 typedef struct hp_job {
     int a, b;
 } hp_job;
-rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n);
+/* Estimate jobs[0..n) in parallel and append the facing ones to the links
+ * in job order; splits: the jobs come in fours, (child i of one element, the
+ * same other element), as a refinement makes them. */
+rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n, int splits);
 
 /* solve.c */
 /* The links at each element (call after the links change: refine.c,

@@ -347,36 +347,24 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
 /* The four jobs of a split, (child i of one element, the same other end b):
  * the parent pair's blockers are found once and each child pair's filtered
  * from them, and each of b's nodes clips the parent once for all four
- * children (rad_vis_point_visible_parts). */
+ * children (rad_vis_split_values). */
 static void estimate_split(const rad_hierp *h, const hp_job *job, rad_status *st, int *facing,
                            hp_link *out, double *K, size_t mm, work_count *wc)
 {
-    const hp_elem *eo = &h->el[job[0].b];
-    const hp_elem *ep = &h->el[h->el[job[0].a].parent];
+    const hp_elem *eo = &h->el[job[0].b], *ep = &h->el[h->el[job[0].a].parent];
     int blk[LINK_MAX_BLOCKERS], nb = -1, have = 0;
     double F[4][HP_MAX_NODES], Fo[4][HP_MAX_NODES];
     if (pair_can_block(h, ep->face, eo->face)) {
-        nb = rad_vis_blockers(h->vis, ep->p, ep->face, eo->p, eo->face, blk, LINK_MAX_BLOCKERS);
-        if (nb > LINK_MAX_BLOCKERS)
-            nb = -1; /* each child finds its own, which may be fewer */
-    }
-    if (nb > 0) {
-        rad_vec3 parts[4][3], no = h->normal[eo->face];
+        rad_vec3 y[HP_MAX_NODES], parts[4][3];
+        for (int k = 0; k < h->nodes; k++)
+            y[k] = node(h, eo, k);
         for (int i = 0; i < 4; i++)
             memcpy(parts[i], h->el[job[i].a].p, sizeof parts[i]);
-        have = 1;
-        for (int k = 0; k < h->nodes && have; k++) {
-            double f4[4], fo4[4];
-            long ev = 0;
-            have = rad_vis_point_visible_parts(h->vis, node(h, eo, k), no, ep->p,
-                                               (const rad_vec3(*)[3])parts, 4, blk, nb,
-                                               RAD_VIS_LINK_POINT_WORK, f4, fo4, &ev);
-            wc->evals += ev;
-            for (int i = 0; i < 4; i++) {
-                F[i][k] = f4[i];
-                Fo[i][k] = fo4[i];
-            }
-        }
+        long ev = 0;
+        have = rad_vis_split_values(h->vis, eo->p, eo->face, y, h->nodes, h->normal[eo->face], ep->p,
+                                    ep->face, (const rad_vec3(*)[3])parts, blk, LINK_MAX_BLOCKERS,
+                                    &nb, RAD_VIS_LINK_POINT_WORK, F[0], Fo[0], HP_MAX_NODES, &ev);
+        wc->evals += ev;
     }
     for (int i = 0; i < 4; i++) {
         link_pre pre = {blk, nb, have ? F[i] : NULL, have ? Fo[i] : NULL};
@@ -385,20 +373,7 @@ static void estimate_split(const rad_hierp *h, const hp_job *job, rad_status *st
     }
 }
 
-/* 1 when jobs[0..4) are the four children of one element, in order, with
- * one other end. */
-static int split_jobs(const rad_hierp *h, const hp_job *job)
-{
-    int parent = h->el[job[0].a].parent;
-    if (parent < 0 || h->el[parent].first_child != job[0].a)
-        return 0;
-    for (int i = 1; i < 4; i++)
-        if (job[i].a != job[0].a + i || job[i].b != job[0].b)
-            return 0;
-    return 1;
-}
-
-rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n)
+rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n, int splits)
 {
     if (n == 0)
         return RAD_OK;
@@ -416,10 +391,7 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n)
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     /* a refinement's batch comes in splits of four jobs: estimated a split at
        a time (estimate_split) */
-    size_t unit = n % 4 == 0 ? 4 : 1;
-    for (size_t k = 0; unit == 4 && k < n; k += 4)
-        if (!split_jobs(h, jobs + k))
-            unit = 1;
+    size_t unit = splits ? 4 : 1;
     long long units = (long long)(n / unit);
 #pragma omp parallel for schedule(dynamic, 4) reduction(+ : evals, rays) if (n > 16) num_threads(threads)
     for (long long u = 0; u < units; u++) {

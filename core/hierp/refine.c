@@ -118,7 +118,7 @@ rad_status hp_refine(rad_hierp *h, long long *refined)
                 jobs[nj++] = (hp_job){first + c4, other};
             count++;
         }
-        if ((st = hp_estimate_batch(h, jobs, nj)) != RAD_OK)
+        if ((st = hp_estimate_batch(h, jobs, nj, 1)) != RAD_OK)
             goto done;
         begin = end;
         end = h->nln;

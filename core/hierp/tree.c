@@ -281,7 +281,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     for (size_t a = 0; a < ntris; a++)
         for (size_t b = a + 1; b < ntris; b++)
             jobs[nj++] = (hp_job){(int)a, (int)b};
-    st = hp_estimate_batch(h, jobs, nj);
+    st = hp_estimate_batch(h, jobs, nj, 0);
     free(jobs);
     if (st != RAD_OK)
         goto fail;

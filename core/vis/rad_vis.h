@@ -214,6 +214,21 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
 int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3],
                             const int *in, int n, int *out);
 
+/* A hierarchy's split: triangle b (on input face_b) is cut into four parts
+ * that each will be linked with triangle o (on face_o), whose points y[0..n)
+ * (unit normal no) need their form factors towards each part.  The pair's
+ * blockers go to blk (up to max; *nb = -1 when there are more, else their
+ * count, which each part's pair may filter with rad_vis_blockers_within),
+ * and when there are some, each point clips b once for the four parts
+ * (rad_vis_point_visible_parts within max_work): F[i * stride + k] and
+ * F_open[i * stride + k] for part i and point k.  Returns 1 when the values
+ * were made, 0 when the pair has no blockers, more than max, or a point
+ * exceeds the budget (then each part's pair is to be clipped on its own). */
+int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, const rad_vec3 *y,
+                         int n, rad_vec3 no, const rad_vec3 b[3], int face_b,
+                         const rad_vec3 (*parts)[3], int *blk, int max, int *nb, long max_work,
+                         double *F, double *F_open, int stride, long *evals);
+
 typedef struct rad_vis_visible_params {
     int degree;       /* symmetric rule of this degree on each outer cell; default 2 */
     double tol;       /* accept a cell when its 4 children change the value by at most

@@ -571,6 +571,29 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
     return ok;
 }
 
+int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, const rad_vec3 *y,
+                         int n, rad_vec3 no, const rad_vec3 b[3], int face_b,
+                         const rad_vec3 (*parts)[3], int *blk, int max, int *nb, long max_work,
+                         double *F, double *F_open, int stride, long *evals)
+{
+    *nb = rad_vis_blockers(vis, o, face_o, b, face_b, blk, max);
+    if (*nb > max)
+        *nb = -1;
+    if (*nb <= 0)
+        return 0;
+    for (int k = 0; k < n; k++) {
+        double f4[4], fo4[4];
+        if (!rad_vis_point_visible_parts(vis, y[k], no, b, parts, 4, blk, *nb, max_work, f4, fo4,
+                                         evals))
+            return 0;
+        for (int i = 0; i < 4; i++) {
+            F[i * stride + k] = f4[i];
+            F_open[i * stride + k] = fo4[i];
+        }
+    }
+    return 1;
+}
+
 /* ---- the outer integral ------------------------------------------------- */
 
 typedef struct outer_ctx {
