@@ -23,6 +23,8 @@ typedef struct hp_elem {
     int face, depth;
     int child;               /* which of its parent's children (0..3) */
     double B[3][HP_M];       /* radiosity coefficients per channel */
+    double Bmax[3];          /* hp_poly_bound of B: set by hp_bound_B (refinement and
+                                error rounds, where B holds still) and by hp_split */
     double H[3][HP_M];       /* irradiance its own links gather (coefficients) */
     double dep[3], dep1[3];           /* the departure of the irradiance its links bring from
                                 its polynomial, times rho (pointwise, W/m^2); on a
@@ -101,6 +103,8 @@ int hp_can_split(const rad_hierp *h, int e);
 rad_status hp_split(rad_hierp *h, int e);
 /* A bound of |f| over a triangle of area A for coefficients v[0..m). */
 double hp_poly_bound(const rad_hierp *h, const double *v, double area);
+/* Every element's Bmax from its B. */
+void hp_bound_B(rad_hierp *h);
 /* The positivity limiter (solve.c): v's non-constant part scaled so that
  * the function is >= 0 at the rule's nodes, its mean kept; a negative mean
  * is raised to 0. */

@@ -31,7 +31,7 @@ static int choose(const rad_hierp *h, const hp_link *l)
     size_t n = h->nroots;
     double sa = 0.0, sb = 0.0, sg = 0.0;
     for (int c = 0; c < 3; c++) {
-        double Ba = hp_poly_bound(h, a->B[c], a->area), Bb = hp_poly_bound(h, b->B[c], b->area);
+        double Ba = a->Bmax[c], Bb = b->Bmax[c];
         double ra = h->rho[(size_t)a->face + (size_t)c * n];
         double rb = h->rho[(size_t)b->face + (size_t)c * n];
         sa = rad_dmax(sa, ra * l->fa * Bb + rb * l->kmb * a->detail[c]);
@@ -55,6 +55,7 @@ rad_status hp_refine(rad_hierp *h, long long *refined)
     size_t capj = 0;
     if ((st = hp_incidence(h)) != RAD_OK)
         return st;
+    hp_bound_B(h);
     hp_pull_dev(h);
     double target = h->p.eps * hp_reflected(h) * h->p.link_share;
     h->st.links_bound = 0;

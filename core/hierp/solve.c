@@ -259,6 +259,8 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
  * sources of a receiver, how far s's B lies from r's irradiance. */
 static double weight(const rad_hierp *h, const hp_elem *r, const hp_elem *s, int c)
 {
+    if (!h->p.sealed)
+        return s->Bmax[c];
     double v[HP_M];
     memcpy(v, s->B[c], sizeof v);
     size_t f = (size_t)r->face + (size_t)c * h->nroots;
@@ -399,6 +401,7 @@ rad_status hp_estimate_error(rad_hierp *h)
     rad_status st = hp_incidence(h);
     if (st != RAD_OK)
         return st;
+    hp_bound_B(h);
     hp_pull_dev(h);
     for (size_t e = 0; e < h->nel; e++) {
         hp_elem *x = &h->el[e];

@@ -68,6 +68,13 @@ double hp_poly_bound(const rad_hierp *h, const double *v, double area)
     return area > 0.0 ? b / sqrt(area) : 0.0;
 }
 
+void hp_bound_B(rad_hierp *h)
+{
+    for (size_t e = 0; e < h->nel; e++)
+        for (int c = 0; c < 3; c++)
+            h->el[e].Bmax[c] = hp_poly_bound(h, h->el[e].B[c], h->el[e].area);
+}
+
 rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
@@ -133,6 +140,8 @@ rad_status hp_split(rad_hierp *h, int e)
                     v += h->P[c][l][k] * x->B[ch][k];
                 y->B[ch][l] = v;
             }
+        for (int ch = 0; ch < 3; ch++)
+            y->Bmax[ch] = hp_poly_bound(h, y->B[ch], y->area);
     }
     x->first_child = first;
     if (h->el[first].depth > h->st.max_depth)
