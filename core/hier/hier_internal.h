@@ -155,6 +155,14 @@ struct rad_hier {
        rebuilds its plan of the shared gather */
     unsigned long long version;
     struct hier_share *share;  /* exchange.c's plan of the shared gather, or NULL */
+    /* each element's links as what they bring it (solve.c's parallel
+       gather): inc[inc_start[e] .. inc_start[e + 1]), in link order; built
+       for inc_version == version */
+    size_t *inc_start;
+    struct hier_end *inc;
+    size_t inc_cap, inc_nel;
+    unsigned long long inc_version;
+    int inc_valid;
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;

@@ -7,7 +7,11 @@
  *    (g_b): int_b (g_b . (y - c_b)) (gB_b . (y - c_b)) dy / A_a.  Without it
  *    the transport of a source's mean misses where B and the kernel rise
  *    together, towards a shared edge or a contact, and every face near one
- *    comes out dark.  Push-pull from each root: the linear
+ *    comes out dark.  Each element sums its own links' ends (struct
+ *    hier_end, rebuilt when the links change), so the gather runs in
+ *    parallel over the elements with the serial loop's sums, bit for bit
+ *    (the processes' split gather keeps the loop over links).  Push-pull
+ *    from each root, in parallel over the roots: the linear
  *    functions are summed down the tree, a leaf takes
  *    B = E + rho cap (value at its centroid), which is the linear function's
  *    mean over the leaf, and an inner element the area-weighted mean of its
@@ -49,6 +53,8 @@
 #include <string.h>
 
 #include "rad_sys.h"
+
+#include <omp.h>
 
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
@@ -238,9 +244,97 @@ static void gather_link_T(const rad_hier *h, const hier_link *l, unsigned ends)
     }
 }
 
-/* Gather every link (carry B or T) and push-pull every tree; shared among
- * processes (split_gather), only this process's ends and trees, then the
- * exchange (exchange.c). */
+/* One end of a link as the receiver sees it: the source element, the form
+ * factor, its gradient over the receiver and the source-slope vector (the
+ * moment's over the receiver's area: constant while the links are), and
+ * whether the receiver is the link's b end (the order of gather_link's
+ * terms there). */
+struct hier_end {
+    int src, is_b;
+    double F;
+    rad_vec3 g, m;
+};
+
+/* Each element's link ends, in link order. */
+static rad_status incidence(rad_hier *h)
+{
+    if (h->inc_valid && h->inc_version == h->version && h->inc_nel == h->nel)
+        return RAD_OK;
+    size_t ne = h->nel, nl = h->nln;
+    size_t *start = realloc(h->inc_start, (ne + 1) * sizeof *start);
+    if (!start)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' links", ne);
+    h->inc_start = start;
+    if (2 * nl > h->inc_cap) {
+        struct hier_end *inc = realloc(h->inc, 2 * nl * sizeof *inc);
+        if (!inc)
+            return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", nl);
+        h->inc = inc;
+        h->inc_cap = 2 * nl;
+    }
+    memset(start, 0, (ne + 1) * sizeof *start);
+    for (size_t k = 0; k < nl; k++)
+        if (h->ln[k].a >= 0) {
+            start[h->ln[k].a + 1]++;
+            start[h->ln[k].b + 1]++;
+        }
+    for (size_t e = 0; e < ne; e++)
+        start[e + 1] += start[e];
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+    for (size_t k = 0; k < nl; k++) { /* start[e] runs ahead, then is restored */
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        const hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        struct hier_end ea = {l->b, 0, l->G / a->area, l->ga, zero_v};
+        struct hier_end eb = {l->a, 1, l->G / b->area, l->gb, zero_v};
+        if (h->p.source_slope) {
+            ea.m = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
+            eb.m = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
+        }
+        h->inc[start[l->a]++] = ea;
+        h->inc[start[l->b]++] = eb;
+    }
+    for (size_t e = ne; e > 0; e--)
+        start[e] = start[e - 1];
+    start[0] = 0;
+    h->inc_nel = ne;
+    h->inc_version = h->version;
+    h->inc_valid = 1;
+    return RAD_OK;
+}
+
+/* What element e's own links bring it (carry B or T): gather_link's (and
+ * gather_link_T's) terms at that end, in the same order, so that the sums
+ * are those of the serial loop over the links, bit for bit. */
+static void gather_elem(rad_hier *h, size_t e, int carry)
+{
+    hier_elem *x = &h->el[e];
+    for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+        const struct hier_end *u = &h->inc[i];
+        const hier_elem *s = &h->el[u->src];
+        if (carry != CARRY_B) {
+            for (int c = 0; c < 3; c++) {
+                x->Tg[c] += u->F * s->T[c];
+                x->TGg[c] = rad_vec3_add(x->TGg[c], rad_vec3_scale(u->g, s->T[c]));
+            }
+            continue;
+        }
+        for (int c = 0; c < 3; c++) {
+            if (h->p.source_slope && u->is_b)
+                x->Bg[c] += rad_vec3_dot(u->m, s->gB[c]);
+            x->Bg[c] += u->F * s->B[c];
+            x->Gg[c] = rad_vec3_add(x->Gg[c], rad_vec3_scale(u->g, s->B[c]));
+            if (h->p.source_slope && !u->is_b)
+                x->Bg[c] += rad_vec3_dot(u->m, s->gB[c]);
+        }
+    }
+}
+
+/* Gather every link (carry B or T) and push-pull every tree, both in
+ * parallel (over the elements, each summing its own links; over the
+ * trees); shared among processes (split_gather), only this process's ends
+ * and trees, then the exchange (exchange.c). */
 static rad_status gather_push_pull(rad_hier *h, int carry, double *change, double *vmax)
 {
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0), zerog[3] = {zero_v, zero_v, zero_v};
@@ -249,6 +343,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         carry == CARRY_B ? gather_link : gather_link_T;
     size_t lo = 0, hi = h->nroots;
     int split = hier_split_on(h);
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     rad_status st;
     if (split && (st = hier_split_plan(h)) != RAD_OK)
         return st;
@@ -260,13 +355,19 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
             one(h, &h->ln[mine[i]], ends[i]);
         hier_split_roots(h, &lo, &hi);
     } else {
-        for (size_t k = 0; k < h->nln; k++)
-            if (h->ln[k].a >= 0)
-                one(h, &h->ln[k], 3);
+        if ((st = incidence(h)) != RAD_OK)
+            return st;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 1024)
+        for (long long e = 0; e < (long long)h->nel; e++)
+            gather_elem(h, (size_t)e, carry);
     }
     hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T);
-    for (size_t t = lo; t < hi; t++)
-        push_pull(h, (int)t, carry, zero, zerog, change, vmax);
+    double ch = *change, vm = *vmax;
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 1024 && hi - lo > 1)
+    for (long long t = (long long)lo; t < (long long)hi; t++)
+        push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
+    *change = ch;
+    *vmax = vm;
     return split ? hier_split_exchange(h, carry, change, vmax) : RAD_OK;
 }
 

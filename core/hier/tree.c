@@ -342,6 +342,8 @@ void rad_hier_destroy(rad_hier *h)
     hier_share_destroy(h);
     free(h->el);
     free(h->ln);
+    free(h->inc_start);
+    free(h->inc);
     free(h);
 }
 
