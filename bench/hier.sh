@@ -23,7 +23,7 @@ TSV="$ROOT/bench/hier.tsv"
 data="$ROOT/experiments/hierarchical/data"
 {
   echo "# hier bench: $("$RADKIT" --version), Cornell box against the Monte Carlo reference, $(nproc) cores; from experiments/hierarchical"
-  echo "# time_s: wall time (median of 3 runs) to reach the target L1 error, interpolated between the runs that bracket it"
+  echo "# time_s: wall time (median of 5 runs) to reach the target L1 error, interpolated between the runs that bracket it"
   echo "# first_run_s, first_run_links: the fastest run that reaches it, and its links (pairs)"
   cat "$data/target.dat"
   echo "# the fastest hier run reaching 0.5% against dense --refine 3 (auto), side by side (target: ratio <= 1/40 = 0.025)"
