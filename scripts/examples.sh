@@ -51,8 +51,10 @@ hidden_leak=$(grep -v '^rad_' "$out/exported.txt" || true)
 # (static inline helpers such as rad_vec3_add are not library symbols).
 for h in "$prefix"/include/radkit/*.h; do printf '#include <%s>\n' "${h##*/}"; done > "$out/all_headers.c"
 gcc -std=c11 -fsyntax-only $cflags -aux-info "$out/aux-info.txt" "$out/all_headers.c"
+# (the name is the identifier before the prototype's first parenthesis: a
+# parameter such as const rad_vec3 (*)[3] must not count as a declaration)
 grep "^/\* $prefix/include/radkit/.* \*/ extern " "$out/aux-info.txt" |
-    grep -o '\brad_[a-z0-9_]* (' | sed 's/ ($//' | sort -u > "$out/declared.txt"
+    sed -n 's/^.*\*\/ extern [^(]*\<\(rad_[a-z0-9_]*\) (.*$/\1/p' | sort -u > "$out/declared.txt"
 [ -s "$out/declared.txt" ] || fail "no function declarations found in the installed headers"
 missing=$(comm -23 "$out/declared.txt" "$out/exported.txt")
 [ -z "$missing" ] || fail "declared but not exported: $(echo $missing)"

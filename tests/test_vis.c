@@ -762,24 +762,24 @@ TEST(vis_quads_and_parts_clip_exactly)
     int ok = 1;
     long evals = 0;
     for (int t = 0; t < 2; t++) {
-        rad_vec3 b[3], mid[3], parts[4][3];
+        rad_vec3 b[3], mid[3], parts[12];
         for (int v = 0; v < 3; v++)
             b[v] = rad_vec3_make(xyz[3 * tri[3 * t + v]], xyz[3 * tri[3 * t + v] + 1],
                                  xyz[3 * tri[3 * t + v] + 2]);
         for (int v = 0; v < 3; v++)
             mid[v] = rad_vec3_scale(rad_vec3_add(b[v], b[(v + 1) % 3]), 0.5);
-        const rad_vec3 ch[4][3] = {{b[0], mid[0], mid[2]}, {mid[0], b[1], mid[1]},
-                                   {mid[2], mid[1], b[2]}, {mid[0], mid[1], mid[2]}};
+        const rad_vec3 ch[12] = {b[0], mid[0], mid[2], mid[0], b[1], mid[1],
+                                 mid[2], mid[1], b[2], mid[0], mid[1], mid[2]};
         memcpy(parts, ch, sizeof parts);
         double F, Fo, Fp[4], Fpo[4];
         ok &= rad_vis_point_visible(vis, x, nx, b, blockers, nb, &F, &Fo, &evals);
         whole += F;
-        ok &= rad_vis_point_visible_parts(vis, x, nx, b, (const rad_vec3(*)[3])parts, 4, blockers,
-                                          nb, 0, Fp, Fpo, &evals);
+        ok &= rad_vis_point_visible_parts(vis, x, nx, b, parts, 4, blockers, nb, 0, Fp, Fpo,
+                                          &evals);
         for (int i = 0; i < 4; i++) {
             double alone, alone_open;
-            ok &= rad_vis_point_visible(vis, x, nx, parts[i], blockers, nb, &alone, &alone_open,
-                                        &evals);
+            ok &= rad_vis_point_visible(vis, x, nx, parts + 3 * i, blockers, nb, &alone,
+                                        &alone_open, &evals);
             worst = fmax(worst, fabs(Fp[i] - alone) + fabs(Fpo[i] - alone_open));
             parts_sum += Fp[i];
         }

@@ -355,14 +355,14 @@ static void estimate_split(const rad_hierp *h, const hp_job *job, rad_status *st
     int blk[LINK_MAX_BLOCKERS], nb = -1, have = 0;
     double F[4][HP_MAX_NODES], Fo[4][HP_MAX_NODES];
     if (pair_can_block(h, ep->face, eo->face)) {
-        rad_vec3 y[HP_MAX_NODES], parts[4][3];
+        rad_vec3 y[HP_MAX_NODES], parts[12];
         for (int k = 0; k < h->nodes; k++)
             y[k] = node(h, eo, k);
         for (int i = 0; i < 4; i++)
-            memcpy(parts[i], h->el[job[i].a].p, sizeof parts[i]);
+            memcpy(parts + 3 * i, h->el[job[i].a].p, 3 * sizeof *parts);
         long ev = 0;
         have = rad_vis_split_values(h->vis, eo->p, eo->face, y, h->nodes, h->normal[eo->face], ep->p,
-                                    ep->face, (const rad_vec3(*)[3])parts, blk, LINK_MAX_BLOCKERS,
+                                    ep->face, parts, blk, LINK_MAX_BLOCKERS,
                                     &nb, RAD_VIS_LINK_POINT_WORK, F[0], Fo[0], HP_MAX_NODES, &ev);
         wc->evals += ev;
     }

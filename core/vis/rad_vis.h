@@ -199,13 +199,14 @@ int rad_vis_point_visible_limited(const rad_vis *vis, rad_vec3 x, rad_vec3 nx,
                                   double *F, double *F_open, long *evals);
 
 /* rad_vis_point_visible_limited towards each of nparts triangles that tile
- * b in b's plane (a hierarchy's children of b), from one clipping of b: the
- * visible part of b is cut to each part.  F[i], F_open[i] per part; 0 as
- * there (and when a cut piece would have too many corners).  A part no
- * shadow reaches gets its F_open exactly. */
+ * b in b's plane (a hierarchy's children of b; part i's corners are
+ * parts[3 i .. 3 i + 2]), from one clipping of b: the visible part of b is
+ * cut to each part.  F[i], F_open[i] per part; 0 as there (and when a cut
+ * piece would have too many corners).  A part no shadow reaches gets its
+ * F_open exactly. */
 int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
-                                const rad_vec3 (*parts)[3], int nparts, const int *blockers,
-                                int nb, long max_work, double *F, double *F_open, long *evals);
+                                const rad_vec3 *parts, int nparts, const int *blockers, int nb,
+                                long max_work, double *F, double *F_open, long *evals);
 
 /* The blockers in[0..n) of a pair that the shaft of triangles a and b does
  * not dismiss, in order, into out (which may be in); their count.  A pair
@@ -215,7 +216,8 @@ int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_v
                             const int *in, int n, int *out);
 
 /* A hierarchy's split: triangle b (on input face_b) is cut into four parts
- * that each will be linked with triangle o (on face_o), whose points y[0..n)
+ * (corners parts[3 i .. 3 i + 2]) that each will be linked with triangle o
+ * (on face_o), whose points y[0..n)
  * (unit normal no) need their form factors towards each part.  The pair's
  * blockers go to blk (up to max; *nb = -1 when there are more, else their
  * count, which each part's pair may filter with rad_vis_blockers_within),
@@ -226,7 +228,7 @@ int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_v
  * exceeds the budget (then each part's pair is to be clipped on its own). */
 int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, const rad_vec3 *y,
                          int n, rad_vec3 no, const rad_vec3 b[3], int face_b,
-                         const rad_vec3 (*parts)[3], int *blk, int max, int *nb, long max_work,
+                         const rad_vec3 *parts, int *blk, int max, int *nb, long max_work,
                          double *F, double *F_open, int stride, long *evals);
 
 typedef struct rad_vis_visible_params {

@@ -512,15 +512,15 @@ static int cut_to_triangle(const poly2 *q, const v2 t[3], poly2 *out)
 }
 
 int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
-                                const rad_vec3 (*parts)[3], int nparts, const int *blockers,
-                                int nb, long max_work, double *F, double *F_open, long *evals)
+                                const rad_vec3 *parts, int nparts, const int *blockers, int nb,
+                                long max_work, double *F, double *F_open, long *evals)
 {
     plane_frame f;
     long ev = 0;
     int ok = 1, flat = !make_frame(b, &f);
     for (int i = 0; i < nparts; i++) {
         F[i] = 0.0;
-        F_open[i] = flat ? 0.0 : rad_ff_point_polygon(x, nx, parts[i], 3);
+        F_open[i] = flat ? 0.0 : rad_ff_point_polygon(x, nx, parts + 3 * i, 3);
         ev += !flat;
     }
     if (!flat) {
@@ -539,7 +539,7 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
             }
             v2 t[3];
             for (int v = 0; v < 3; v++)
-                t[v] = to2(&f, parts[i][v]);
+                t[v] = to2(&f, parts[3 * i + v]);
             poly2 tri = {.n = 3, .p = {t[0], t[1], t[2]}};
             double whole = area2(&tri);
             if (whole < 0.0) {
@@ -573,7 +573,7 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
 
 int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, const rad_vec3 *y,
                          int n, rad_vec3 no, const rad_vec3 b[3], int face_b,
-                         const rad_vec3 (*parts)[3], int *blk, int max, int *nb, long max_work,
+                         const rad_vec3 *parts, int *blk, int max, int *nb, long max_work,
                          double *F, double *F_open, int stride, long *evals)
 {
     *nb = rad_vis_blockers(vis, o, face_o, b, face_b, blk, max);
