@@ -160,7 +160,7 @@ struct rad_hier {
        for inc_version == version */
     size_t *inc_start;
     struct hier_end *inc;
-    size_t inc_cap, inc_nel;
+    size_t inc_start_cap, inc_cap, inc_nel;
     unsigned long long inc_version;
     int inc_valid;
     /* the point-value rules (link.c) */

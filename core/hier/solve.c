@@ -261,17 +261,11 @@ static rad_status incidence(rad_hier *h)
     if (h->inc_valid && h->inc_version == h->version && h->inc_nel == h->nel)
         return RAD_OK;
     size_t ne = h->nel, nl = h->nln;
-    size_t *start = realloc(h->inc_start, (ne + 1) * sizeof *start);
-    if (!start)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' links", ne);
-    h->inc_start = start;
-    if (2 * nl > h->inc_cap) {
-        struct hier_end *inc = realloc(h->inc, 2 * nl * sizeof *inc);
-        if (!inc)
-            return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", nl);
-        h->inc = inc;
-        h->inc_cap = 2 * nl;
-    }
+    if (!rad_sys_grow((void **)&h->inc_start, &h->inc_start_cap, 0, ne + 1, sizeof *h->inc_start,
+                      1024) ||
+        !rad_sys_grow((void **)&h->inc, &h->inc_cap, 0, 2 * nl, sizeof *h->inc, 1024))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the ends of %zu links", nl);
+    size_t *start = h->inc_start;
     memset(start, 0, (ne + 1) * sizeof *start);
     for (size_t k = 0; k < nl; k++)
         if (h->ln[k].a >= 0) {
