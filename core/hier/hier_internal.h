@@ -157,12 +157,11 @@ struct rad_hier {
     struct hier_share *share;  /* exchange.c's plan of the shared gather, or NULL */
     /* each element's links as what they bring it (solve.c's parallel
        gather): inc[inc_start[e] .. inc_start[e + 1]), in link order; built
-       for inc_version == version */
+       for inc_version == version and inc_nel == nel (0 until built) */
     size_t *inc_start;
     struct hier_end *inc;
     size_t inc_start_cap, inc_cap, inc_nel;
     unsigned long long inc_version;
-    int inc_valid;
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;

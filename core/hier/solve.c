@@ -258,7 +258,7 @@ struct hier_end {
 /* Each element's link ends, in link order. */
 static rad_status incidence(rad_hier *h)
 {
-    if (h->inc_valid && h->inc_version == h->version && h->inc_nel == h->nel)
+    if (h->inc_nel == h->nel && h->inc_version == h->version)
         return RAD_OK;
     size_t ne = h->nel, nl = h->nln;
     if (!rad_sys_grow((void **)&h->inc_start, &h->inc_start_cap, 0, ne + 1, sizeof *h->inc_start,
@@ -294,7 +294,6 @@ static rad_status incidence(rad_hier *h)
     start[0] = 0;
     h->inc_nel = ne;
     h->inc_version = h->version;
-    h->inc_valid = 1;
     return RAD_OK;
 }
 

@@ -71,7 +71,7 @@ int vis_partners_build(rad_vis *vis)
     if (n < 2)
         return 1;
     size_t cap = 8;
-    while (cap < 4 * 3 * n)
+    while (cap < 2 * 3 * n) /* 3 n edges at most: the table at most half full */
         cap *= 2;
     uint64_t *keys = malloc(cap * sizeof *keys);
     int *owner = malloc(cap * sizeof *owner);

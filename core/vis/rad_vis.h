@@ -223,9 +223,9 @@ int rad_vis_blockers_within(const rad_vis *vis, const rad_vec3 a[3], const rad_v
  * count, which each part's pair may filter with rad_vis_blockers_within),
  * and when there are some, each point clips b once for the four parts
  * (rad_vis_point_visible_parts within max_work): F[i * stride + k] and
- * F_open[i * stride + k] for part i and point k.  Returns 1 when the values
- * were made, 0 when the pair has no blockers, more than max, or a point
- * exceeds the budget (then each part's pair is to be clipped on its own). */
+ * F_open[i * stride + k] for part i and point k.  Returns 1 with the values
+ * set; 0 when the pair has no blockers, more than max, or a point exceeds
+ * the budget (then each part's pair is to be clipped on its own). */
 int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, const rad_vec3 *y,
                          int n, rad_vec3 no, const rad_vec3 b[3], int face_b,
                          const rad_vec3 *parts, int *blk, int max, int *nb, long max_work,

@@ -251,7 +251,8 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
     vis->tol = p.shaft_tol_rel * vis->scale;
 
     if (!vis_bvh_build(vis) || !vis_partners_build(vis)) {
-        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy");
+        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy or the "
+                                       "quad pairing");
         goto fail;
     }
     *out = vis;

@@ -323,10 +323,10 @@ static int ws_grow(pieces_ws *ws)
 
 static void ws_free(pieces_ws *ws) { free(ws->heap); }
 
-/* 1 when blocker k's partner (partner.c) comes earlier in the list: the
- * quad they make was subtracted there.  Past PARTNER_SCAN blockers the list
- * is not searched and a quad may be subtracted twice, which removes nothing
- * more. */
+/* 1 when blocker k's partner (partner.c) comes earlier in the list, whose
+ * entry subtracts the quad they make.  Past PARTNER_SCAN blockers the list
+ * is not searched: both halves subtract the quad, the second removing
+ * nothing more. */
 static int listed_partner(const rad_vis *vis, const int *blockers, int nb, int k)
 {
     int p = vis->partner ? vis->partner[blockers[k]] : -1;
@@ -541,6 +541,7 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
             for (int v = 0; v < 3; v++)
                 t[v] = to2(&f, parts[3 * i + v]);
             poly2 tri = {.n = 3, .p = {t[0], t[1], t[2]}};
+            bbox2(&tri);
             double whole = area2(&tri);
             if (whole < 0.0) {
                 v2 s = t[1];
@@ -551,6 +552,8 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
             double sum = 0.0, seen = 0.0;
             for (int k = 0; k < np && ok; k++) {
                 poly2 piece;
+                if (boxes_apart(&pieces[k], &tri))
+                    continue; /* they can share an edge at most */
                 if (!cut_to_triangle(&pieces[k], t, &piece)) {
                     ok = 0;
                     break;
