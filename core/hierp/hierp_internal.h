@@ -81,9 +81,16 @@ struct rad_hierp {
     double last_change;
     /* the links at each element, in link order (solve.c: gathers run in
        parallel over the receivers): link k's end at element e is
-       inc[inc_start[e] .. inc_start[e + 1]) as 2 k + (e is its b) */
+       inc[inc_start[e] .. inc_start[e + 1]) as 2 k + (e is its b), and
+       inc_src[i] the element at its other end */
     size_t *inc_start, *inc;
+    int *inc_src;
     size_t inc_nel, inc_cap;
+    /* the gather's copy of every element's B, m coefficients per channel
+       side by side (3 m per element), so that a link's source is one short
+       read instead of scattered rows of a large element */
+    double *Bs;
+    size_t Bs_cap;
     int inc_valid;
     /* the nodes of the coupling rule and the basis at them */
     double rs[HP_MAX_NODES], rt[HP_MAX_NODES], rw[HP_MAX_NODES];

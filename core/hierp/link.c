@@ -61,23 +61,36 @@ static rad_vec3 node(const rad_hierp *h, const hp_elem *e, int i)
 
 /* How far values v[i] at the nodes depart from their projection on the
  * basis (the fit whose coefficients are the rule's moments): the largest
- * departure, and (*mean) its mean over the nodes. */
-static double departure(const rad_hierp *h, const double *v, double *mean)
+ * departure, and (*mean) its mean over the nodes; m a constant at each call
+ * (departure) so that the loops over the basis unroll. */
+static inline double departure_m(const rad_hierp *h, const double *v, double *mean, const int m)
 {
     double c[HP_M] = {0};
-    for (int i = 0; i < h->nodes; i++)
-        for (int k = 0; k < h->m; k++)
-            c[k] += h->rw[i] * h->rq[i][k] * v[i];
+    for (int i = 0; i < h->nodes; i++) {
+        double wv = h->rw[i] * v[i];
+        for (int k = 0; k < m; k++)
+            c[k] += wv * h->rq[i][k];
+    }
     double d = 0.0, sum = 0.0;
     for (int i = 0; i < h->nodes; i++) {
         double f = 0.0;
-        for (int k = 0; k < h->m; k++)
+        for (int k = 0; k < m; k++)
             f += c[k] * h->rq[i][k];
-        d = rad_dmax(d, fabs(v[i] - f));
-        sum += h->rw[i] * fabs(v[i] - f);
+        double r = fabs(v[i] - f);
+        d = rad_dmax(d, r);
+        sum += h->rw[i] * r;
     }
     *mean = sum;
     return d;
+}
+
+static double departure(const rad_hierp *h, const double *v, double *mean)
+{
+    switch (h->m) {
+    case 1: return departure_m(h, v, mean, 1);
+    case 3: return departure_m(h, v, mean, 3);
+    default: return departure_m(h, v, mean, HP_M);
+    }
 }
 
 /* Point form factors from the nodes of e to t: F[i] and the unoccluded

@@ -47,10 +47,20 @@ rad_status hp_incidence(rad_hierp *h)
     h->inc_start = start;
     if (2 * nl > h->inc_cap) {
         size_t *inc = realloc(h->inc, 2 * nl * sizeof *inc);
-        if (!inc)
+        if (inc)
+            h->inc = inc;
+        int *src = inc ? realloc(h->inc_src, 2 * nl * sizeof *src) : NULL;
+        if (!src)
             return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", nl);
-        h->inc = inc;
+        h->inc_src = src;
         h->inc_cap = 2 * nl;
+    }
+    if (ne > h->Bs_cap) {
+        double *Bs = realloc(h->Bs, ne * 3 * HP_M * sizeof *Bs);
+        if (!Bs)
+            return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", ne);
+        h->Bs = Bs;
+        h->Bs_cap = ne;
     }
     memset(start, 0, (ne + 1) * sizeof *start);
     for (size_t k = 0; k < nl; k++) {
@@ -60,8 +70,11 @@ rad_status hp_incidence(rad_hierp *h)
     for (size_t e = 0; e < ne; e++)
         start[e + 1] += start[e];
     for (size_t k = 0; k < nl; k++) { /* start[e] runs ahead, then is restored */
-        h->inc[start[h->ln[k].a]++] = 2 * k;
-        h->inc[start[h->ln[k].b]++] = 2 * k + 1;
+        size_t ia = start[h->ln[k].a]++, ib = start[h->ln[k].b]++;
+        h->inc[ia] = 2 * k;
+        h->inc_src[ia] = h->ln[k].b;
+        h->inc[ib] = 2 * k + 1;
+        h->inc_src[ib] = h->ln[k].a;
     }
     for (size_t e = ne; e > 0; e--)
         start[e] = start[e - 1];
@@ -72,34 +85,44 @@ rad_status hp_incidence(rad_hierp *h)
 }
 
 /* Element x's H from its own links, with m a constant at each call (below)
- * so that the m x m products unroll. */
+ * so that the m x m products unroll; the sources' B from the copy Bs. */
 static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int m)
 {
     hp_elem *x = &h->el[e];
     const size_t mm = (size_t)m * (size_t)m;
     double H[3][HP_M] = {{0.0}};
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
-        size_t k = h->inc[i] >> 1;
-        int is_b = (int)(h->inc[i] & 1);
-        const hp_link *l = &h->ln[k];
-        const double *K = h->K + k * mm;
-        const hp_elem *s = &h->el[is_b ? l->a : l->b];
+        const double *K = h->K + (h->inc[i] >> 1) * mm;
+        const int is_b = (int)(h->inc[i] & 1);
+        int s = h->inc_src[i];
         if (unit) {
             /* B = 1: coefficients sqrt(A) on the constant, in channel 0 */
-            double u = sqrt(s->area);
+            double u = sqrt(h->el[s].area);
             for (int r = 0; r < m; r++)
                 H[0][r] += K[is_b ? r : r * m] * u;
             continue;
         }
-        /* as a: K b_s; as b: K^T b_s */
-        const int rs = is_b ? 1 : m, cs = is_b ? m : 1;
-        for (int c = 0; c < 3; c++)
-            for (int r = 0; r < m; r++) {
-                double v = 0.0;
-                for (int t = 0; t < m; t++)
-                    v += K[r * rs + t * cs] * s->B[c][t];
-                H[c][r] += v;
-            }
+        const double *b = h->Bs + (size_t)s * 3 * (size_t)m;
+        if (is_b) /* K^T b_s */
+            for (int c = 0; c < 3; c++)
+#pragma GCC unroll 6
+                for (int r = 0; r < m; r++) {
+                    double v = 0.0;
+#pragma GCC unroll 6
+                    for (int t = 0; t < m; t++)
+                        v += K[t * m + r] * b[c * m + t];
+                    H[c][r] += v;
+                }
+        else /* K b_s */
+            for (int c = 0; c < 3; c++)
+#pragma GCC unroll 6
+                for (int r = 0; r < m; r++) {
+                    double v = 0.0;
+#pragma GCC unroll 6
+                    for (int t = 0; t < m; t++)
+                        v += K[r * m + t] * b[c * m + t];
+                    H[c][r] += v;
+                }
     }
     memcpy(x->H, H, sizeof H);
 }
@@ -111,6 +134,11 @@ static void gather(rad_hierp *h, int unit)
 {
     int m = h->m;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    if (!unit)
+        for (size_t e = 0; e < h->nel; e++)
+            for (int c = 0; c < 3; c++)
+                memcpy(h->Bs + (e * 3 + (size_t)c) * (size_t)m, h->el[e].B[c],
+                       (size_t)m * sizeof *h->Bs);
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
     for (long long e = 0; e < (long long)h->nel; e++) {
         switch (m) {

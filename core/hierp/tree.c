@@ -316,6 +316,8 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->K);
     free(h->inc_start);
     free(h->inc);
+    free(h->inc_src);
+    free(h->Bs);
     free(h);
 }
 
