@@ -49,9 +49,9 @@ void rad_ff_params_default(rad_ff_params *params)
 rad_ff_params rad_ff_params_link_exact(const rad_ff_params *params)
 {
     rad_ff_params p = *params;
-    p.exact_rel_tol = fmax(p.exact_rel_tol, 1e-9);
-    p.exact_retry_rel = fmax(p.exact_retry_rel, 1e-7);
-    p.exact_flag_rel = fmax(p.exact_flag_rel, 1e-6);
+    p.exact_rel_tol = fmax(p.exact_rel_tol, 1e-6);
+    p.exact_retry_rel = fmax(p.exact_retry_rel, 1e-3);
+    p.exact_flag_rel = fmax(p.exact_flag_rel, 1e-3);
     return p;
 }
 

@@ -126,9 +126,11 @@ typedef struct rad_ff_params {
 } rad_ff_params;
 
 void rad_ff_params_default(rad_ff_params *params);
-/* params with `exact` integrating its contour to 1e-9 (its retry and flag
- * thresholds raised alike): for callers that need a pair's G to about 1e-8,
- * such as hierarchical links, not to the reference's 1e-14. */
+/* params with `exact` integrating its contour to 1e-6 (its retry and flag
+ * thresholds raised to 1e-3, so that a touching pair's contour, whose bound
+ * is pessimistic, is not redone by the product rules): for callers that
+ * need a pair's G to about 1e-6 and take its error estimate with it, such as
+ * hierarchical links, not to the reference's 1e-14. */
 rad_ff_params rad_ff_params_link_exact(const rad_ff_params *params);
 
 typedef struct rad_ff_result {

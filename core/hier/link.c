@@ -285,7 +285,9 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
             rule.scheme = RAD_FF_EXACT;
             rule.order = 0;
         }
-        rad_ff_params ffp = rad_ff_params_link_exact(&h->p.ff);
+        /* an explicit rule keeps the caller's tolerances; the contour
+           integral of a contact is needed to the link's accuracy only */
+        rad_ff_params ffp = h->p.use_rule ? h->p.ff : rad_ff_params_link_exact(&h->p.ff);
         rad_ff_result res, low;
         rad_status st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &res);
         if (st == RAD_OK && adjacent) {

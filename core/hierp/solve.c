@@ -127,9 +127,9 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
     memcpy(x->H, H, sizeof H);
 }
 
-/* Every element's H from its own links (in parallel over the elements, each
+/* Every element's H from its own links, in parallel over the elements, each
  * summing its links in link order: the result does not depend on the
- * thread count), then the push. */
+ * thread count.  The push follows, per tree (push_rows, step_tree). */
 static void gather(rad_hierp *h, int unit)
 {
     int m = h->m;
@@ -147,21 +147,22 @@ static void gather(rad_hierp *h, int unit)
         default: gather_elem(h, (size_t)e, unit, HP_M); break; /* p2: m = 6 */
         }
     }
-    /* push: parents first */
-    int channels = unit ? 1 : 3;
-    for (size_t e = 0; e < h->nel; e++) {
-        hp_elem *x = &h->el[e];
-        if (x->parent < 0)
-            continue;
-        const hp_elem *p = &h->el[x->parent];
-        for (int c = 0; c < channels; c++)
-            for (int r = 0; r < m; r++) {
-                double v = 0.0;
-                for (int s = 0; s < m; s++)
-                    v += h->P[x->child][r][s] * p->H[c][s];
-                x->H[c][r] += v;
-            }
-    }
+}
+
+/* x's H plus its parent's, restricted to x (channels 0 .. channels - 1). */
+static void push_elem(const rad_hierp *h, hp_elem *x, int channels)
+{
+    if (x->parent < 0)
+        return;
+    int m = h->m;
+    const hp_elem *p = &h->el[x->parent];
+    for (int c = 0; c < channels; c++)
+        for (int r = 0; r < m; r++) {
+            double v = 0.0;
+            for (int s = 0; s < m; s++)
+                v += h->P[x->child][r][s] * p->H[c][s];
+            x->H[c][r] += v;
+        }
 }
 
 void hp_limit(const rad_hierp *h, double *v)
@@ -185,73 +186,105 @@ void hp_limit(const rad_hierp *h, double *v)
         v[k] *= theta;
 }
 
-static void pull(rad_hierp *h)
+/* An inner element's B: the projection of its children's functions. */
+static void pull_elem(const rad_hierp *h, hp_elem *x)
 {
     int m = h->m;
-    for (size_t e = h->nel; e-- > 0;) {
-        hp_elem *x = &h->el[e];
-        if (x->first_child < 0)
-            continue;
-        for (int c = 0; c < 3; c++)
-            for (int r = 0; r < m; r++) {
-                double v = 0.0;
-                for (int ch = 0; ch < 4; ch++) {
-                    const hp_elem *y = &h->el[x->first_child + ch];
-                    for (int s = 0; s < m; s++)
-                        v += h->P[ch][s][r] * y->B[c][s];
-                }
-                x->B[c][r] = v;
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < m; r++) {
+            double v = 0.0;
+            for (int ch = 0; ch < 4; ch++) {
+                const hp_elem *y = &h->el[x->first_child + ch];
+                for (int s = 0; s < m; s++)
+                    v += h->P[ch][s][r] * y->B[c][s];
             }
-    }
+            x->B[c][r] = v;
+        }
+}
+
+/* The rows' push down the tree of element e. */
+static void push_rows(rad_hierp *h, int e)
+{
+    hp_elem *x = &h->el[e];
+    push_elem(h, x, 1);
+    memcpy(x->row, x->H[0], sizeof x->row);
+    if (x->first_child >= 0)
+        for (int ch = 0; ch < 4; ch++)
+            push_rows(h, x->first_child + ch);
 }
 
 void hp_rows(rad_hierp *h)
 {
     gather(h, 1);
-    for (size_t e = 0; e < h->nel; e++) {
-        hp_elem *x = &h->el[e];
-        memcpy(x->row, x->H[0], sizeof x->row);
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 256)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        push_rows(h, (int)t);
+}
+
+/* A leaf's new B from its gathered H; the change of its mean and the mean
+ * (per channel, the largest) into *change and *vmax. */
+static void leaf_update(const rad_hierp *h, hp_elem *x, double *change, double *vmax)
+{
+    int m = h->m;
+    size_t n = h->nroots;
+    double sa = sqrt(x->area), r0 = x->row[0];
+    for (int c = 0; c < 3; c++) {
+        double t[HP_M];
+        memcpy(t, x->H[c], sizeof t);
+        if (h->p.sealed && r0 > 0.0) {
+            double s = t[0] / r0;
+            for (int k = 0; k < m; k++)
+                t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
+        } else if (r0 > sa) {
+            for (int k = 0; k < m; k++)
+                t[k] *= sa / r0;
+        }
+        if (m > 1 || t[0] < 0.0)
+            hp_limit(h, t);
+        size_t f = (size_t)x->face + (size_t)c * n;
+        double rho = h->rho[f];
+        double old = x->B[c][0];
+        for (int k = 0; k < m; k++)
+            x->B[c][k] = rho * t[k];
+        x->B[c][0] += h->E[f] * sa;
+        double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
+        *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
+        *vmax = rad_dmax(*vmax, v);
     }
 }
 
-/* One Jacobi step; the largest change of a leaf's mean and the largest mean. */
+/* Push, leaf update and pull over the tree of element e (parents are pushed
+ * before their children and pulled after them). */
+static void step_tree(rad_hierp *h, int e, double *change, double *vmax)
+{
+    hp_elem *x = &h->el[e];
+    push_elem(h, x, 3);
+    if (x->first_child < 0) {
+        leaf_update(h, x, change, vmax);
+        return;
+    }
+    for (int ch = 0; ch < 4; ch++)
+        step_tree(h, x->first_child + ch, change, vmax);
+    pull_elem(h, x);
+}
+
+/* One Jacobi step; the largest change of a leaf's mean and the largest mean.
+ * The trees are independent after the gather: in parallel over them. */
 static void step(rad_hierp *h, double *change, double *vmax)
 {
     gather(h, 0);
-    int m = h->m;
-    size_t n = h->nroots;
-    *change = 0.0;
-    *vmax = 0.0;
-    for (size_t e = 0; e < h->nel; e++) {
-        hp_elem *x = &h->el[e];
-        if (x->first_child >= 0)
-            continue;
-        double sa = sqrt(x->area), r0 = x->row[0];
-        for (int c = 0; c < 3; c++) {
-            double t[HP_M];
-            memcpy(t, x->H[c], sizeof t);
-            if (h->p.sealed && r0 > 0.0) {
-                double s = t[0] / r0;
-                for (int k = 0; k < m; k++)
-                    t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
-            } else if (r0 > sa) {
-                for (int k = 0; k < m; k++)
-                    t[k] *= sa / r0;
-            }
-            if (m > 1 || t[0] < 0.0)
-                hp_limit(h, t);
-            size_t f = (size_t)x->face + (size_t)c * n;
-            double rho = h->rho[f];
-            double old = x->B[c][0];
-            for (int k = 0; k < m; k++)
-                x->B[c][k] = rho * t[k];
-            x->B[c][0] += h->E[f] * sa;
-            double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
-            *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
-            *vmax = rad_dmax(*vmax, v);
-        }
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    double ch = 0.0, vm = 0.0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 256)
+    for (long long t = 0; t < (long long)h->nroots; t++) {
+        double c = 0.0, v = 0.0;
+        step_tree(h, (int)t, &c, &v);
+        ch = ch > c ? ch : c;
+        vm = vm > v ? vm : v;
     }
-    pull(h);
+    *change = ch;
+    *vmax = vm;
 }
 
 rad_status hp_solve_links(rad_hierp *h, double tol)
