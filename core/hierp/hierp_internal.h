@@ -66,7 +66,7 @@ struct rad_hierp {
     int order, m;
     const rad_vis *vis;
     int use_vis;
-    unsigned char *can_block;
+    unsigned char *can_block; /* per pair of input triangles: HP_CAN_BLOCK | HP_MAY_TOUCH */
     rad_vec3 *normal;
     size_t nroots;
     double *rho, *E;
@@ -102,6 +102,10 @@ struct rad_hierp {
     /* the largest |q_k| over a triangle */
     double qmax[HP_M];
 };
+
+/* can_block's flags: something may block the pair; the pair may touch (a
+ * vertex of one within 1e-9 of its size of the other) */
+enum { HP_CAN_BLOCK = 1, HP_MAY_TOUCH = 2 };
 
 /* tree.c */
 rad_status hp_grow_elems(rad_hierp *h, size_t extra);

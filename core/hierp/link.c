@@ -50,8 +50,14 @@ static int pair_can_block(const rad_hierp *h, int r, int s)
     if (!h->use_vis)
         return 0;
     if (h->can_block)
-        return h->can_block[(size_t)r * h->nroots + (size_t)s];
+        return h->can_block[(size_t)r * h->nroots + (size_t)s] & HP_CAN_BLOCK;
     return rad_vis_pair_can_block(h->vis, (size_t)r, (size_t)s);
+}
+
+/* 0 when no element of input triangle r can touch one of s. */
+static int pair_may_touch(const rad_hierp *h, int r, int s)
+{
+    return !h->can_block || (h->can_block[(size_t)r * h->nroots + (size_t)s] & HP_MAY_TOUCH);
 }
 
 static rad_vec3 node(const rad_hierp *h, const hp_elem *e, int i)
@@ -242,7 +248,8 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     if (!far && h->p.singular) {
         adjacent = rad_ff_adjacency_detect(ea->p, eb->p, 1e-9, map) != RAD_FF_DISJOINT;
         double reach = ea->size + eb->size;
-        contact = !adjacent && rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) <= 1.001 * reach &&
+        contact = !adjacent && pair_may_touch(h, ea->face, eb->face) &&
+                  rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) <= 1.001 * reach &&
                   rad_ff_triangle_distance(ea->p, eb->p) <= 1e-9 * rad_dmax(ea->size, eb->size);
     }
     if (adjacent || contact) {

@@ -12,10 +12,12 @@
 #include "hierp_internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "rad_ff.h"
 #include "rad_quad.h"
 #include "rad_sys.h"
 
@@ -273,10 +275,21 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
             st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
             goto fail;
         }
-        for (size_t r = 0; r < ntris; r++)
-            for (size_t s = 0; s < ntris; s++)
-                h->can_block[r * ntris + s] =
-                    r != s && rad_vis_pair_can_block(vis, r, s) ? 1 : 0;
+        unsigned char *tab = h->can_block;
+        int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
+        for (long long r = 0; r < (long long)ntris; r++)
+            for (size_t s = 0; s < ntris; s++) {
+                const hp_elem *a = &h->el[r], *b = &h->el[s];
+                int touch = (size_t)r != s &&
+                            rad_vec3_norm(rad_vec3_sub(a->c, b->c)) <= 1.001 * (a->size + b->size) &&
+                            rad_ff_triangle_distance(a->p, b->p) <= 1e-9 * rad_dmax(a->size, b->size);
+                tab[(size_t)r * ntris + s] =
+                    (unsigned char)(((size_t)r != s && rad_vis_pair_can_block(vis, (size_t)r, s)
+                                         ? HP_CAN_BLOCK
+                                         : 0) |
+                                    (touch ? HP_MAY_TOUCH : 0));
+            }
     }
     /* every pair of input triangles (those that face make links) */
     double t0 = rad_sys_seconds();
