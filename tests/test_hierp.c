@@ -110,6 +110,11 @@ TEST(hierp_furnaces_p1_p2)
                            slope);
                     CHECK_MSG(worst < 1e-6 && slope < 1e-6, "%s rho %g p%d: max %g, slope %g",
                               scenes[k], rhos[q], order, worst, slope);
+                    /* the estimate (relative to R = rho B here), which in a
+                       sealed scene holds the iteration's error, covers it */
+                    CHECK_MSG(worst <= s->hier.bound_face_max * rhos[q],
+                              "%s rho %g p%d: max error %.3g beyond the estimate %.3g", scenes[k],
+                              rhos[q], order, worst, s->hier.bound_face_max * rhos[q]);
                     rad_solution_destroy(s);
                 }
             rad_scene_destroy(scene);

@@ -78,7 +78,7 @@ struct rad_hierp {
     double *K; /* m * m per link */
     size_t nln, capln;
     rad_hier_stats st;
-    double last_change;
+    double last_change, last_vmax; /* the last step's change (relative to vmax) and largest mean */
     /* the links at each element, in link order (solve.c: gathers run in
        parallel over the receivers): link k's end at element e is
        inc[inc_start[e] .. inc_start[e + 1]) as 2 k + (e is its b), and

@@ -306,6 +306,7 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
             break;
         }
         h->last_change = vmax > 0.0 ? change / vmax : 0.0;
+        h->last_vmax = vmax;
         if (change <= tol * vmax)
             break;
     }
@@ -543,14 +544,19 @@ rad_status hp_estimate_error(rad_hierp *h)
     double *face = calloc(2 * n, sizeof *face);
     if (!face)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+    /* the iteration stopped at a step change delta: a step contracts the
+       error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2, so the
+       fixed point lies within delta q / (1 - q) */
+    double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    double iter = q < 1.0 ? h->last_change * h->last_vmax * q / (1.0 - q) : 0.0;
     double leaf_max = 0.0, sum = 0.0, total = 0.0;
     for (size_t e = 0; e < h->nel; e++) {
         const hp_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
-        double t = rad_dmax(x->T[0], rad_dmax(x->T[1], x->T[2]));
+        double t = rad_dmax(x->T[0], rad_dmax(x->T[1], x->T[2])) + iter;
         for (int c = 0; c < 3; c++)
-            leaf_max = rad_dmax(leaf_max, x->T[c] + x->dep[c]);
+            leaf_max = rad_dmax(leaf_max, x->T[c] + x->dep[c] + iter);
         face[x->face] += x->area * t;
         face[n + (size_t)x->face] += x->area;
         sum += x->area * t;
