@@ -84,6 +84,22 @@ rad_status hp_incidence(rad_hierp *h)
     return RAD_OK;
 }
 
+/* H[c] += M b[c] per channel, M the m x m matrix M_rt = K[r rs + t cs]
+ * (K itself or its transpose); inlined with constants, the loops unroll. */
+static inline void add_product(double H[3][HP_M], const double *K, const double *b, const int m,
+                               const int rs, const int cs)
+{
+    for (int c = 0; c < 3; c++)
+#pragma GCC unroll 6
+        for (int r = 0; r < m; r++) {
+            double v = 0.0;
+#pragma GCC unroll 6
+            for (int t = 0; t < m; t++)
+                v += K[r * rs + t * cs] * b[c * m + t];
+            H[c][r] += v;
+        }
+}
+
 /* Element x's H from its own links, with m a constant at each call (below)
  * so that the m x m products unroll; the sources' B from the copy Bs. */
 static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int m)
@@ -103,26 +119,10 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
             continue;
         }
         const double *b = h->Bs + (size_t)s * 3 * (size_t)m;
-        if (is_b) /* K^T b_s */
-            for (int c = 0; c < 3; c++)
-#pragma GCC unroll 6
-                for (int r = 0; r < m; r++) {
-                    double v = 0.0;
-#pragma GCC unroll 6
-                    for (int t = 0; t < m; t++)
-                        v += K[t * m + r] * b[c * m + t];
-                    H[c][r] += v;
-                }
-        else /* K b_s */
-            for (int c = 0; c < 3; c++)
-#pragma GCC unroll 6
-                for (int r = 0; r < m; r++) {
-                    double v = 0.0;
-#pragma GCC unroll 6
-                    for (int t = 0; t < m; t++)
-                        v += K[r * m + t] * b[c * m + t];
-                    H[c][r] += v;
-                }
+        if (is_b)
+            add_product(H, K, b, m, 1, m); /* K^T b_s */
+        else
+            add_product(H, K, b, m, m, 1); /* K b_s */
     }
     memcpy(x->H, H, sizeof H);
 }
