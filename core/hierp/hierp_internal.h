@@ -116,10 +116,6 @@ rad_status hp_split(rad_hierp *h, int e);
 double hp_poly_bound(const rad_hierp *h, const double *v, double area);
 /* Every element's Bmax from its B. */
 void hp_bound_B(rad_hierp *h);
-/* The positivity limiter (solve.c): v's non-constant part scaled so that
- * the function is >= 0 at the rule's nodes, its mean kept; a negative mean
- * is raised to 0. */
-void hp_limit(const rad_hierp *h, double *v);
 
 /* link.c */
 typedef struct hp_job {

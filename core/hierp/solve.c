@@ -149,12 +149,15 @@ static void gather(rad_hierp *h, int unit)
     }
 }
 
+/* The per-element parts of the push, the step and the pull, with m (the
+ * basis size) a constant in each (visit dispatches on it once per element)
+ * so that the loops over the basis unroll. */
+
 /* x's H plus its parent's, restricted to x (channels 0 .. channels - 1). */
-static void push_elem(const rad_hierp *h, hp_elem *x, int channels)
+static inline void push_elem(const rad_hierp *h, hp_elem *x, int channels, const int m)
 {
     if (x->parent < 0)
         return;
-    int m = h->m;
     const hp_elem *p = &h->el[x->parent];
     for (int c = 0; c < channels; c++)
         for (int r = 0; r < m; r++) {
@@ -165,31 +168,32 @@ static void push_elem(const rad_hierp *h, hp_elem *x, int channels)
         }
 }
 
-void hp_limit(const rad_hierp *h, double *v)
+/* The positivity limiter: v's non-constant part scaled so that the function
+ * is >= 0 at the rule's nodes, its mean kept; a negative mean is raised to 0. */
+static inline void limit(const rad_hierp *h, double *v, const int m)
 {
     double lo = INFINITY;
     for (int i = 0; i < h->nodes; i++) {
         double f = 0.0;
-        for (int k = 0; k < h->m; k++)
+        for (int k = 0; k < m; k++)
             f += v[k] * h->rq[i][k];
         lo = rad_dmin(lo, f);
     }
     if (!(lo < 0.0))
         return;
     if (!(v[0] > 0.0)) {
-        for (int k = 0; k < h->m; k++)
+        for (int k = 0; k < m; k++)
             v[k] = 0.0;
         return;
     }
     double theta = v[0] / (v[0] - lo); /* q_0 = 1: the mean's coefficient */
-    for (int k = 1; k < h->m; k++)
+    for (int k = 1; k < m; k++)
         v[k] *= theta;
 }
 
 /* An inner element's B: the projection of its children's functions. */
-static void pull_elem(const rad_hierp *h, hp_elem *x)
+static inline void pull_elem(const rad_hierp *h, hp_elem *x, const int m)
 {
-    int m = h->m;
     for (int c = 0; c < 3; c++)
         for (int r = 0; r < m; r++) {
             double v = 0.0;
@@ -202,31 +206,11 @@ static void pull_elem(const rad_hierp *h, hp_elem *x)
         }
 }
 
-/* The rows' push down the tree of element e. */
-static void push_rows(rad_hierp *h, int e)
-{
-    hp_elem *x = &h->el[e];
-    push_elem(h, x, 1);
-    memcpy(x->row, x->H[0], sizeof x->row);
-    if (x->first_child >= 0)
-        for (int ch = 0; ch < 4; ch++)
-            push_rows(h, x->first_child + ch);
-}
-
-void hp_rows(rad_hierp *h)
-{
-    gather(h, 1);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 256)
-    for (long long t = 0; t < (long long)h->nroots; t++)
-        push_rows(h, (int)t);
-}
-
 /* A leaf's new B from its gathered H; the change of its mean and the mean
  * (per channel, the largest) into *change and *vmax. */
-static void leaf_update(const rad_hierp *h, hp_elem *x, double *change, double *vmax)
+static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, double *vmax,
+                               const int m)
 {
-    int m = h->m;
     size_t n = h->nroots;
     double sa = sqrt(x->area), r0 = x->row[0];
     for (int c = 0; c < 3; c++) {
@@ -241,7 +225,7 @@ static void leaf_update(const rad_hierp *h, hp_elem *x, double *change, double *
                 t[k] *= sa / r0;
         }
         if (m > 1 || t[0] < 0.0)
-            hp_limit(h, t);
+            limit(h, t, m);
         size_t f = (size_t)x->face + (size_t)c * n;
         double rho = h->rho[f];
         double old = x->B[c][0];
@@ -254,19 +238,66 @@ static void leaf_update(const rad_hierp *h, hp_elem *x, double *change, double *
     }
 }
 
+enum visit_part { VISIT_PUSH_ROWS, VISIT_PUSH, VISIT_LEAF, VISIT_PULL };
+
+/* always inlined: each case of visit gets its own copy with m constant */
+__attribute__((always_inline)) static inline void visit_m(const rad_hierp *h, hp_elem *x,
+                                                          enum visit_part part, double *change,
+                                                          double *vmax, const int m)
+{
+    switch (part) {
+    case VISIT_PUSH_ROWS:
+        push_elem(h, x, 1, m);
+        memcpy(x->row, x->H[0], sizeof x->row);
+        break;
+    case VISIT_PUSH: push_elem(h, x, 3, m); break;
+    case VISIT_LEAF: leaf_update(h, x, change, vmax, m); break;
+    case VISIT_PULL: pull_elem(h, x, m); break;
+    }
+}
+
+static void visit(const rad_hierp *h, hp_elem *x, enum visit_part part, double *change,
+                  double *vmax)
+{
+    switch (h->m) {
+    case 1: visit_m(h, x, part, change, vmax, 1); break;
+    case 3: visit_m(h, x, part, change, vmax, 3); break;
+    default: visit_m(h, x, part, change, vmax, HP_M); break; /* p2: m = 6 */
+    }
+}
+
+/* The rows' push down the tree of element e. */
+static void push_rows(rad_hierp *h, int e)
+{
+    hp_elem *x = &h->el[e];
+    visit(h, x, VISIT_PUSH_ROWS, NULL, NULL);
+    if (x->first_child >= 0)
+        for (int ch = 0; ch < 4; ch++)
+            push_rows(h, x->first_child + ch);
+}
+
+void hp_rows(rad_hierp *h)
+{
+    gather(h, 1);
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 256)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        push_rows(h, (int)t);
+}
+
 /* Push, leaf update and pull over the tree of element e (parents are pushed
  * before their children and pulled after them). */
 static void step_tree(rad_hierp *h, int e, double *change, double *vmax)
 {
     hp_elem *x = &h->el[e];
-    push_elem(h, x, 3);
+    visit(h, x, VISIT_PUSH, change, vmax);
     if (x->first_child < 0) {
-        leaf_update(h, x, change, vmax);
+        visit(h, x, VISIT_LEAF, change, vmax);
         return;
     }
     for (int ch = 0; ch < 4; ch++)
         step_tree(h, x->first_child + ch, change, vmax);
-    pull_elem(h, x);
+    visit(h, x, VISIT_PULL, change, vmax);
 }
 
 /* One Jacobi step; the largest change of a leaf's mean and the largest mean.
