@@ -680,6 +680,31 @@ TEST(ff_adjacency_detection_is_relative_to_size)
     CHECK_NEAR(rad_ff_triangle_distance(a, b), 0.0, 0.0, 1e-20);
 }
 
+/* A wall triangle standing on a floor triangle touches it along part of an
+ * edge without sharing a vertex (a contact): it touches at a gap of 1e-12 of
+ * its size, not at 1e-6, nor when the two are set apart; the answer does not
+ * depend on the order or the scale. */
+TEST(ff_triangles_touch_within_a_relative_gap)
+{
+    for (int k = 0; k < 2; k++) {
+        double s = k ? 1e-4 : 10.0;
+        rad_vec3 floor_[3] = {V(0, 0, 0), V(s, 0, 0), V(0, s, 0)};
+        double gaps[4] = {0.0, 1e-12, 1e-6, 0.5};
+        int want[4] = {1, 1, 0, 0};
+        for (int g = 0; g < 4; g++) {
+            double z = gaps[g] * s;
+            rad_vec3 wall[3] = {V(0.1 * s, 0.2 * s, z), V(0.4 * s, 0.2 * s, z),
+                                V(0.2 * s, 0.2 * s, z + 0.5 * s)};
+            rad_vec3 cf = rad_geom_triangle_centroid(floor_[0], floor_[1], floor_[2]);
+            rad_vec3 cw = rad_geom_triangle_centroid(wall[0], wall[1], wall[2]);
+            double sf = rad_geom_triangle_longest_edge(floor_), sw = rad_geom_triangle_longest_edge(wall);
+            CHECK_MSG(rad_ff_triangles_touch(floor_, cf, sf, wall, cw, sw) == want[g] &&
+                          rad_ff_triangles_touch(wall, cw, sw, floor_, cf, sf) == want[g],
+                      "scale %g, gap %g: want %d", s, gaps[g], want[g]);
+        }
+    }
+}
+
 static double lcg(unsigned long *state)
 {
     *state = *state * 6364136223846793005UL + 1442695040888963407UL;

@@ -62,3 +62,10 @@ double rad_ff_triangle_distance(const rad_vec3 ti[3], const rad_vec3 tj[3])
     }
     return best;
 }
+
+int rad_ff_triangles_touch(const rad_vec3 ti[3], rad_vec3 ci, double si, const rad_vec3 tj[3],
+                           rad_vec3 cj, double sj)
+{
+    return rad_vec3_norm(rad_vec3_sub(ci, cj)) <= 1.001 * (si + sj) &&
+           rad_ff_triangle_distance(ti, tj) <= 1e-9 * rad_dmax(si, sj);
+}

@@ -183,6 +183,13 @@ rad_ff_adjacency rad_ff_adjacency_detect(const rad_vec3 ti[3], const rad_vec3 tj
 /* Smallest distance between the two (closed) triangles. */
 double rad_ff_triangle_distance(const rad_vec3 ti[3], const rad_vec3 tj[3]);
 
+/* 1 when triangles ti and tj (centroids ci, cj, longest edges si, sj) touch:
+ * within 1e-9 of the longer edge of each other.  A corner lies within the
+ * longest edge of its centroid, so triangles whose centroids are farther
+ * apart than both longest edges are dismissed before the distance. */
+int rad_ff_triangles_touch(const rad_vec3 ti[3], rad_vec3 ci, double si, const rad_vec3 tj[3],
+                           rad_vec3 cj, double sj);
+
 #ifdef __cplusplus
 }
 #endif

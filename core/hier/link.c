@@ -269,12 +269,8 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     int map[3], adjacent = 0, contact = 0;
     if (!h->p.use_rule && !far && h->p.singular) {
         adjacent = rad_ff_adjacency_detect(ea->p, eb->p, 1e-9, map) != RAD_FF_DISJOINT;
-        /* a corner lies within the longest edge of its centroid: elements
-           whose centroids are farther apart than both longest edges cannot touch */
-        double reach = ea->size + eb->size;
         contact = !adjacent && hier_pair_may_touch(h, ea->face, eb->face) &&
-                  rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) <= 1.001 * reach &&
-                  rad_ff_triangle_distance(ea->p, eb->p) <= 1e-9 * rad_dmax(ea->size, eb->size);
+                  rad_ff_triangles_touch(ea->p, ea->c, ea->size, eb->p, eb->c, eb->size);
     }
     if (h->p.use_rule || adjacent || contact) {
         rad_ff_rule rule = h->p.rule;

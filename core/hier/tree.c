@@ -296,9 +296,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
                     continue;
                 }
                 const hier_elem *a = &h->el[r], *b = &h->el[s];
-                double gap = 1e-9 * rad_dmax(a->size, b->size);
-                int touch = rad_vec3_norm(rad_vec3_sub(a->c, b->c)) <= 1.001 * (a->size + b->size) &&
-                            rad_ff_triangle_distance(a->p, b->p) <= gap;
+                int touch = rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
                 tab[(size_t)r * ntris + s] =
                     (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HIER_CAN_BLOCK : 0) |
                                     (touch ? HIER_MAY_TOUCH : 0));

@@ -247,10 +247,8 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     int map[3], adjacent = 0, contact = 0;
     if (!far && h->p.singular) {
         adjacent = rad_ff_adjacency_detect(ea->p, eb->p, 1e-9, map) != RAD_FF_DISJOINT;
-        double reach = ea->size + eb->size;
         contact = !adjacent && pair_may_touch(h, ea->face, eb->face) &&
-                  rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) <= 1.001 * reach &&
-                  rad_ff_triangle_distance(ea->p, eb->p) <= 1e-9 * rad_dmax(ea->size, eb->size);
+                  rad_ff_triangles_touch(ea->p, ea->c, ea->size, eb->p, eb->c, eb->size);
     }
     if (adjacent || contact) {
         rad_ff_rule rule = {adjacent ? RAD_FF_SS : RAD_FF_EXACT, adjacent ? 5 : 0};

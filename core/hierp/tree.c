@@ -282,8 +282,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
             for (size_t s = 0; s < ntris; s++) {
                 const hp_elem *a = &h->el[r], *b = &h->el[s];
                 int touch = (size_t)r != s &&
-                            rad_vec3_norm(rad_vec3_sub(a->c, b->c)) <= 1.001 * (a->size + b->size) &&
-                            rad_ff_triangle_distance(a->p, b->p) <= 1e-9 * rad_dmax(a->size, b->size);
+                            rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
                 tab[(size_t)r * ntris + s] =
                     (unsigned char)(((size_t)r != s && rad_vis_pair_can_block(vis, (size_t)r, s)
                                          ? HP_CAN_BLOCK
