@@ -4,7 +4,8 @@
 # on one thread.  Wall time on a shared machine swings by 20-50% from hour to
 # hour; the count repeats to 0.1%, so it compares builds and bases where the
 # timings cannot.  For each basis, the runs at the eps that bracket 0.25%
-# (p0: 0.07 0.05 0.03, p1: 0.1 0.07; BENCH_P0_EPS, BENCH_P1_EPS), their L1
+# (p0: 0.068 .. 0.033, p1: 0.12 .. 0.068, the E12 steps of
+# experiments/bases; BENCH_P0_EPS, BENCH_P1_EPS), their L1
 # against the Monte Carlo reference, and the count at 0.25% interpolated
 # log-log as experiments/bases does for time.  Valgrind is installed when
 # missing (scripts/deps.sh); CGAL's check of the rounding mode fails under
@@ -14,8 +15,8 @@ set -eu
 RADKIT=${1:?usage: bench/instructions.sh path/to/radkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 TSV="$ROOT/bench/instructions.tsv"
-P0_EPS=${BENCH_P0_EPS:-"0.07 0.05 0.03"}
-P1_EPS=${BENCH_P1_EPS:-"0.1 0.07"}
+P0_EPS=${BENCH_P0_EPS:-"0.068 0.056 0.047 0.039 0.033"}
+P1_EPS=${BENCH_P1_EPS:-"0.12 0.1 0.082 0.068"}
 GOAL=0.0025
 sh "$ROOT/scripts/deps.sh" valgrind
 (cd "$ROOT" && CXXFLAGS=-DCGAL_DISABLE_ROUNDING_MATH_CHECK make -s BUILD=build/vg build/vg/radkit)

@@ -25,7 +25,9 @@ MAX_P0=${MAX_P0:-3}
 MAX_P1=${MAX_P1:-2}
 MAX_P2=${MAX_P2:-2}
 REPEAT=${REPEAT:-5}
-HIER_EPS=${HIER_EPS:-"0.3 0.2 0.15 0.1 0.07 0.05 0.03 0.02 0.01"}
+# twelve steps a decade (the E12 series): the error falls in steps, not
+# smoothly, as eps shrinks, so a coarser sweep brackets a target loosely
+HIER_EPS=${HIER_EPS:-"0.33 0.27 0.22 0.18 0.15 0.12 0.1 0.082 0.068 0.056 0.047 0.039 0.033 0.027 0.022 0.018 0.015 0.012 0.01"}
 scene=scenes/cornell/cornell.obj
 ref=experiments/reference/data/cornell.tsv
 cd "$root"

@@ -21,7 +21,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 RADKIT=${RADKIT:-$root/build/radkit}
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac # we cd below
-EPS_ERROR=${EPS_ERROR:-"0.3 0.2 0.1 0.05 0.03 0.02 0.01 0.005 0.003 0.002 0.001"}
+# eps of the error oracle: twelve steps a decade (the E12 series) from 0.33 to
+# 0.01, where a target falls between runs, then coarser to 0.001
+EPS_ERROR=${EPS_ERROR:-"0.33 0.27 0.22 0.18 0.15 0.12 0.1 0.082 0.068 0.056 0.047 0.039 0.033 0.027 0.022 0.018 0.015 0.012 0.01 0.005 0.003 0.002 0.001"}
 EPS_BF=${EPS_BF:-"1 0.3 0.1 0.05 0.03"}
 REPEAT=${REPEAT:-5}
 ORACLES="bf error"
