@@ -37,6 +37,9 @@ TEST(cluster_cli_table_and_stats)
             args[n++] = "--cluster-model";
             args[n++] = models[m];
         }
+        /* the input triangles uncut, so that they are the tree's leaves */
+        args[n++] = "--contact";
+        args[n++] = "off";
         args[n++] = "--stats";
         args[n++] = stats;
         args[n++] = "--ply";
@@ -249,7 +252,8 @@ TEST(cluster_effects_plan_decides_for_hier)
     free(err);
     /* forced on below the threshold: the Cornell box's 38 triangles */
     CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/cornell/cornell.obj"),
-                             "--method", "hier", "--clustering", "on", "--quiet", NULL},
+                             "--method", "hier", "--clustering", "on", "--contact", "off",
+                             "--quiet", NULL},
                              &out, &err) == 0);
     CHECK(out && harness_header(out, "clusters", buf, sizeof buf) && atoi(buf) == 75);
     CHECK(out && harness_header(out, "effect_clustering_reason", buf, sizeof buf) &&

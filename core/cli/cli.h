@@ -36,10 +36,11 @@ rad_status cli_parse_positive_int(const char *option, const char *text, long max
  * cli_scene_options_add appends their entries to a table (room for
  * CLI_SCENE_OPTION_COUNT); cli_scene_options_apply turns the parsed text into
  * parameters. */
-#define CLI_SCENE_OPTION_COUNT 12
+#define CLI_SCENE_OPTION_COUNT 13
 typedef struct cli_scene_options {
     const char *scale, *rho, *emission, *curve_tol;
-    const char *mode[6]; /* occlusion, colour, facing-away, singular, reflectance, clustering */
+    const char *mode[7]; /* occlusion, colour, facing-away, singular, reflectance, clustering,
+                            contact */
     int strict, drop_degenerate;
 } cli_scene_options;
 

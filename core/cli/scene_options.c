@@ -27,7 +27,7 @@ const char cli_scene_options_help[] =
     "                     surface; 1e-6 <= T < 1, default 0.0125 (20 segments a\n"
     "                     circle; their area falls short by about T to 2 T)\n"
     "  --occlusion M, --colour M, --facing-away M, --singular M,\n"
-    "  --reflectance M, --clustering M\n"
+    "  --reflectance M, --clustering M, --contact M\n"
     "                     override one decision of the effects plan: M is auto\n"
     "                     (decide from the scene, the default), on or off.\n"
     "                     occlusion off: no visibility, no rays; colour off: one\n"
@@ -37,10 +37,13 @@ const char cli_scene_options_help[] =
     "                     touching pairs by the regular rules; reflectance off:\n"
     "                     the default tolerances even near rho 1; clustering\n"
     "                     (hier; auto: from 1000 triangles) on: link through\n"
-    "                     a cluster hierarchy, off: link every pair first\n";
+    "                     a cluster hierarchy, off: link every pair first;\n"
+    "                     contact (hier) on: cut each triangle along the lines\n"
+    "                     where others stand on it, off: mesh it whole\n";
 
 static const char *const mode_option[RAD_EFFECT_COUNT] = {
-    "--occlusion", "--colour", "--facing-away", "--singular", "--reflectance", "--clustering"};
+    "--occlusion", "--colour", "--facing-away", "--singular", "--reflectance", "--clustering",
+    "--contact"};
 
 void cli_scene_options_init(cli_scene_options *o)
 {
@@ -130,7 +133,8 @@ rad_status cli_scene_options_apply(const char *command, const cli_scene_options 
         sp->has_emission = 1;
     }
     rad_effect_mode *modes[RAD_EFFECT_COUNT] = {&ep->occlusion, &ep->colour, &ep->facing_away,
-                                                &ep->singular, &ep->reflectance, &ep->clustering};
+                                                &ep->singular, &ep->reflectance, &ep->clustering,
+                                                &ep->contact};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         char what[64];
         snprintf(what, sizeof what, "%s: %s", command, mode_option[k]);

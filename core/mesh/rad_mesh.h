@@ -129,6 +129,31 @@ rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_
 rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double **xyz_out,
                                    size_t *nv_out, int **tri_out, int **leaf_out, size_t *nt_out);
 
+/* Input triangles cut along their contact lines (contact.cpp): where part
+ * of another triangle lies on a triangle's plane (within rel_tol times the
+ * longer of the two triangles' longest edges) with some of it in front, and
+ * that part passes through the triangle's inside, the triangle is
+ * triangulated with it as a constraint (a box standing on a floor cuts the
+ * floor along its footprint).  The output holds the input's vertices and
+ * then the new ones; every piece keeps its input triangle's orientation and
+ * names it in parent[]; triangles without contact are copied as they are,
+ * in order; a triangle without a normal (degenerate, not finite) neither
+ * cuts nor is cut.  RAD_EINVAL for a NULL argument or a negative
+ * tolerance, RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
+ * RAD_EGEOM from the geometry kernel. */
+typedef struct rad_mesh_contacts {
+    double *xyz;
+    size_t nv;
+    int *tri;
+    size_t nt;
+    int *parent;
+    size_t faces_split; /* input triangles cut */
+    size_t segments;    /* contact segments found (on the cut triangles) */
+} rad_mesh_contacts;
+rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri, size_t nt,
+                                   double rel_tol, rad_mesh_contacts *out);
+void rad_mesh_contacts_free(rad_mesh_contacts *c);
+
 /* OFF with full double precision. */
 rad_status rad_mesh_write_off(const rad_mesh *mesh, const char *path);
 

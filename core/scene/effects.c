@@ -33,6 +33,12 @@
  *     the n - 1 sibling pairs of a cluster hierarchy instead.  The solve
  *     pipeline settles it for the method (only hier with constant elements
  *     acts on it; --method cluster forces it on).
+ *  7. Contact.  Where a triangle stands on another's inside (a box on a
+ *     floor) the floor's radiosity jumps along the line of contact: under
+ *     the box it is dark and unseen.  Hierarchical radiosity cuts such
+ *     triangles along the line (rad_mesh_split_contacts) and solves on the
+ *     pieces, each input triangle's row the area-weighted mean of its
+ *     pieces; dense and Monte Carlo solve on the input triangles.
  * Every decision can be forced on or off; the reason then says so.  Each one
  * changes what the solvers run (rad_solve.h says how).
  * The kernel, its support and its singularities: [cohen1993], chapters 3-4. */
@@ -53,6 +59,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->plane_rel_tol = 1e-12;
     p->near_one = 0.5;
     p->max_amplification = 1e6;
+    p->contact_rel_tol = 1e-6;
 }
 
 void rad_scene_effects_list(const rad_effects_plan *plan,
@@ -60,10 +67,12 @@ void rad_scene_effects_list(const rad_effects_plan *plan,
                             const char *names[RAD_EFFECT_COUNT])
 {
     static const char *const all[RAD_EFFECT_COUNT] = {"occlusion", "colour", "facing_away",
-                                                      "singular", "reflectance", "clustering"};
+                                                      "singular", "reflectance", "clustering",
+                                                      "contact"};
     const rad_effect_decision *d[RAD_EFFECT_COUNT] = {&plan->occlusion, &plan->colour,
                                                       &plan->facing_away, &plan->singular,
-                                                      &plan->reflectance, &plan->clustering};
+                                                      &plan->reflectance, &plan->clustering,
+                                                      &plan->contact};
     for (int k = 0; k < RAD_EFFECT_COUNT; k++) {
         if (dec)
             dec[k] = d[k];
@@ -250,6 +259,23 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
              0.5 * (double)s->nt * (double)(s->nt - 1),
              many ? "" : " first (clustering pays from about 1000 triangles)");
     settle(&plan->clustering, params->clustering, many, why);
+    /* 7. contact */
+    rad_mesh_contacts ct;
+    rad_status st = rad_mesh_split_contacts(s->xyz, (size_t)s->nv, s->tri, (size_t)s->nt,
+                                            params->contact_rel_tol, &ct);
+    if (st != RAD_OK)
+        return st;
+    plan->contact_faces = (int)ct.faces_split;
+    plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
+    if (ct.faces_split > 0)
+        snprintf(why, sizeof why, "%d input triangles have another standing on them (or passing "
+                 "through) along %zu segments: hier cuts them there into %d pieces, so that no "
+                 "element straddles the line where the radiosity jumps",
+                 plan->contact_faces, ct.segments, plan->contact_pieces);
+    else
+        snprintf(why, sizeof why, "no triangle stands on another's inside: nothing to cut");
+    rad_mesh_contacts_free(&ct);
+    settle(&plan->contact, params->contact, plan->contact_faces > 0, why);
     if (amp > params->max_amplification)
         snprintf(plan->refusal, sizeof plan->refusal, "the largest reflectance %.10g is within "
                  "%.3g of 1: errors would be amplified %.3g times, beyond the %.3g that radkit's "

@@ -173,7 +173,7 @@ typedef enum rad_effect_mode {
 rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_effect_mode *out);
 
 typedef struct rad_effects_params {
-    rad_effect_mode occlusion, colour, facing_away, singular, reflectance, clustering;
+    rad_effect_mode occlusion, colour, facing_away, singular, reflectance, clustering, contact;
     int cluster_min_faces;    /* clustering from this many input triangles on */
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     double grey_tol;          /* channels within this absolute difference are grey */
@@ -181,12 +181,15 @@ typedef struct rad_effects_params {
                                  face's plane counts as on it (facing-away test) */
     double near_one;          /* reflectance from which tolerances are tightened */
     double max_amplification; /* refuse scenes whose 1 / (1 - rho_max) exceeds this */
+    double contact_rel_tol;   /* a corner within this times the longer longest edge of a
+                                 triangle's plane lies on it (contact lines) */
 } rad_effects_params;
 
 /* Everything automatic; clustering from 1000 triangles; pair scan up to
  * 20000 faces; grey within 1e-12;
  * plane tolerance 1e-12;
- * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6. */
+ * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6;
+ * contact within 1e-6. */
 void rad_scene_effects_params_default(rad_effects_params *params);
 
 typedef struct rad_effect_decision {
@@ -212,6 +215,13 @@ typedef struct rad_effects_plan {
     /* on: hierarchical radiosity links from a cluster hierarchy instead of
      * every pair of input triangles (rad_hier params.cluster). */
     rad_effect_decision clustering;
+    /* on: some triangle has another standing on it (or passing through it)
+     * along a segment through its inside (rad_mesh_split_contacts):
+     * hierarchical radiosity cuts it there before meshing, so that no
+     * element straddles the line where its radiosity jumps. */
+    rad_effect_decision contact;
+    int contact_faces;            /* input triangles with contact segments */
+    int contact_pieces;           /* the pieces they are cut into */
     double rho_max;               /* the largest reflectance of any face and channel */
     /* 1 when every point sees only front faces, so that every row of form
      * factors sums to exactly 1: every component is closed, one (the
@@ -234,8 +244,9 @@ rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan);
 
 /* The decisions in a fixed order with their names ("occlusion", "colour",
- * "facing_away", "singular", "reflectance", "clustering"), for printing. */
-#define RAD_EFFECT_COUNT 6
+ * "facing_away", "singular", "reflectance", "clustering", "contact"), for
+ * printing. */
+#define RAD_EFFECT_COUNT 7
 void rad_scene_effects_list(const rad_effects_plan *plan,
                             const rad_effect_decision *decisions[RAD_EFFECT_COUNT],
                             const char *names[RAD_EFFECT_COUNT]);

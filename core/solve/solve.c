@@ -76,12 +76,52 @@ typedef struct prepared {
     rad_mesh *mesh;
     int faces;
     double *rho, *E; /* one block of 6 faces */
+    /* what hier meshes (pieces_make): the input triangles, or their pieces
+       cut along contact lines, each naming its input triangle in parent
+       (NULL when not cut), with their reflectance and emission */
+    const double *xyz;
+    size_t nv, nt;
+    const int *tri, *parent;
+    const double *prho, *pE;
+    rad_mesh_contacts cut;
+    double *cut_rho; /* one block of 6 pieces */
 } prepared;
 
 static void prepared_free(prepared *pr)
 {
     rad_mesh_destroy(pr->mesh);
     free(pr->rho);
+    rad_mesh_contacts_free(&pr->cut);
+    free(pr->cut_rho);
+}
+
+/* With the plan's contact on, the triangles hier meshes become the pieces
+ * of rad_mesh_split_contacts (prepare set the input's). */
+static rad_status pieces_make(prepared *pr, const rad_solution *s)
+{
+    if (!s->plan.contact.on)
+        return RAD_OK;
+    rad_status st = rad_mesh_split_contacts(pr->xyz, pr->nv, pr->tri, pr->nt,
+                                            s->used.effects.contact_rel_tol, &pr->cut);
+    if (st != RAD_OK)
+        return st;
+    size_t n = pr->cut.nt, faces = (size_t)pr->faces;
+    if (!(pr->cut_rho = malloc(n * 6 * sizeof *pr->cut_rho)))
+        return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu pieces", n);
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            size_t f = (size_t)pr->cut.parent[i];
+            pr->cut_rho[i + c * n] = pr->rho[f + c * faces];
+            pr->cut_rho[3 * n + i + c * n] = pr->E[f + c * faces];
+        }
+    pr->xyz = pr->cut.xyz;
+    pr->nv = pr->cut.nv;
+    pr->tri = pr->cut.tri;
+    pr->nt = n;
+    pr->parent = pr->cut.parent;
+    pr->prho = pr->cut_rho;
+    pr->pE = pr->cut_rho + 3 * n;
+    return RAD_OK;
 }
 
 static void add_phase(rad_solution *s, const char *name, double seconds)
@@ -129,6 +169,15 @@ static rad_status apply_plan(rad_solution *s)
                                              : "dense radiosity");
     }
     u->hier.cluster = cl->on && (acts || u->method == RAD_SOLVE_CLUSTER);
+    /* contact lines: hier and cluster cut their input triangles along them */
+    rad_effect_decision *ct = &s->plan.contact;
+    if (u->method == RAD_SOLVE_DENSE || u->method == RAD_SOLVE_MC) {
+        if (ct->forced && ct->on)
+            return RAD_ERROR(RAD_EINVAL, "solve: --contact on applies to --method hier and cluster");
+        ct->on = 0;
+        snprintf(ct->reason, sizeof ct->reason, "%s solves on the input triangles",
+                 u->method == RAD_SOLVE_MC ? "Monte Carlo" : "dense radiosity");
+    }
     if (u->method == RAD_SOLVE_MC) {
         if (plan->facing_away.forced || plan->singular.forced)
             return RAD_ERROR(RAD_EINVAL, "solve: --facing-away and --singular decide how form "
@@ -175,6 +224,12 @@ static rad_status prepare(const rad_scene *scene, rad_solution *s, prepared *pr)
     if (!(pr->rho = malloc(n * 6 * sizeof *pr->rho)))
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu faces", n);
     pr->E = pr->rho + 3 * n;
+    pr->xyz = rad_scene_vertices(scene);
+    pr->nv = (size_t)rad_scene_vertex_count(scene);
+    pr->tri = rad_scene_triangles(scene);
+    pr->nt = n;
+    pr->prho = pr->rho;
+    pr->pE = pr->E;
     const int *tri_mat = rad_scene_triangle_materials(scene);
     const rad_scene_material *mats = rad_scene_materials(scene);
     for (size_t i = 0; i < n; i++) {
@@ -280,8 +335,7 @@ static rad_status make_vis(const prepared *pr, int needed, double eps_rel, int s
         vp.eps_rel = eps_rel;
     if (strata > 0)
         vp.strata_per_edge = strata;
-    return rad_vis_create(rad_scene_vertices(pr->scene), (size_t)rad_scene_vertex_count(pr->scene),
-                          rad_scene_triangles(pr->scene), (size_t)pr->faces, &vp, vis);
+    return rad_vis_create(pr->xyz, pr->nv, pr->tri, pr->nt, &vp, vis);
 }
 
 /* ---- dense ---------------------------------------------------------------- */
@@ -620,10 +674,8 @@ static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
     rad_hierp *h = NULL;
     int *material = NULL;
     double *leaf = NULL, *E = NULL;
-    rad_status st = rad_hierp_create(rad_scene_vertices(pr->scene),
-                                     (size_t)rad_scene_vertex_count(pr->scene),
-                                     rad_scene_triangles(pr->scene), (size_t)pr->faces, pr->rho,
-                                     pr->E, vis, &u->hier, u->basis, &h);
+    rad_status st = rad_hierp_create(pr->xyz, pr->nv, pr->tri, pr->nt, pr->prho, pr->pE, vis,
+                                     &u->hier, u->basis, &h);
     if (st == RAD_OK)
         st = rad_hierp_solve(h);
     if (st != RAD_OK)
@@ -644,6 +696,9 @@ static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
     }
     double *area = leaf, *B = leaf + n;
     rad_hierp_leaves(h, s->element_face, area, s->element_corners, B, s->element_coef);
+    if (pr->parent)
+        for (size_t i = 0; i < n; i++)
+            s->element_face[i] = pr->parent[s->element_face[i]];
     const int *tri_mat = rad_scene_triangle_materials(pr->scene);
     size_t faces = (size_t)pr->faces;
     for (size_t i = 0; i < n; i++) {
@@ -678,7 +733,9 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     rad_hier *h = NULL;
     double *leaf = NULL;
     int *leaf_face = NULL;
-    rad_status st = make_vis(pr, s->plan.occlusion.on, 0.0, 0, &vis);
+    rad_status st = pieces_make(pr, s);
+    if (st == RAD_OK)
+        st = make_vis(pr, s->plan.occlusion.on, 0.0, 0, &vis);
     if (st != RAD_OK)
         return st;
     add_phase(s, "visibility", rad_sys_seconds() - t_setup);
@@ -687,9 +744,7 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
         rad_vis_destroy(vis);
         return st;
     }
-    st = rad_hier_create(rad_scene_vertices(pr->scene), (size_t)rad_scene_vertex_count(pr->scene),
-                         rad_scene_triangles(pr->scene), (size_t)pr->faces, pr->rho, pr->E, vis,
-                         &u->hier, &h);
+    st = rad_hier_create(pr->xyz, pr->nv, pr->tri, pr->nt, pr->prho, pr->pE, vis, &u->hier, &h);
     if (st == RAD_OK)
         st = rad_hier_solve(h);
     if (st != RAD_OK)
@@ -705,6 +760,9 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     }
     double *area = leaf, *B = leaf + n;
     rad_hier_leaves(h, leaf_face, area, NULL, B);
+    if (pr->parent)
+        for (size_t i = 0; i < n; i++)
+            leaf_face[i] = pr->parent[leaf_face[i]];
     if ((st = face_answer(s, n, leaf_face, area, B)) == RAD_OK && u->display)
         st = hier_display(s, h, pr, n, leaf_face, B);
 done:

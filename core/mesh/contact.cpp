@@ -1,0 +1,339 @@
+// Input triangles split along contact lines (rad_mesh_split_contacts).
+//
+// Where a surface stands on a triangle (a box on a floor), the radiosity of
+// the triangle jumps along the line of contact: what lies under the box
+// sees nothing and is seen by nothing.  An element that straddles the line
+// carries the dark part in its mean (or its polynomial) to every receiver,
+// also to the box's side, which sees only the lit part; refining only
+// approaches the line.  So the triangle is cut along it before meshing:
+//  1. Candidate pairs: axis-aligned boxes (grown by the tolerance) that
+//     overlap, by a sweep along x.
+//  2. For triangles A and B, the part of B on A's plane (vertices within
+//     tol of it, and the crossings of edges from one side to the other) is
+//     a contact segment on A when it has positive length, some of B lies in
+//     front of A, and the segment passes through A's inside (its part within
+//     A is not on A's boundary).  tol = rel_tol times the longer of the two
+//     triangles' longest edges.  A triangle without a normal (degenerate,
+//     not finite, or so small that its cross product underflows) neither
+//     cuts nor is cut.
+//  3. A triangle with contact segments is triangulated by a CGAL constrained
+//     Delaunay triangulation [cgal:triangulation2] in the plane of its two
+//     coordinates away from the largest normal component (exact predicates,
+//     so the segments may cross each other and A's edges: the crossings are
+//     constructed), with A's edges and the segments, not clipped to A, as
+//     constraints; the faces inside A's edges are kept (flood fill from the
+//     infinite face that stops at constraints), in A's orientation, and new
+//     vertices are lifted onto A's plane.
+#include "rad_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <climits>
+#include <cstring>
+#include <deque>
+#include <new>
+#include <stdexcept>
+#include <vector>
+
+#include "cgal_warnings_off.hpp"
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include "cgal_warnings_on.hpp"
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point2 = Kernel::Point_2;
+using Vb = CGAL::Triangulation_vertex_base_2<Kernel>;
+using Fb = CGAL::Triangulation_face_base_with_info_2<int, Kernel,
+                                                      CGAL::Constrained_triangulation_face_base_2<Kernel>>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+
+struct Tri {
+    const double *p[3];
+    double n[3];  // unit normal
+    double d;     // n . p[0]
+    double size;  // longest edge
+    double lo[3], hi[3];
+    int axis;     // the coordinate dropped in the plane (largest |n|)
+    bool ok;      // a normal: a triangle without one (degenerate, or so small
+                  // that its cross product underflows) is left as it is
+};
+
+double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+struct Segment {
+    double a[3], b[3];
+};
+
+// Step 2: the contact segment of B on A, if any.
+bool contact(const Tri &A, const Tri &B, double tol, Segment *out)
+{
+    double dist[3];
+    int side[3], front = 0;
+    for (int v = 0; v < 3; v++) {
+        dist[v] = dot(A.n, B.p[v]) - A.d;
+        side[v] = dist[v] > tol ? 1 : dist[v] < -tol ? -1 : 0;
+        front |= side[v] > 0;
+    }
+    if (!front)
+        return false;
+    double pts[3][3];
+    int np = 0;
+    for (int v = 0; v < 3; v++)
+        if (side[v] == 0) {
+            for (int i = 0; i < 3; i++)
+                pts[np][i] = B.p[v][i] - dist[v] * A.n[i];
+            np++;
+        }
+    for (int v = 0; v < 3 && np < 3; v++) {
+        int w = (v + 1) % 3;
+        if (side[v] * side[w] < 0) {
+            double t = dist[v] / (dist[v] - dist[w]);
+            for (int i = 0; i < 3; i++)
+                pts[np][i] = B.p[v][i] + t * (B.p[w][i] - B.p[v][i]);
+            np++;
+        }
+    }
+    if (np != 2)
+        return false;
+    double len2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        len2 += (pts[1][i] - pts[0][i]) * (pts[1][i] - pts[0][i]);
+    if (!(len2 > tol * tol))
+        return false;
+    // the part of the segment inside A: clip P(t) = P0 + t (P1 - P0) by A's
+    // edges' inner half-planes, in 3D with A's normal
+    double t0 = 0.0, t1 = 1.0;
+    for (int e = 0; e < 3; e++) {
+        const double *a = A.p[e], *b = A.p[(e + 1) % 3];
+        double ed[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        double in[3] = {A.n[1] * ed[2] - A.n[2] * ed[1], A.n[2] * ed[0] - A.n[0] * ed[2],
+                        A.n[0] * ed[1] - A.n[1] * ed[0]}; // points into A
+        double f0 = 0.0, f1 = 0.0;
+        for (int i = 0; i < 3; i++) {
+            f0 += in[i] * (pts[0][i] - a[i]);
+            f1 += in[i] * (pts[1][i] - a[i]);
+        }
+        // inside: f >= margin (a hair inside, so that a segment along an edge
+        // of A or just outside it is no contact with A's inside)
+        double margin = 1e-9 * A.size * std::sqrt(dot(in, in));
+        double g0 = f0 - margin, g1 = f1 - margin;
+        if (g0 < 0.0 && g1 < 0.0)
+            return false;
+        if (g0 < 0.0)
+            t0 = std::max(t0, g0 / (g0 - g1));
+        else if (g1 < 0.0)
+            t1 = std::min(t1, g0 / (g0 - g1));
+    }
+    if (!(t1 - t0 > 1e-9))
+        return false;
+    std::memcpy(out->a, pts[0], sizeof out->a);
+    std::memcpy(out->b, pts[1], sizeof out->b);
+    return true;
+}
+
+struct Output {
+    std::vector<double> xyz;
+    std::vector<int> tri, parent;
+};
+
+// Step 3: triangle t of the input (corners v[3]) cut by its segments.
+void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs, Output &out)
+{
+    const int k = A.axis, i0 = (k + 1) % 3, i1 = (k + 2) % 3;
+    CDT cdt;
+    CDT::Vertex_handle c[3];
+    for (int j = 0; j < 3; j++)
+        c[j] = cdt.insert(Point2(A.p[j][i0], A.p[j][i1]));
+    if (cdt.number_of_vertices() != 3)
+        throw std::runtime_error("a triangle projects to fewer than three points");
+    for (int j = 0; j < 3; j++)
+        cdt.insert_constraint(c[j], c[(j + 1) % 3]);
+    for (const Segment &s : segs)
+        cdt.insert_constraint(Point2(s.a[i0], s.a[i1]), Point2(s.b[i0], s.b[i1]));
+    // flood fill from the infinite face across unconstrained edges: 1 outside
+    for (CDT::All_faces_iterator f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
+        f->info() = 0;
+    std::deque<CDT::Face_handle> queue{cdt.infinite_face()};
+    cdt.infinite_face()->info() = 1;
+    while (!queue.empty()) {
+        CDT::Face_handle f = queue.front();
+        queue.pop_front();
+        for (int e = 0; e < 3; e++) {
+            CDT::Face_handle g = f->neighbor(e);
+            if (g->info() == 0 && !cdt.is_constrained(CDT::Edge(f, e))) {
+                g->info() = 1;
+                queue.push_back(g);
+            }
+        }
+    }
+    bool ccw = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point()) == CGAL::LEFT_TURN;
+    // the vertices: A's corners keep theirs, the others are lifted onto A's plane
+    std::vector<std::pair<CDT::Vertex_handle, int>> ids;
+    auto id_of = [&](CDT::Vertex_handle h) {
+        for (int j = 0; j < 3; j++)
+            if (h == c[j])
+                return v[j];
+        for (const auto &p : ids)
+            if (p.first == h)
+                return p.second;
+        double u = h->point().x(), w = h->point().y(), x[3];
+        x[i0] = u;
+        x[i1] = w;
+        x[k] = (A.d - A.n[i0] * u - A.n[i1] * w) / A.n[k];
+        int id = (int)(out.xyz.size() / 3);
+        out.xyz.insert(out.xyz.end(), x, x + 3);
+        ids.emplace_back(h, id);
+        return id;
+    };
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        if (f->info() != 0)
+            continue;
+        int a = id_of(f->vertex(0)), b = id_of(f->vertex(1)), d = id_of(f->vertex(2));
+        if (ccw)
+            out.tri.insert(out.tri.end(), {a, b, d});
+        else
+            out.tri.insert(out.tri.end(), {a, d, b});
+        out.parent.push_back(t);
+    }
+}
+
+} // namespace
+
+extern "C" void rad_mesh_contacts_free(rad_mesh_contacts *c)
+{
+    if (!c)
+        return;
+    std::free(c->xyz);
+    std::free(c->tri);
+    std::free(c->parent);
+    std::memset(c, 0, sizeof *c);
+}
+
+extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri,
+                                              size_t nt, double rel_tol, rad_mesh_contacts *out)
+{
+    if (!out)
+        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument");
+    std::memset(out, 0, sizeof *out);
+    if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0))
+        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument or negative tolerance");
+    try {
+        std::vector<Tri> T(nt);
+        for (size_t t = 0; t < nt; t++) {
+            Tri &A = T[t];
+            for (int j = 0; j < 3; j++) {
+                int v = tri[3 * t + j];
+                if (v < 0 || (size_t)v >= nv)
+                    return RAD_ERROR(RAD_EINPUT, "contacts: triangle %zu has a bad vertex index", t);
+                A.p[j] = xyz + 3 * (size_t)v;
+            }
+            double u[3], w[3], size = 0.0;
+            for (int i = 0; i < 3; i++) {
+                u[i] = A.p[1][i] - A.p[0][i];
+                w[i] = A.p[2][i] - A.p[0][i];
+                A.lo[i] = std::min({A.p[0][i], A.p[1][i], A.p[2][i]});
+                A.hi[i] = std::max({A.p[0][i], A.p[1][i], A.p[2][i]});
+            }
+            for (int j = 0; j < 3; j++) {
+                const double *a = A.p[j], *b = A.p[(j + 1) % 3];
+                double e2 = 0.0;
+                for (int i = 0; i < 3; i++)
+                    e2 += (b[i] - a[i]) * (b[i] - a[i]);
+                size = std::max(size, std::sqrt(e2));
+            }
+            double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                           u[0] * w[1] - u[1] * w[0]};
+            double len = std::sqrt(dot(n, n));
+            A.ok = len > 0.0 && std::isfinite(len) && std::isfinite(size) &&
+                   std::isfinite(A.lo[0] + A.lo[1] + A.lo[2] + A.hi[0] + A.hi[1] + A.hi[2]);
+            if (!A.ok) {
+                for (int i = 0; i < 3; i++)
+                    A.lo[i] = A.hi[i] = 0.0; // out of the sweep's way
+                A.size = 0.0;
+                continue;
+            }
+            for (int i = 0; i < 3; i++)
+                A.n[i] = n[i] / len;
+            A.d = dot(A.n, A.p[0]);
+            A.size = size;
+            A.axis = 0;
+            for (int i = 1; i < 3; i++)
+                if (std::fabs(A.n[i]) > std::fabs(A.n[A.axis]))
+                    A.axis = i;
+        }
+        // step 1: the sweep
+        std::vector<size_t> order(nt);
+        for (size_t t = 0; t < nt; t++)
+            order[t] = t;
+        std::sort(order.begin(), order.end(),
+                  [&](size_t a, size_t b) { return T[a].lo[0] < T[b].lo[0]; });
+        double max_size = 0.0;
+        for (const Tri &A : T)
+            max_size = std::max(max_size, A.size);
+        std::vector<std::vector<Segment>> segs(nt);
+        for (size_t oi = 0; oi < nt; oi++) {
+            const Tri &A = T[order[oi]];
+            for (size_t oj = oi + 1; oj < nt; oj++) {
+                const Tri &B = T[order[oj]];
+                double reach = rel_tol * max_size;
+                if (B.lo[0] > A.hi[0] + reach)
+                    break;
+                if (!A.ok || !B.ok)
+                    continue;
+                double tol = rel_tol * std::max(A.size, B.size);
+                bool overlap = true;
+                for (int i = 0; i < 3; i++)
+                    overlap = overlap && B.lo[i] <= A.hi[i] + tol && A.lo[i] <= B.hi[i] + tol;
+                if (!overlap)
+                    continue;
+                Segment s;
+                if (contact(A, B, tol, &s))
+                    segs[order[oi]].push_back(s);
+                if (contact(B, A, tol, &s))
+                    segs[order[oj]].push_back(s);
+            }
+        }
+        // step 3
+        Output o;
+        o.xyz.assign(xyz, xyz + 3 * nv);
+        size_t split_faces = 0, nseg = 0;
+        for (size_t t = 0; t < nt; t++) {
+            if (segs[t].empty()) {
+                o.tri.insert(o.tri.end(), tri + 3 * t, tri + 3 * t + 3);
+                o.parent.push_back((int)t);
+                continue;
+            }
+            split_faces++;
+            nseg += segs[t].size();
+            split(T[t], tri + 3 * t, (int)t, segs[t], o);
+        }
+        if (o.xyz.size() / 3 > (size_t)INT_MAX || o.parent.size() > (size_t)INT_MAX / 3)
+            return RAD_ERROR(RAD_ETOOBIG, "contacts: too many pieces");
+        out->nv = o.xyz.size() / 3;
+        out->nt = o.parent.size();
+        out->xyz = (double *)std::malloc(o.xyz.size() * sizeof(double));
+        out->tri = (int *)std::malloc(o.tri.size() * sizeof(int));
+        out->parent = (int *)std::malloc(o.parent.size() * sizeof(int));
+        if (!out->xyz || !out->tri || !out->parent) {
+            rad_mesh_contacts_free(out);
+            return RAD_ERROR(RAD_ENOMEM, "contacts: no memory for %zu pieces", o.parent.size());
+        }
+        std::memcpy(out->xyz, o.xyz.data(), o.xyz.size() * sizeof(double));
+        std::memcpy(out->tri, o.tri.data(), o.tri.size() * sizeof(int));
+        std::memcpy(out->parent, o.parent.data(), o.parent.size() * sizeof(int));
+        out->faces_split = split_faces;
+        out->segments = nseg;
+        return RAD_OK;
+    } catch (const std::bad_alloc &) {
+        rad_mesh_contacts_free(out);
+        return RAD_ERROR(RAD_ENOMEM, "contacts: out of memory");
+    } catch (const std::exception &e) {
+        rad_mesh_contacts_free(out);
+        return RAD_ERROR(RAD_EGEOM, "contacts: %s", e.what());
+    }
+}

@@ -1,0 +1,253 @@
+/* rad_mesh_split_contacts: triangles cut along the lines where others stand
+ * on them.  A box on a floor must cut the floor so that the pieces inside
+ * its footprint cover exactly the footprint's area (no piece straddles the
+ * line); the pieces of every triangle cover its area and keep its plane and
+ * orientation; a box lifted off the floor, a wall along a floor's edge, a
+ * triangle in the floor's plane or below it cut nothing; a triangle passing
+ * through the floor cuts it along the crossing; a bad index is refused, a
+ * degenerate triangle left alone. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "rad_geom.h"
+#include "rad_mesh.h"
+
+typedef struct soup {
+    double xyz[3 * 64];
+    int tri[3 * 64];
+    int nv, nt;
+} soup;
+
+static int vert(soup *s, double x, double y, double z)
+{
+    s->xyz[3 * s->nv] = x;
+    s->xyz[3 * s->nv + 1] = y;
+    s->xyz[3 * s->nv + 2] = z;
+    return s->nv++;
+}
+
+static void face(soup *s, int a, int b, int c)
+{
+    s->tri[3 * s->nt] = a;
+    s->tri[3 * s->nt + 1] = b;
+    s->tri[3 * s->nt + 2] = c;
+    s->nt++;
+}
+
+/* The floor [0, 2]^2 at z = 0 facing +z, cut by its diagonal from (0, 0) to
+ * (2, 2): triangles 0 and 1. */
+static void floor2(soup *s)
+{
+    int a = vert(s, 0, 0, 0), b = vert(s, 2, 0, 0), c = vert(s, 2, 2, 0), d = vert(s, 0, 2, 0);
+    face(s, a, b, c);
+    face(s, a, c, d);
+}
+
+/* A box of half side h around (1, 1) turned by 30 degrees, from z0 to z0 +
+ * 0.7, four sides and a top facing out (no bottom, as the Cornell box's);
+ * its footprint's corners in fp[4][2]. */
+static void box(soup *s, double h, double z0, double fp[4][2])
+{
+    double c = sqrt(3.0) / 2.0, sn = 0.5; /* 30 degrees */
+    double u[4][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
+    int lo[4], hi[4];
+    for (int k = 0; k < 4; k++) {
+        fp[k][0] = 1.0 + c * u[k][0] - sn * u[k][1];
+        fp[k][1] = 1.0 + sn * u[k][0] + c * u[k][1];
+        lo[k] = vert(s, fp[k][0], fp[k][1], z0);
+        hi[k] = vert(s, fp[k][0], fp[k][1], z0 + 0.7);
+    }
+    for (int k = 0; k < 4; k++) {
+        int j = (k + 1) % 4;
+        face(s, lo[k], lo[j], hi[j]);
+        face(s, lo[k], hi[j], hi[k]);
+    }
+    face(s, hi[0], hi[1], hi[2]);
+    face(s, hi[0], hi[2], hi[3]);
+}
+
+static rad_vec3 at(const double *xyz, int v)
+{
+    return rad_vec3_make(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+}
+
+static rad_vec3 normal_of(const double *xyz, const int *t)
+{
+    rad_vec3 a = at(xyz, t[0]), b = at(xyz, t[1]), c = at(xyz, t[2]);
+    return rad_vec3_cross(rad_vec3_sub(b, a), rad_vec3_sub(c, a));
+}
+
+/* Inside the convex footprint (counter-clockwise corners). */
+static int in_footprint(double fp[4][2], double x, double y)
+{
+    for (int k = 0; k < 4; k++) {
+        int j = (k + 1) % 4;
+        double cr = (fp[j][0] - fp[k][0]) * (y - fp[k][1]) - (fp[j][1] - fp[k][1]) * (x - fp[k][0]);
+        if (cr < 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+/* Each input triangle's pieces cover its area, lie in its plane and face
+ * its way; uncut triangles come through unchanged. */
+static void check_pieces(const soup *s, const rad_mesh_contacts *m)
+{
+    double *area = calloc((size_t)s->nt, sizeof *area);
+    for (size_t p = 0; p < m->nt; p++) {
+        int f = m->parent[p];
+        CHECK(f >= 0 && f < s->nt);
+        rad_vec3 np = normal_of(m->xyz, m->tri + 3 * p), nf = normal_of(s->xyz, s->tri + 3 * f);
+        double a = 0.5 * rad_vec3_norm(np);
+        area[f] += a;
+        CHECK_MSG(rad_vec3_dot(np, nf) > (1.0 - 1e-12) * rad_vec3_norm(np) * rad_vec3_norm(nf),
+                  "piece %zu turned against triangle %d", p, f);
+        rad_vec3 o = at(s->xyz, s->tri[3 * f]);
+        for (int k = 0; k < 3; k++) {
+            double h = rad_vec3_dot(rad_vec3_sub(at(m->xyz, m->tri[3 * p + k]), o), nf) /
+                       rad_vec3_norm(nf);
+            CHECK_MSG(fabs(h) < 1e-14, "piece %zu leaves the plane of %d by %g", p, f, h);
+        }
+    }
+    for (int f = 0; f < s->nt; f++) {
+        double want = 0.5 * rad_vec3_norm(normal_of(s->xyz, s->tri + 3 * f));
+        CHECK_NEAR(area[f], want, 1e-12, 0.0);
+    }
+    free(area);
+}
+
+TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
+{
+    soup s = {0};
+    double fp[4][2];
+    floor2(&s);
+    box(&s, 0.3, 0.0, fp);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
+    /* the bottom edges of four side triangles: the two that cross the
+       diagonal on both floor triangles, the other two on one each */
+    CHECK(m.segments == 6);
+    check_pieces(&s, &m);
+    /* the box's ten triangles come through as they were, after the floor's pieces */
+    size_t box_first = m.nt - 10;
+    for (int t = 2; t < s.nt; t++) {
+        size_t p = box_first + (size_t)(t - 2);
+        CHECK(m.parent[p] == t);
+        CHECK(memcmp(m.tri + 3 * p, s.tri + 3 * t, 3 * sizeof(int)) == 0);
+    }
+    /* no piece straddles the footprint's edges: sample points inside each
+       piece are all in or all out, and the pieces in cover the footprint */
+    double inside = 0.0;
+    for (size_t p = 0; p < box_first; p++) {
+        rad_vec3 v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = at(m.xyz, m.tri[3 * p + k]);
+        rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
+        int in = in_footprint(fp, c.x, c.y);
+        for (int k = 0; k < 3; k++) {
+            rad_vec3 q = rad_vec3_add(rad_vec3_scale(v[k], 0.9), rad_vec3_scale(c, 0.1));
+            CHECK_MSG(in_footprint(fp, q.x, q.y) == in, "piece %zu straddles the footprint", p);
+        }
+        if (in)
+            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
+    }
+    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
+    rad_mesh_contacts_free(&m);
+}
+
+TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
+{
+    double fp[4][2];
+    /* the box lifted 1 cm (1e-2 of the floor's size, far above the tolerance) */
+    soup a = {0};
+    floor2(&a);
+    box(&a, 0.3, 0.01, fp);
+    /* a wall standing on the floor's outer edge, one lying in the floor's
+       plane, one below the floor touching it along a segment inside */
+    soup b = {0};
+    floor2(&b);
+    int w0 = vert(&b, 0, 0, 0), w1 = vert(&b, 2, 0, 0), w2 = vert(&b, 1, 0, 1);
+    face(&b, w0, w2, w1);
+    int c0 = vert(&b, 0.5, 0.2, 0), c1 = vert(&b, 1.5, 0.2, 0), c2 = vert(&b, 1.0, 0.8, 0);
+    face(&b, c0, c1, c2);
+    int d0 = vert(&b, 0.5, 1.5, 0), d1 = vert(&b, 1.5, 1.5, 0), d2 = vert(&b, 1.0, 1.5, -0.5);
+    face(&b, d0, d1, d2);
+    soup *cases[2] = {&a, &b};
+    for (int k = 0; k < 2; k++) {
+        rad_mesh_contacts m;
+        CHECK(rad_mesh_split_contacts(cases[k]->xyz, (size_t)cases[k]->nv, cases[k]->tri,
+                                      (size_t)cases[k]->nt, 1e-6, &m) == RAD_OK);
+        CHECK_MSG(m.faces_split == 0 && m.nt == (size_t)cases[k]->nt, "case %d: %zu cut", k,
+                  m.faces_split);
+        CHECK(memcmp(m.tri, cases[k]->tri, 3 * (size_t)cases[k]->nt * sizeof(int)) == 0);
+        rad_mesh_contacts_free(&m);
+    }
+}
+
+TEST(contact_a_triangle_through_the_floor_cuts_it_along_the_crossing)
+{
+    soup s = {0};
+    floor2(&s);
+    int a = vert(&s, 0.5, 1.2, -0.5), b = vert(&s, 1.5, 1.2, -0.5), c = vert(&s, 1.0, 1.2, 0.5);
+    face(&s, a, c, b);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    /* the crossing, x from 0.75 to 1.25 at y 1.2, meets both floor
+       triangles, and the floor cuts the triangle too (below it, it is dark) */
+    CHECK(m.faces_split == 3);
+    check_pieces(&s, &m);
+    /* the crossing's ends and its meeting with the diagonal are vertices */
+    const double want[3][2] = {{0.75, 1.2}, {1.25, 1.2}, {1.2, 1.2}};
+    for (int k = 0; k < 3; k++) {
+        int found = 0;
+        for (size_t v = 0; v < m.nv; v++)
+            found |= fabs(m.xyz[3 * v] - want[k][0]) < 1e-12 &&
+                     fabs(m.xyz[3 * v + 1] - want[k][1]) < 1e-12 && m.xyz[3 * v + 2] == 0.0;
+        CHECK_MSG(found, "no vertex at (%g, %g)", want[k][0], want[k][1]);
+    }
+    /* the floor's pieces on either side of the crossing: none straddles y 1.2
+       between x 0.75 and 1.25 */
+    for (size_t p = 0; p < m.nt; p++) {
+        if (m.parent[p] > 1)
+            continue;
+        double lo = 1e300, hi = -1e300, xlo = 1e300, xhi = -1e300;
+        for (int k = 0; k < 3; k++) {
+            double x = m.xyz[3 * m.tri[3 * p + k]], y = m.xyz[3 * m.tri[3 * p + k] + 1];
+            lo = fmin(lo, y);
+            hi = fmax(hi, y);
+            xlo = fmin(xlo, x);
+            xhi = fmax(xhi, x);
+        }
+        int straddles = lo < 1.2 - 1e-12 && hi > 1.2 + 1e-12 && xlo < 1.25 - 1e-12 &&
+                        xhi > 0.75 + 1e-12;
+        /* a piece may reach across y 1.2 only beyond the crossing's ends */
+        if (straddles) {
+            rad_vec3 v0 = at(m.xyz, m.tri[3 * p]), v1 = at(m.xyz, m.tri[3 * p + 1]),
+                     v2 = at(m.xyz, m.tri[3 * p + 2]);
+            rad_vec3 cen = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v0, v1), v2), 1.0 / 3.0);
+            CHECK_MSG(cen.x < 0.75 || cen.x > 1.25, "piece %zu straddles the crossing", p);
+        }
+    }
+    rad_mesh_contacts_free(&m);
+}
+
+TEST(contact_refuses_bad_input)
+{
+    soup s = {0};
+    floor2(&s);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, &m) != RAD_OK);
+    s.tri[1] = 17;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) ==
+          RAD_EINPUT);
+    CHECK(m.xyz == NULL && m.nt == 0);
+    /* a degenerate triangle (0, 0, 2) neither cuts nor is cut */
+    s.tri[1] = 0;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(m.faces_split == 0 && m.nt == 2);
+    rad_mesh_contacts_free(&m);
+}
