@@ -4,10 +4,10 @@
 # on one thread.  Wall time on a shared machine swings by 20-50% from hour to
 # hour; the count repeats to 0.1%, so it compares builds and bases where the
 # timings cannot.  For each basis, the runs at the eps that bracket 0.25%
-# (p0: 0.068 .. 0.033, p1: 0.12 .. 0.068, the E12 steps of
-# experiments/bases; BENCH_P0_EPS, BENCH_P1_EPS), their L1
+# (p0: 0.22 .. 0.12, p1: 0.27 .. 0.15, the E12 steps of experiments/bases;
+# BENCH_P0_EPS, BENCH_P1_EPS), their L1
 # against the Monte Carlo reference, and the count at 0.25% interpolated
-# log-log as experiments/bases does for time.  Valgrind is installed when
+# log-log as experiments/bases does for time (scripts/time_to_target.awk).  Valgrind is installed when
 # missing (scripts/deps.sh); CGAL's check of the rounding mode fails under
 # valgrind, so a build with that check off is made beside RADKIT's
 # (build/vg).  Writes bench/instructions.tsv and prints it.
@@ -15,8 +15,8 @@ set -eu
 RADKIT=${1:?usage: bench/instructions.sh path/to/radkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 TSV="$ROOT/bench/instructions.tsv"
-P0_EPS=${BENCH_P0_EPS:-"0.068 0.056 0.047 0.039 0.033"}
-P1_EPS=${BENCH_P1_EPS:-"0.12 0.1 0.082 0.068"}
+P0_EPS=${BENCH_P0_EPS:-"0.22 0.18 0.15 0.12"}
+P1_EPS=${BENCH_P1_EPS:-"0.27 0.22 0.18 0.15"}
 GOAL=0.0025
 sh "$ROOT/scripts/deps.sh" valgrind
 (cd "$ROOT" && CXXFLAGS=-DCGAL_DISABLE_ROUNDING_MATH_CHECK make -s BUILD=build/vg build/vg/radkit)
@@ -41,18 +41,14 @@ for basis in p0 p1; do
 done
 {
   echo "# instructions bench: $("$RADKIT" --version), Cornell box, hier, callgrind (one thread, --threads 1)"
-  echo "# per run: L1 against the Monte Carlo reference and the instructions; at_0.25pct: log-log interpolated between the runs that bracket it (the smallest such)"
+  echo "# per run: L1 against the Monte Carlo reference and the instructions; at_0.25pct: log-log interpolated between the neighbours on the frontier of error against instructions that bracket it (scripts/time_to_target.awk)"
   printf "basis\teps\terror_l1\tinstructions\n"
   cat "$runs"
   printf "basis\tinstructions_at_0.25pct\n"
   for basis in p0 p1; do
-    awk -F'\t' -v m="$basis" -v g="$GOAL" '$1 == m { e[n + 0] = $3; t[n + 0] = $4; n++ }
-      END { best = "none"
-        for (i = 0; i < n; i++) for (j = 0; j < n; j++)
-          if (e[i] > g && e[j] <= g && t[j] >= t[i]) {
-            f = log(e[i] / g) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
-            if (best == "none" || v < best) best = v }
-        printf "%s\t%s\n", m, best == "none" ? "none" : sprintf("%.4g", best) }' "$runs"
+    awk -F'\t' -v m="$basis" -v mc=1 -v ec=3 -v tc=4 -v kc=2 -v g="$GOAL" \
+      -f "$ROOT/scripts/time_to_target.awk" "$runs" |
+      awk -F'\t' -v m="$basis" '{ printf "%s\t%s\n", m, $1 == "none" ? "none" : sprintf("%.4g", $1) }'
   done
 } > "$TSV"
 cat "$TSV"

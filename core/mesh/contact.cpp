@@ -40,13 +40,14 @@
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include "cgal_warnings_on.hpp"
 
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point2 = Kernel::Point_2;
-using Vb = CGAL::Triangulation_vertex_base_2<Kernel>;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
 using Fb = CGAL::Triangulation_face_base_with_info_2<int, Kernel,
                                                       CGAL::Constrained_triangulation_face_base_2<Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
@@ -172,23 +173,23 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
         }
     }
     bool ccw = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point()) == CGAL::LEFT_TURN;
-    // the vertices: A's corners keep theirs, the others are lifted onto A's plane
-    std::vector<std::pair<CDT::Vertex_handle, int>> ids;
+    // the vertices: A's corners keep theirs, the others are lifted onto A's
+    // plane when a kept face first uses them (-1: not yet)
+    for (CDT::Finite_vertices_iterator h = cdt.finite_vertices_begin();
+         h != cdt.finite_vertices_end(); ++h)
+        h->info() = -1;
+    for (int j = 0; j < 3; j++)
+        c[j]->info() = v[j];
     auto id_of = [&](CDT::Vertex_handle h) {
-        for (int j = 0; j < 3; j++)
-            if (h == c[j])
-                return v[j];
-        for (const auto &p : ids)
-            if (p.first == h)
-                return p.second;
+        if (h->info() >= 0)
+            return h->info();
         double u = h->point().x(), w = h->point().y(), x[3];
         x[i0] = u;
         x[i1] = w;
         x[k] = (A.d - A.n[i0] * u - A.n[i1] * w) / A.n[k];
-        int id = (int)(out.xyz.size() / 3);
+        h->info() = (int)(out.xyz.size() / 3);
         out.xyz.insert(out.xyz.end(), x, x + 3);
-        ids.emplace_back(h, id);
-        return id;
+        return h->info();
     };
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
         if (f->info() != 0)

@@ -13,7 +13,8 @@
 #    the median wall time of REPEAT runs, the error against the reference and
 #    the run's own error_estimate (worst face) beside the true worst face;
 #    and the time each basis needs for 0.25% and 0.1% (log-log interpolation
-#    between the two runs that bracket the target).
+#    between the neighbours on the basis's frontier of error against time
+#    that bracket the target: scripts/time_to_target.awk).
 # Tables in data/, figures in figures/ (gnuplot).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -117,15 +118,8 @@ target=$here/data/hier_target.dat
 printf "basis\ttarget\ttime_s\tfirst_run_s\tfirst_run_eps\n" > "$target"
 for basis in p0 p1 p2; do
   for goal in 0.0025 0.001; do
-    awk -F'\t' -v m="$basis" -v g="$goal" '$1 == m { e[n + 0] = $6; t[n + 0] = $5; p[n + 0] = $2; n++ }
-      END { best = "none"; first = "none"; eps = "-"
-        for (i = 0; i < n; i++) {
-          if (e[i] <= g && (first == "none" || t[i] < first)) { first = t[i]; eps = p[i] }
-          for (j = 0; j < n; j++)
-            if (e[i] > g && e[j] <= g && t[j] >= t[i]) {
-              f = log(e[i] / g) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
-              if (best == "none" || v < best) best = v } }
-        printf "%s\t%s\t%s\t%s\t%s\n", m, g, best, first, eps }' "$hier" >> "$target"
+    printf "%s\t%s\t%s\n" "$basis" "$goal" "$(awk -F'\t' -v m="$basis" -v mc=1 -v ec=6 -v tc=5 \
+      -v kc=2 -v g="$goal" -f "$root/scripts/time_to_target.awk" "$hier")" >> "$target"
   done
 done
 cat "$hier" "$target"

@@ -110,22 +110,16 @@ for o in $ORACLES; do
 done
 
 # Targets: the time each method needs for 1%, 0.5% and 0.1% L1 (log-log
-# interpolation between the two runs that bracket it, as if the method could
-# be run at any setting in between; "none" when no run reaches it), the time
-# of its fastest run that reaches it, and that run's links.
+# interpolation between the neighbours on the method's frontier of error
+# against time that bracket it, scripts/time_to_target.awk; "none" when no
+# run reaches it), the time of its fastest run that reaches it, and that
+# run's links.
 target=data/target.dat
 printf 'method\ttarget\ttime_s\tfirst_run_s\tfirst_run_links\n' > "$target"
 for m in dense-auto dense-gauss2 hier-bf hier-error; do
   for goal in 0.01 0.005 0.001; do
-    awk -F'\t' -v m="$m" -v g="$goal" '$1 == m { e[n + 0] = $5; t[n + 0] = $6; l[n + 0] = $4; n++ }
-      END { best = "none"; first = "none"; links = "-"
-        for (i = 0; i < n; i++) {
-          if (e[i] <= g && (first == "none" || t[i] < first)) { first = t[i]; links = l[i] }
-          for (j = 0; j < n; j++)
-            if (e[i] > g && e[j] <= g && t[j] >= t[i]) {
-              f = log(e[i] / g) / log(e[i] / e[j]); v = exp(log(t[i]) + f * log(t[j] / t[i]))
-              if (best == "none" || v < best) best = v } }
-        printf "%s\t%s\t%s\t%s\t%s\n", m, g, best, first, links }' "$dat" >> "$target"
+    printf '%s\t%s\t%s\n' "$m" "$goal" "$(awk -F'\t' -v m="$m" -v mc=1 -v ec=5 -v tc=6 -v kc=4 \
+      -v g="$goal" -f "$root/scripts/time_to_target.awk" "$dat")" >> "$target"
   done
 done
 
