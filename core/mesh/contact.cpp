@@ -7,7 +7,7 @@
 // also to the box's side, which sees only the lit part; refining only
 // approaches the line.  So the triangle is cut along it before meshing:
 //  1. Candidate pairs: axis-aligned boxes (grown by the tolerance) that
-//     overlap, by a sweep along x.
+//     overlap, found through a uniform grid.
 //  2. For triangles A and B, the part of B on A's plane (vertices within
 //     tol of it, and the crossings of edges from one side to the other) is
 //     a contact segment on A when it has positive length, some of B lies in
@@ -267,38 +267,89 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                 if (std::fabs(A.n[i]) > std::fabs(A.n[A.axis]))
                     A.axis = i;
         }
-        // step 1: the sweep
-        std::vector<size_t> order(nt);
-        for (size_t t = 0; t < nt; t++)
-            order[t] = t;
-        std::sort(order.begin(), order.end(),
-                  [&](size_t a, size_t b) { return T[a].lo[0] < T[b].lo[0]; });
-        double max_size = 0.0;
-        for (const Tri &A : T)
-            max_size = std::max(max_size, A.size);
-        std::vector<std::vector<Segment>> segs(nt);
-        for (size_t oi = 0; oi < nt; oi++) {
-            const Tri &A = T[order[oi]];
-            for (size_t oj = oi + 1; oj < nt; oj++) {
-                const Tri &B = T[order[oj]];
-                double reach = rel_tol * max_size;
-                if (B.lo[0] > A.hi[0] + reach)
-                    break;
-                if (!A.ok || !B.ok)
-                    continue;
-                double tol = rel_tol * std::max(A.size, B.size);
-                bool overlap = true;
-                for (int i = 0; i < 3; i++)
-                    overlap = overlap && B.lo[i] <= A.hi[i] + tol && A.lo[i] <= B.hi[i] + tol;
-                if (!overlap)
-                    continue;
-                Segment s;
-                if (contact(A, B, tol, &s))
-                    segs[order[oi]].push_back(s);
-                if (contact(B, A, tol, &s))
-                    segs[order[oj]].push_back(s);
+        // step 1: candidate pairs from a uniform grid of about 2 n cells,
+        // cells about twice the mean triangle's size: every triangle is
+        // entered in the cells its grown box meets, and a pair is examined
+        // in the one cell that holds the low corner of the two boxes'
+        // overlap, so once
+        double max_size = 0.0, mean_size = 0.0, glo[3] = {0, 0, 0}, ghi[3] = {0, 0, 0};
+        size_t nok = 0;
+        for (const Tri &A : T) {
+            if (!A.ok)
+                continue;
+            for (int i = 0; i < 3; i++) {
+                glo[i] = nok ? std::min(glo[i], A.lo[i]) : A.lo[i];
+                ghi[i] = nok ? std::max(ghi[i], A.hi[i]) : A.hi[i];
             }
+            max_size = std::max(max_size, A.size);
+            mean_size += A.size;
+            nok++;
         }
+        const double reach = rel_tol * max_size;
+        double h = nok ? 2.0 * mean_size / (double)nok : 1.0;
+        long dim[3];
+        for (;;) {
+            double cells = 1.0;
+            for (int i = 0; i < 3; i++) {
+                dim[i] = std::max(1L, (long)std::ceil((ghi[i] - glo[i] + 2 * reach) / h));
+                cells *= (double)dim[i];
+            }
+            if (cells <= 2.0 * (double)nok + 8.0)
+                break;
+            h *= 1.25;
+        }
+        auto cell_of = [&](int i, double x) {
+            long c = (long)std::floor((x - glo[i] + reach) / h);
+            return std::min(dim[i] - 1, std::max(0L, c));
+        };
+        std::vector<std::pair<long, int>> entries; // (cell, triangle)
+        for (size_t t = 0; t < nt; t++) {
+            const Tri &A = T[t];
+            if (!A.ok)
+                continue;
+            long c0[3], c1[3];
+            for (int i = 0; i < 3; i++) {
+                c0[i] = cell_of(i, A.lo[i] - reach);
+                c1[i] = cell_of(i, A.hi[i] + reach);
+            }
+            for (long x = c0[0]; x <= c1[0]; x++)
+                for (long y = c0[1]; y <= c1[1]; y++)
+                    for (long z = c0[2]; z <= c1[2]; z++)
+                        entries.emplace_back((x * dim[1] + y) * dim[2] + z, (int)t);
+        }
+        std::sort(entries.begin(), entries.end());
+        std::vector<std::vector<Segment>> segs(nt);
+        for (size_t e0 = 0, e1; e0 < entries.size(); e0 = e1) {
+            long cell = entries[e0].first;
+            for (e1 = e0; e1 < entries.size() && entries[e1].first == cell; e1++) {
+            }
+            for (size_t ei = e0; ei < e1; ei++)
+                for (size_t ej = ei + 1; ej < e1; ej++) {
+                    int ia = entries[ei].second, ib = entries[ej].second;
+                    const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
+                    double tol = rel_tol * std::max(A.size, B.size);
+                    bool overlap = true;
+                    long home = 0;
+                    for (int i = 0; i < 3; i++) {
+                        overlap = overlap && B.lo[i] <= A.hi[i] + tol && A.lo[i] <= B.hi[i] + tol;
+                        home = home * dim[i] + cell_of(i, std::max(A.lo[i], B.lo[i]) - reach);
+                    }
+                    if (!overlap || home != cell)
+                        continue;
+                    Segment sg;
+                    if (contact(A, B, tol, &sg))
+                        segs[(size_t)ia].push_back(sg);
+                    if (contact(B, A, tol, &sg))
+                        segs[(size_t)ib].push_back(sg);
+                }
+        }
+        // a triangle's segments in one order, whatever found them first
+        for (std::vector<Segment> &v : segs)
+            std::sort(v.begin(), v.end(), [](const Segment &x, const Segment &y) {
+                return std::lexicographical_compare(x.a, x.a + 3, y.a, y.a + 3) ||
+                       (std::equal(x.a, x.a + 3, y.a) &&
+                        std::lexicographical_compare(x.b, x.b + 3, y.b, y.b + 3));
+            });
         // step 3
         Output o;
         o.xyz.assign(xyz, xyz + 3 * nv);
