@@ -45,25 +45,15 @@
 #include <unordered_map>
 #include <vector>
 
-#include "cgal_warnings_off.hpp"
-#include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_face_base_with_info_2.h>
-#include <CGAL/Triangulation_vertex_base_with_info_2.h>
-#include "cgal_warnings_on.hpp"
-
+#include "cdt.hpp"
 #include "mesh_internal.hpp"
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Kernel = radmesh::CdtKernel;
 using Point3 = Kernel::Point_3;
 using Point2 = Kernel::Point_2;
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
-using Fb = CGAL::Triangulation_face_base_with_info_2<int, Kernel,
-                                                      CGAL::Constrained_triangulation_face_base_2<Kernel>>;
-using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using CDT = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+using CDT = radmesh::CDT;
 
 struct Key {
     std::uint64_t bits[3];
@@ -193,23 +183,7 @@ void triangulate(const Vertices &V, const int corner[3], const std::vector<int> 
     if (cdt.number_of_vertices() != poly.size())
         throw std::runtime_error("leaf " + std::to_string(leaf) +
                                  ": its boundary polygon crosses itself in the leaf's plane");
-    // Flood fill from the infinite face across unconstrained edges: info 1
-    // marks the outside.
-    for (CDT::All_faces_iterator f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
-        f->info() = 0;
-    std::deque<CDT::Face_handle> queue{cdt.infinite_face()};
-    cdt.infinite_face()->info() = 1;
-    while (!queue.empty()) {
-        CDT::Face_handle f = queue.front();
-        queue.pop_front();
-        for (int e = 0; e < 3; e++) {
-            CDT::Face_handle g = f->neighbor(e);
-            if (g->info() == 0 && !cdt.is_constrained(CDT::Edge(f, e))) {
-                g->info() = 1;
-                queue.push_back(g);
-            }
-        }
-    }
+    radmesh::cdt_mark_outside(cdt); // info 1: outside
     size_t before = tri.size();
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
         if (f->info() != 0)

@@ -31,27 +31,16 @@
 #include <cstdlib>
 #include <climits>
 #include <cstring>
-#include <deque>
-#include <new>
 #include <stdexcept>
 #include <vector>
 
-#include "cgal_warnings_off.hpp"
-#include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_face_base_with_info_2.h>
-#include <CGAL/Triangulation_vertex_base_with_info_2.h>
-#include "cgal_warnings_on.hpp"
+#include "cdt.hpp"
+#include "mesh_internal.hpp"
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point2 = Kernel::Point_2;
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
-using Fb = CGAL::Triangulation_face_base_with_info_2<int, Kernel,
-                                                      CGAL::Constrained_triangulation_face_base_2<Kernel>>;
-using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using CDT = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::Exact_predicates_tag>;
+using Point2 = radmesh::CdtKernel::Point_2;
+using CDT = radmesh::CDT;
 
 struct Tri {
     const double *p[3];
@@ -156,22 +145,7 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
         cdt.insert_constraint(c[j], c[(j + 1) % 3]);
     for (const Segment &s : segs)
         cdt.insert_constraint(Point2(s.a[i0], s.a[i1]), Point2(s.b[i0], s.b[i1]));
-    // flood fill from the infinite face across unconstrained edges: 1 outside
-    for (CDT::All_faces_iterator f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
-        f->info() = 0;
-    std::deque<CDT::Face_handle> queue{cdt.infinite_face()};
-    cdt.infinite_face()->info() = 1;
-    while (!queue.empty()) {
-        CDT::Face_handle f = queue.front();
-        queue.pop_front();
-        for (int e = 0; e < 3; e++) {
-            CDT::Face_handle g = f->neighbor(e);
-            if (g->info() == 0 && !cdt.is_constrained(CDT::Edge(f, e))) {
-                g->info() = 1;
-                queue.push_back(g);
-            }
-        }
-    }
+    radmesh::cdt_mark_outside(cdt); // info 1: outside A
     bool ccw = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point()) == CGAL::LEFT_TURN;
     // the vertices: A's corners keep theirs, the others are lifted onto A's
     // plane when a kept face first uses them (-1: not yet)
@@ -223,7 +197,7 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
     std::memset(out, 0, sizeof *out);
     if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0))
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument or negative tolerance");
-    try {
+    rad_status st = radmesh::guarded("contacts", [&]() -> rad_status {
         std::vector<Tri> T(nt);
         for (size_t t = 0; t < nt; t++) {
             Tri &A = T[t];
@@ -371,21 +345,16 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         out->xyz = (double *)std::malloc(o.xyz.size() * sizeof(double));
         out->tri = (int *)std::malloc(o.tri.size() * sizeof(int));
         out->parent = (int *)std::malloc(o.parent.size() * sizeof(int));
-        if (!out->xyz || !out->tri || !out->parent) {
-            rad_mesh_contacts_free(out);
+        if (!out->xyz || !out->tri || !out->parent)
             return RAD_ERROR(RAD_ENOMEM, "contacts: no memory for %zu pieces", o.parent.size());
-        }
         std::memcpy(out->xyz, o.xyz.data(), o.xyz.size() * sizeof(double));
         std::memcpy(out->tri, o.tri.data(), o.tri.size() * sizeof(int));
         std::memcpy(out->parent, o.parent.data(), o.parent.size() * sizeof(int));
         out->faces_split = split_faces;
         out->segments = nseg;
         return RAD_OK;
-    } catch (const std::bad_alloc &) {
+    });
+    if (st != RAD_OK)
         rad_mesh_contacts_free(out);
-        return RAD_ERROR(RAD_ENOMEM, "contacts: out of memory");
-    } catch (const std::exception &e) {
-        rad_mesh_contacts_free(out);
-        return RAD_ERROR(RAD_EGEOM, "contacts: %s", e.what());
-    }
+    return st;
 }
