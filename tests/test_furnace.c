@@ -289,4 +289,11 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
                   worst);
     }
     rmdir(dir);
+    /* dense and Monte Carlo solve on the input triangles: forcing the cut
+       on them is refused by name */
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--contact", "on", NULL},
+                               "--contact");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "mc", "--contact",
+                               "on", NULL}, "--contact");
 }
