@@ -297,3 +297,40 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "mc", "--contact",
                                "on", NULL}, "--contact");
 }
+
+/* Boxes standing on a floor, some through each other, three with a
+ * footprint edge a hair's angle from the floor's diagonal
+ * (scenes/contact/boxes_overlapping.obj): the cut goes along the footprints
+ * only (cutting along the boxes' crossings too left pieces whose visible
+ * form factors were not finite), and hier, p1 and cluster solve the pieces
+ * to finite, non-negative radiosities. */
+TEST(contact_cut_on_boxes_through_each_other)
+{
+    const char *scene = harness_path("scenes/contact/boxes_overlapping.obj");
+    const char *methods[3][4] = {{"--method", "hier", NULL}, {"--method", "hier", "--basis", "p1"},
+                                 {"--method", "cluster", NULL}};
+    for (int k = 0; k < 3; k++) {
+        const char *args[12];
+        int n = 0;
+        args[n++] = scene;
+        for (int a = 0; a < 4 && methods[k][a]; a++)
+            args[n++] = methods[k][a];
+        args[n++] = "--quiet";
+        args[n] = NULL;
+        char *out = NULL, *err = NULL, buf[256];
+        int code = harness_radkit_run("solve", args, &out, &err);
+        CHECK_MSG(code == 0, "%s %s: %s", methods[k][1], methods[k][2] ? methods[k][3] : "",
+                  err ? err : "");
+        CHECK(out && harness_header(out, "effect_contact", buf, sizeof buf) &&
+              strcmp(buf, "on") == 0);
+        CHECK(out && harness_header(out, "effect_contact_reason", buf, sizeof buf) &&
+              strncmp(buf, "2 input triangles", 17) == 0); /* the floor's two */
+        static double B[3 * 512];
+        int rows = out ? harness_face_table(out, B, 512) : -1;
+        CHECK(rows == 254);
+        for (int i = 0; i < 3 * (rows > 0 ? rows : 0); i++)
+            CHECK_MSG(isfinite(B[i]) && B[i] >= 0.0, "row %d: %g", i / 3, B[i]);
+        free(out);
+        free(err);
+    }
+}

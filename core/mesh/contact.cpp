@@ -8,11 +8,14 @@
 // approaches the line.  So the triangle is cut along it before meshing:
 //  1. Candidate pairs: axis-aligned boxes (grown by the tolerance) that
 //     overlap, found through a uniform grid.
-//  2. For triangles A and B, the part of B on A's plane (vertices within
-//     tol of it, and the crossings of edges from one side to the other) is
-//     a contact segment on A when it has positive length, some of B lies in
-//     front of A, and the segment passes through A's inside (its part within
-//     A is not on A's boundary).  tol = rel_tol times the longer of the two
+//  2. For triangles A and B, an edge of B on A's plane (both ends within
+//     tol of it) is a contact segment on A when the rest of B lies in front
+//     of A and the edge passes through A's inside (its part within A is not
+//     on A's boundary).  A triangle that passes through another (vertices
+//     on both sides of its plane) cuts nothing: cutting both along their
+//     crossing left pieces whose visible form factors came out non-finite
+//     (interpenetrating boxes on a floor), so such crossings stay inside
+//     elements as before.  tol = rel_tol times the longer of the two
 //     triangles' longest edges.  A triangle without a normal (degenerate,
 //     not finite, or so small that its cross product underflows) neither
 //     cuts nor is cut.
@@ -23,7 +26,9 @@
 //     constructed), with A's edges and the segments, not clipped to A, as
 //     constraints; the faces inside A's edges are kept (flood fill from the
 //     infinite face that stops at constraints), in A's orientation, and new
-//     vertices are lifted onto A's plane.
+//     vertices are lifted onto A's plane.  A piece the scene's degenerate
+//     test refuses (a sliver where segments cross at a hair's angle) is
+//     dropped and counted.
 #include "rad_mesh.h"
 
 #include <algorithm>
@@ -36,6 +41,7 @@
 
 #include "cdt.hpp"
 #include "mesh_internal.hpp"
+#include "rad_geom.h"
 
 namespace {
 
@@ -72,22 +78,16 @@ bool contact(const Tri &A, const Tri &B, double tol, Segment *out)
     if (!front)
         return false;
     double pts[3][3];
-    int np = 0;
+    int np = 0; // B's corners on A's plane; one behind it means B passes through
+    for (int v = 0; v < 3; v++)
+        if (side[v] < 0)
+            return false;
     for (int v = 0; v < 3; v++)
         if (side[v] == 0) {
             for (int i = 0; i < 3; i++)
                 pts[np][i] = B.p[v][i] - dist[v] * A.n[i];
             np++;
         }
-    for (int v = 0; v < 3 && np < 3; v++) {
-        int w = (v + 1) % 3;
-        if (side[v] * side[w] < 0) {
-            double t = dist[v] / (dist[v] - dist[w]);
-            for (int i = 0; i < 3; i++)
-                pts[np][i] = B.p[v][i] + t * (B.p[w][i] - B.p[v][i]);
-            np++;
-        }
-    }
     if (np != 2)
         return false;
     double len2 = 0.0;
@@ -129,7 +129,12 @@ bool contact(const Tri &A, const Tri &B, double tol, Segment *out)
 struct Output {
     std::vector<double> xyz;
     std::vector<int> tri, parent;
+    size_t slivers = 0;
 };
+
+// the scene loader's and the hierarchy's degenerate test (rad_scene_params,
+// rad_ff_params degenerate_rel_tol)
+const double SLIVER_REL = 1e-12;
 
 // Step 3: triangle t of the input (corners v[3]) cut by its segments.
 void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs, Output &out)
@@ -169,6 +174,17 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
         if (f->info() != 0)
             continue;
         int a = id_of(f->vertex(0)), b = id_of(f->vertex(1)), d = id_of(f->vertex(2));
+        // a sliver (segments crossing at a hair's angle) that the scene's
+        // own test would call degenerate is dropped: its area is below
+        // 1e-12 of its longest edge squared
+        auto at = [&](int i) {
+            const double *q = &out.xyz[3 * (size_t)i];
+            return rad_vec3_make(q[0], q[1], q[2]);
+        };
+        if (rad_geom_triangle_is_degenerate(at(a), at(b), at(d), SLIVER_REL)) {
+            out.slivers++;
+            continue;
+        }
         if (ccw)
             out.tri.insert(out.tri.end(), {a, b, d});
         else
@@ -352,6 +368,7 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         std::memcpy(out->parent, o.parent.data(), o.parent.size() * sizeof(int));
         out->faces_split = split_faces;
         out->segments = nseg;
+        out->slivers = o.slivers;
         return RAD_OK;
     });
     if (st != RAD_OK)

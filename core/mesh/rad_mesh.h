@@ -129,14 +129,16 @@ rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_
 rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double **xyz_out,
                                    size_t *nv_out, int **tri_out, int **leaf_out, size_t *nt_out);
 
-/* Input triangles cut along their contact lines (contact.cpp): where part
- * of another triangle lies on a triangle's plane (within rel_tol times the
- * longer of the two triangles' longest edges) with some of it in front, and
- * that part passes through the triangle's inside, the triangle is
- * triangulated with it as a constraint (a box standing on a floor cuts the
- * floor along its footprint).  The output holds the input's vertices and
+/* Input triangles cut along their contact lines (contact.cpp): where an
+ * edge of another triangle lies on a triangle's plane (within rel_tol times
+ * the longer of the two triangles' longest edges) with the rest of it in
+ * front, and that edge passes through the triangle's inside, the triangle
+ * is triangulated with it as a constraint (a box standing on a floor cuts
+ * the floor along its footprint).  Triangles that pass through each other
+ * cut nothing.  The output holds the input's vertices and
  * then the new ones; every piece keeps its input triangle's orientation and
- * names it in parent[]; triangles without contact are copied as they are,
+ * names it in parent[]; a sliver that the scene's degenerate test would
+ * refuse is dropped and counted; triangles without contact are copied as they are,
  * in order; a triangle without a normal (degenerate, not finite) neither
  * cuts nor is cut.  RAD_EINVAL for a NULL argument or a negative
  * tolerance, RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
@@ -149,6 +151,8 @@ typedef struct rad_mesh_contacts {
     int *parent;
     size_t faces_split; /* input triangles cut */
     size_t segments;    /* contact segments found (on the cut triangles) */
+    size_t slivers;     /* pieces dropped as degenerate (area <= 1e-12 of their
+                           longest edge squared) */
 } rad_mesh_contacts;
 rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri, size_t nt,
                                    double rel_tol, rad_mesh_contacts *out);

@@ -268,10 +268,12 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     plan->contact_faces = (int)ct.faces_split;
     plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
     if (ct.faces_split > 0)
-        snprintf(why, sizeof why, "%d input triangles have another standing on them (or passing "
-                 "through) along %zu segments: hier cuts them there into %d pieces, so that no "
+        snprintf(why, sizeof why, "%d input triangles have others standing on them along %zu "
+                 "segments: hier cuts them there into %d pieces%s, so that no "
                  "element straddles the line where the radiosity jumps",
-                 plan->contact_faces, ct.segments, plan->contact_pieces);
+                 plan->contact_faces, ct.segments, plan->contact_pieces,
+                 ct.slivers ? " (and drops the slivers where segments cross at a hair's angle)"
+                            : "");
     else
         snprintf(why, sizeof why, "no triangle stands on another's inside: nothing to cut");
     rad_mesh_contacts_free(&ct);

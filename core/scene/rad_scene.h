@@ -215,8 +215,8 @@ typedef struct rad_effects_plan {
     /* on: hierarchical radiosity links from a cluster hierarchy instead of
      * every pair of input triangles (rad_hier params.cluster). */
     rad_effect_decision clustering;
-    /* on: some triangle has another standing on it (or passing through it)
-     * along a segment through its inside (rad_mesh_split_contacts):
+    /* on: some triangle has another standing on it along a segment
+     * through its inside (rad_mesh_split_contacts):
      * hierarchical radiosity cuts it there before meshing, so that no
      * element straddles the line where its radiosity jumps. */
     rad_effect_decision contact;
