@@ -12,10 +12,10 @@
 //     tol of it) is a contact segment on A when the rest of B lies in front
 //     of A and the edge passes through A's inside (its part within A is not
 //     on A's boundary).  A triangle that passes through another (vertices
-//     on both sides of its plane) cuts nothing: cutting both along their
-//     crossing left pieces whose visible form factors came out non-finite
-//     (interpenetrating boxes on a floor), so such crossings stay inside
-//     elements as before.  tol = rel_tol times the longer of the two
+//     on both sides of its plane) cuts nothing: pieces cut along a crossing
+//     have corners on the other surface, where the visibility clipping of
+//     point form factors is not robust (non-finite values on interpenetrating
+//     boxes), so crossings stay inside elements.  tol = rel_tol times the longer of the two
 //     triangles' longest edges.  A triangle without a normal (degenerate,
 //     not finite, or so small that its cross product underflows) neither
 //     cuts nor is cut.
