@@ -301,9 +301,8 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
 /* Boxes standing on a floor, some through each other, three with a
  * footprint edge a hair's angle from the floor's diagonal
  * (scenes/contact/boxes_overlapping.obj): the cut goes along the footprints
- * only (cutting along the boxes' crossings too left pieces whose visible
- * form factors were not finite), and hier, p1 and cluster solve the pieces
- * to finite, non-negative radiosities. */
+ * only, not along the boxes' crossings, and hier, p1 and cluster solve the
+ * pieces to finite, non-negative radiosities. */
 TEST(contact_cut_on_boxes_through_each_other)
 {
     const char *scene = harness_path("scenes/contact/boxes_overlapping.obj");

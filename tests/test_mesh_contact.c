@@ -131,7 +131,7 @@ TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
        diagonal on both floor triangles, the other two on one each */
     CHECK(m.segments == 6);
     check_pieces(&s, &m);
-    /* the box's ten triangles come through as they were, after the floor's pieces */
+    /* the box's ten triangles are copied unchanged, after the floor's pieces */
     size_t box_first = m.nt - 10;
     for (int t = 2; t < s.nt; t++) {
         size_t p = box_first + (size_t)(t - 2);
@@ -190,8 +190,7 @@ TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
 TEST(contact_a_triangle_through_the_floor_cuts_nothing)
 {
     /* a triangle passing through the floor: its crossing stays inside
-       elements (cutting both along it left pieces whose visible form
-       factors were not finite) */
+       elements */
     soup s = {0};
     floor2(&s);
     int a = vert(&s, 0.5, 1.2, -0.5), b = vert(&s, 1.5, 1.2, -0.5), c = vert(&s, 1.0, 1.2, 0.5);
@@ -215,6 +214,24 @@ TEST(contact_refuses_bad_input)
     CHECK(m.xyz == NULL && m.nt == 0);
     /* a degenerate triangle (0, 0, 2) neither cuts nor is cut */
     s.tri[1] = 0;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(m.faces_split == 0 && m.nt == 2);
+    rad_mesh_contacts_free(&m);
+}
+
+TEST(contact_survives_tiny_triangles_far_apart)
+{
+    /* a unit triangle and one of size 1e185 (the smallest that 1e200 can
+       hold), 1e200 apart: cells of the mean size would number 1e15 a side;
+       the grid is clamped and coarsened, and the call returns, cutting
+       nothing */
+    soup s = {0};
+    int a = vert(&s, 0, 0, 0), b = vert(&s, 1, 0, 0), c = vert(&s, 0, 1, 0);
+    face(&s, a, b, c);
+    a = vert(&s, 1e200, 1e200, 1e200), b = vert(&s, 1e200 + 1e185, 1e200, 1e200);
+    c = vert(&s, 1e200, 1e200 + 1e185, 1e200);
+    face(&s, a, b, c);
+    rad_mesh_contacts m;
     CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);

@@ -281,7 +281,10 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         for (;;) {
             double cells = 1.0;
             for (int i = 0; i < 3; i++) {
-                dim[i] = std::max(1L, (long)std::ceil((ghi[i] - glo[i] + 2 * reach) / h));
+                // clamped before the cast: a scene of tiny and huge triangles
+                // may ask for more cells than a long holds
+                double want = std::ceil((ghi[i] - glo[i] + 2 * reach) / h);
+                dim[i] = want < 1e9 ? std::max(1L, (long)want) : 1000000000L;
                 cells *= (double)dim[i];
             }
             if (cells <= 2.0 * (double)nok + 8.0)
