@@ -147,14 +147,15 @@ TEST(furnace_hier_sealed_scenes)
         }
 }
 
-/* One figure of a `radkit compare` run, -1 when missing. */
-static double compare_figure(const char *table, const char *key)
+/* One figure of `radkit compare SCENE TABLE REFERENCE` (paths from the
+ * root), -1 when missing. */
+static double scene_figure(const char *scene, const char *reference, const char *table,
+                           const char *key)
 {
     char *out = NULL, *err = NULL, buf[64];
     double v = -1.0;
-    int code = harness_radkit_run("compare", (const char *[]){
-                                      harness_path("scenes/cornell/cornell.obj"), table,
-                                      harness_path("experiments/reference/data/cornell.tsv"), NULL},
+    int code = harness_radkit_run("compare", (const char *[]){harness_path(scene), table,
+                                                              harness_path(reference), NULL},
                                   &out, &err);
     CHECK_MSG(code == 0, "compare %s: %s", table, err ? err : "");
     if (out && harness_header(out, key, buf, sizeof buf))
@@ -162,6 +163,13 @@ static double compare_figure(const char *table, const char *key)
     free(out);
     free(err);
     return v;
+}
+
+/* The same against the Cornell box's reference. */
+static double compare_figure(const char *table, const char *key)
+{
+    return scene_figure("scenes/cornell/cornell.obj", "experiments/reference/data/cornell.tsv",
+                        table, key);
 }
 
 /* The Cornell box against the committed Monte Carlo reference
@@ -231,8 +239,10 @@ TEST(cornell_against_the_monte_carlo_reference)
  * footprints (effect "contact"); without the cut an element that straddles
  * a footprint's edge carries the dark part to the boxes' sides, and every
  * face comes out too dark (papers/accuracy.md).  With the defaults the cut
- * at least halves the L1 error against the Monte Carlo reference, for p0,
- * p1 and clusters, and its run's estimate still bounds the worst face. */
+ * at least halves the L1 error against the Monte Carlo reference for p0 and
+ * clusters, and cuts it by a third for p1 (whose linear functions follow
+ * part of the jump even across a straddling element), and its run's
+ * estimate still bounds the worst face. */
 TEST(cornell_contact_cut_against_the_monte_carlo_reference)
 {
     char dir[] = "/tmp/radkit-contact-XXXXXX";
@@ -240,10 +250,10 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
         CHECK(0);
         return;
     }
-    struct { const char *name; const char *args[6]; double l1, worst; } runs[] = {
-        {"hier", {"--method", "hier", NULL}, 0.0025, 0.025},
-        {"hier-p1", {"--method", "hier", "--basis", "p1", NULL}, 0.0025, 0.025},
-        {"cluster", {"--method", "cluster", NULL}, 0.0025, 0.025},
+    struct { const char *name; const char *args[6]; double l1, worst, gain; } runs[] = {
+        {"hier", {"--method", "hier", NULL}, 0.0025, 0.025, 0.5},
+        {"hier-p1", {"--method", "hier", "--basis", "p1", NULL}, 0.0025, 0.025, 2.0 / 3.0},
+        {"cluster", {"--method", "cluster", NULL}, 0.0025, 0.025, 0.5},
     };
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
         double l1[2] = {-1, -1}, worst = -1, est = -1;
@@ -283,7 +293,7 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
                "estimate %.3e\n", runs[k].name, l1[0], l1[1], worst, est);
         CHECK_MSG(l1[0] >= 0.0 && l1[0] <= runs[k].l1, "%s: L1 %.3g", runs[k].name, l1[0]);
         CHECK_MSG(worst >= 0.0 && worst <= runs[k].worst, "%s: worst %.3g", runs[k].name, worst);
-        CHECK_MSG(l1[0] <= 0.5 * l1[1], "%s: the cut took L1 from %.3g to %.3g only",
+        CHECK_MSG(l1[0] <= runs[k].gain * l1[1], "%s: the cut took L1 from %.3g to %.3g only",
                   runs[k].name, l1[1], l1[0]);
         CHECK_MSG(est >= worst, "%s: estimate %.3g below the worst face %.3g", runs[k].name, est,
                   worst);
@@ -332,4 +342,50 @@ TEST(contact_cut_on_boxes_through_each_other)
         free(out);
         free(err);
     }
+}
+
+/* A small lamp in a dark open room (scenes/lamp/lamp.obj): a wall's light
+ * comes nearly all straight from the lamp.  Leaves near the floor's
+ * corners gather rows (the irradiance a unit radiosity brings) a little
+ * over 1 from the approximations; scaling such a row back to 1 would scale
+ * the lamp's accurate share with it, and p1 and p2 came out 4% and 2% too
+ * dark (worst face 12%), below their own estimates.  With the defaults,
+ * every basis is within 0.5% (L1) and 1.5% (worst face) of the Monte Carlo
+ * reference, and its estimates bound its errors. */
+TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
+{
+    char dir[] = "/tmp/radkit-lamp-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    const char *scene = "scenes/lamp/lamp.obj", *reference = "experiments/reference/data/lamp.tsv";
+    const char *bases[] = {"p0", "p1", "p2"};
+    for (size_t k = 0; k < sizeof bases / sizeof bases[0]; k++) {
+        char table[256], buf[64];
+        snprintf(table, sizeof table, "%s/%s.tsv", dir, bases[k]);
+        char *out = NULL, *err = NULL;
+        CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scene), "--method", "hier",
+                                                           "--basis", bases[k], "--out", table,
+                                                           "--quiet", NULL},
+                                 &out, &err) == 0);
+        free(out);
+        free(err);
+        double l1 = scene_figure(scene, reference, table, "error_l1");
+        double worst = scene_figure(scene, reference, table, "error_worst");
+        char *text = harness_read_file(table);
+        double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
+        double est_l1 =
+            text && harness_header(text, "error_estimate_l1", buf, sizeof buf) ? atof(buf) : -1;
+        free(text);
+        printf("# lamp %s: L1 %.3e (estimate %.3e), worst face %.3e (estimate %.3e)\n", bases[k],
+               l1, est_l1, worst, est);
+        CHECK_MSG(l1 >= 0.0 && l1 <= 0.005, "%s: L1 %.3g", bases[k], l1);
+        CHECK_MSG(worst >= 0.0 && worst <= 0.015, "%s: worst %.3g", bases[k], worst);
+        CHECK_MSG(est >= worst, "%s: estimate %.3g below the worst face %.3g", bases[k], est, worst);
+        CHECK_MSG(est_l1 >= l1, "%s: L1 estimate %.3g below the L1 error %.3g", bases[k], est_l1,
+                  l1);
+        remove(table);
+    }
+    rmdir(dir);
 }

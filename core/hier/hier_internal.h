@@ -29,7 +29,8 @@ typedef struct hier_elem {
                                 leaf, what gB implies at its corners; on an inner
                                 element, the farthest leaf below, that leaf's var
                                 included */
-    double cap;              /* leaf: 1 / (its row sum) where that exceeds 1, else 1 */
+    double cap;              /* leaf: the row ceiling (rad_hier_row_ceiling) over its row
+                                sum where that exceeds it (sealed: always), else 1 */
     double row0;             /* leaf: its row sum (the push of B = 1) at the centroid ... */
     rad_vec3 rowg;           /* ... and its gradient */
     double q[3], d[3], dr[3];/* local error bounds gathered by its own links:

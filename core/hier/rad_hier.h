@@ -262,6 +262,16 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined);
  * RAD_ENUMERIC when a solve does not converge in max_iterations steps. */
 rad_status rad_hier_solve(rad_hier *h);
 
+/* The largest row sum (the irradiance a uniform unit radiosity brings to a
+ * point) a leaf keeps; the approximations can make a row larger, and the
+ * solve scales such a leaf's irradiance back to it.  Sealed: exactly 1 (the
+ * solve scales every row to 1).  Otherwise halfway between 1 and 1 / rho_max
+ * (rho_max taken as at least 1/2): the step then contracts by at most
+ * (1 + rho_max) / 2 < 1, and a row a little over 1 is left alone, since
+ * scaling it would scale the leaf's accurate terms (a light's) with the
+ * inaccurate ones that made it exceed 1.  Shared by rad_hier and rad_hierp. */
+double rad_hier_row_ceiling(int sealed, double rho_max);
+
 void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats);
 
 /* The leaves, in a fixed order: count, then per leaf (each pointer may be

@@ -33,7 +33,9 @@
  *    error of transporting b's mean B; and rho_a r_a B_b to its dr (the
  *    residual of the linear push over a).  Pushed down, a leaf's q and d sum
  *    the links at it and at its ancestors, its dr those at its ancestors only
- *    (its own average is exact).  T = q + rho K T is solved by the same
+ *    (its own average is exact); a leaf whose cap scaled its irradiance down
+ *    adds to q what the cap took off (the link terms bound the error of the
+ *    uncapped sum).  T = q + rho K T is solved by the same
  *    gather / push-pull (to bound_tol), and a leaf's bound per channel is
  *    T + (sqrt(d) + dr) / (1 - rho_max / 2): the sources' variations add as
  *    independent errors, the residuals (which near a shared edge have one
@@ -145,9 +147,7 @@ static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg)
     double tot0 = down0 + x->Bg[0];
     rad_vec3 totg = rad_vec3_add(downg, x->Gg[0]);
     if (x->first_child < 0) {
-        /* sealed: exactly 1; else at most halfway between 1 and 1 / rho_max,
-           which keeps the step a contraction and leaves ordinary rows alone */
-        double top = h->p.sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(h->rho_max, 0.5));
+        double top = rad_hier_row_ceiling(h->p.sealed, h->rho_max);
         x->cap = tot0 > top || (h->p.sealed && tot0 > 0.0) ? top / tot0 : 1.0;
         x->row0 = tot0;
         x->rowg = totg;
@@ -157,6 +157,11 @@ static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg)
         int ch = h->el[e].first_child + k;
         push_rows(h, ch, tot0 + rad_vec3_dot(totg, rad_vec3_sub(h->el[ch].c, h->el[e].c)), totg);
     }
+}
+
+double rad_hier_row_ceiling(int sealed, double rho_max)
+{
+    return sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(rho_max, 0.5));
 }
 
 void hier_row_caps(rad_hier *h)
@@ -591,6 +596,15 @@ rad_status hier_error_estimate(rad_hier *h)
     double zero[3] = {0, 0, 0};
     for (size_t t = 0; t < n; t++)
         push_local(h, (int)t, zero, zero, zero);
+    /* the link terms bound the error of a leaf's irradiance before its cap:
+       what a cap took off is charged to the leaf too */
+    for (size_t e = 0; !h->p.sealed && e < h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        if (x->first_child >= 0 || !(x->cap > 0.0 && x->cap < 1.0))
+            continue;
+        for (int c = 0; c < 3; c++)
+            x->q[c] += fabs(x->B[c] - h->E[(size_t)x->face + c * n]) * (1.0 / x->cap - 1.0);
+    }
     /* T = q + rho K T: start from T = q on the leaves */
     for (size_t e = 0; e < h->nel; e++)
         if (h->el[e].first_child < 0)

@@ -71,6 +71,7 @@ struct rad_hierp {
     size_t nroots;
     double *rho, *E;
     double E_max, rho_max;
+    double row_ceiling; /* rad_hier_row_ceiling(sealed, rho_max) */
     double *face_scale;  /* per input triangle, the oracle's threshold scale (refine.c) */
     hp_elem *el;
     size_t nel, capel;

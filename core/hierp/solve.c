@@ -15,8 +15,10 @@
  *    H + (u - row) H_0 / row_0 (u the unit function): a uniform radiosity
  *    then gathers exactly itself, so the hierarchy's approximations move
  *    light around without creating or losing any, which reflectance near 1
- *    would amplify.  Elsewhere a row whose mean exceeds 1 is scaled back to
- *    1 (no point sees more than its hemisphere), so the step contracts.
+ *    would amplify.  Elsewhere a row whose mean exceeds the ceiling of
+ *    rad_hier_row_ceiling (between 1 and 1 / rho_max) is scaled back to it,
+ *    so that the step contracts; what that takes off a leaf is charged to
+ *    its error (3).
  * 3. The error estimate: each link brings its receivers the errors of
  *    hp_link_errors (W/m^2, per channel); a leaf's local error q sums those
  *    of the links at it and at its ancestors; T = q + rho F T is solved by
@@ -220,9 +222,9 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
             double s = t[0] / r0;
             for (int k = 0; k < m; k++)
                 t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
-        } else if (r0 > sa) {
+        } else if (r0 > h->row_ceiling * sa) {
             for (int k = 0; k < m; k++)
-                t[k] *= sa / r0;
+                t[k] *= h->row_ceiling * sa / r0;
         }
         if (m > 1 || t[0] < 0.0)
             limit(h, t, m);
@@ -510,14 +512,23 @@ rad_status hp_estimate_error(rad_hierp *h)
             h->el[l->b].q[c] += eb[c];
         }
     }
+    size_t n = h->nroots;
     for (size_t e = 0; e < h->nel; e++) {
         hp_elem *x = &h->el[e];
         if (x->parent >= 0)
             for (int c = 0; c < 3; c++)
                 x->q[c] += h->el[x->parent].q[c];
+        /* the link terms bound the error of a leaf's irradiance before the
+           row ceiling scaled it (leaf_update): what that took off is
+           charged to the leaf too */
+        double sa = sqrt(x->area), row = x->row[0] / sa;
+        if (x->first_child >= 0 || h->p.sealed || !(row > h->row_ceiling))
+            continue;
+        for (int c = 0; c < 3; c++)
+            x->q[c] += fabs(x->B[c][0] / sa - h->E[(size_t)x->face + (size_t)c * n]) *
+                       (row / h->row_ceiling - 1.0);
     }
     /* T = q + rho F T, by the constants' gather / push-pull */
-    size_t n = h->nroots;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     for (int it = 0;; it++) {
         if (it >= h->p.max_iterations) {
@@ -544,7 +555,8 @@ rad_status hp_estimate_error(rad_hierp *h)
                     x->Tg[c] += h->el[x->parent].Tg[c];
             if (x->first_child >= 0)
                 continue;
-            double sa = sqrt(x->area), row = x->row[0] / sa, s = row > 1.0 ? 1.0 / row : 1.0;
+            double sa = sqrt(x->area), row = x->row[0] / sa;
+            double s = row > h->row_ceiling ? h->row_ceiling / row : 1.0;
             for (int c = 0; c < 3; c++) {
                 double t = x->q[c] + h->rho[(size_t)x->face + (size_t)c * n] * s * x->Tg[c];
                 change = rad_dmax(change, fabs(t - x->T[c]));

@@ -268,6 +268,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
         }
     }
     h->nel = ntris;
+    h->row_ceiling = rad_hier_row_ceiling(p.sealed, h->rho_max);
     if (h->use_vis && ntris <= 8192) {
         /* which pairs of input triangles something can block, once */
         h->can_block = malloc(ntris * ntris);

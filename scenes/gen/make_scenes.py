@@ -397,6 +397,26 @@ def plates():
               ["emitter E = 1 W/m^2, all black (rho = 0)"])
 
 
+def lamp():
+    """A small lamp in a dark open room: direct light dominates."""
+    obj = Obj()
+    c = [0.5, 0.5, 0.5]
+    for quad in box_faces([0, 0, 0], [1, 1, 1])[:5]:  # no ceiling
+        obj.polygon(orient(quad, towards=c), "wall")
+    obj.polygon(orient([[0.4, 0.4, 0.5], [0.6, 0.4, 0.5], [0.6, 0.6, 0.5]], normal=[0, 0, -1]),
+                "lamp")
+    d = os.path.join(ROOT, "lamp")
+    obj.write(os.path.join(d, "lamp.obj"), "lamp.mtl",
+              ["A small lamp in a dark open room: a 1 m box without its ceiling (floor and four",
+               "walls, faces inward, reflectance 0.02) lit by a 0.02 m^2 triangle hanging at its",
+               "centre, 0.5 m above the floor, emitting downward.  Nearly all the light a wall",
+               "reflects comes straight from the lamp, and no wall point above the lamp sees it.",
+               "Written by scenes/gen/make_scenes.py."])
+    write_mtl(os.path.join(d, "lamp.mtl"), [("wall", [0.02] * 3, [0] * 3),
+                                            ("lamp", [0] * 3, [10] * 3)],
+              ["dark walls, and a lamp that only emits (10 W/m^2)"])
+
+
 def formats():
     """Small files in other formats, written as other tools write them."""
     d = os.path.join(ROOT, "formats")
@@ -477,13 +497,11 @@ def bad():
         "index_out_of_range.obj": "mtllib good.mtl\n" + square + "usemtl m\nf 1 2 3\nf 1 3 9\n",
         "zero_area.obj": "mtllib good.mtl\n" + square + "v 2 0 0\nusemtl m\nf 1 2 3\nf 1 2 5\n",
         "rho_too_big.obj": "mtllib rho_too_big.mtl\n" + square + "usemtl m\nf 1 2 3\n",
-        "rho_too_big.mtl": "newmtl m\nKd 0.5 1.0 0.5\nKe 1 1 1\n",
+        "rho_too_big.mtl": "newmtl m\nKd 0.5 1.5 0.5\nKe 1 1 1\n",
         "negative_emission.obj": "mtllib negative_emission.mtl\n" + square + "usemtl m\nf 1 2 3\n",
         "negative_emission.mtl": "newmtl m\nKd 0.5 0.5 0.5\nKe 1 -0.25 1\n",
         "malformed_number.obj": "mtllib good.mtl\nv 0 0 0\nv 1 0.5x 0\nv 1 1 0\nusemtl m\nf 1 2 3\n",
         "undefined_material.obj": "mtllib good.mtl\n" + square + "usemtl nosuch\nf 1 2 3\n",
-        "nonconvex_polygon.obj": "mtllib good.mtl\nv 2 0 0\nv 0.5 0.5 0\nv 0 2 0\nv 0 0 0\n"
-                                 "usemtl m\nf 1 2 3 4\n",
         "no_faces.obj": "mtllib good.mtl\n" + square,
         "empty.obj": "",
         "garbage.obj": "\x7fELF\x02\x01\x01 this is not a scene \x01\x02\x03\n%%%% 12 ab\n",
@@ -510,6 +528,7 @@ def main():
     sphere()
     furnace_rooms()
     plates()
+    lamp()
     formats()
     bad()
     # many_objects: the committed small instance (the generator takes any N).
