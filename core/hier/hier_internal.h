@@ -44,6 +44,8 @@ typedef struct hier_elem {
     rad_vec3 TGg[3];         /* ... gathered with its gradient, as B is */
 } hier_elem;
 
+enum { HIER_SRC = 12 };
+
 /* A link joins two elements both ways: a <- b and b <- a at the same levels
  * (a symmetric link structure keeps the hierarchical operator self-adjoint in
  * the area inner product, so that energy is conserved to second order). */
@@ -163,6 +165,11 @@ struct rad_hier {
     struct hier_end *inc;
     size_t inc_start_cap, inc_cap, inc_nel;
     unsigned long long inc_version;
+    /* what the gather reads of each element as a source, copied out of
+       the elements once per step (HIER_SRC doubles an element: B and gB,
+       or T), so that a link end reads its source from one short row */
+    double *src;
+    size_t src_cap;
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;

@@ -310,23 +310,45 @@ static void gather_elem(rad_hier *h, size_t e, int carry)
     hier_elem *x = &h->el[e];
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const struct hier_end *u = &h->inc[i];
-        const hier_elem *s = &h->el[u->src];
+        const double *s = h->src + (size_t)u->src * HIER_SRC; /* B or T, then gB */
         if (carry != CARRY_B) {
             for (int c = 0; c < 3; c++) {
-                x->Tg[c] += u->F * s->T[c];
-                x->TGg[c] = rad_vec3_add(x->TGg[c], rad_vec3_scale(u->g, s->T[c]));
+                x->Tg[c] += u->F * s[c];
+                x->TGg[c] = rad_vec3_add(x->TGg[c], rad_vec3_scale(u->g, s[c]));
             }
             continue;
         }
         for (int c = 0; c < 3; c++) {
+            rad_vec3 gB = rad_vec3_make(s[3 + 3 * c], s[4 + 3 * c], s[5 + 3 * c]);
             if (h->p.source_slope && u->is_b)
-                x->Bg[c] += rad_vec3_dot(u->m, s->gB[c]);
-            x->Bg[c] += u->F * s->B[c];
-            x->Gg[c] = rad_vec3_add(x->Gg[c], rad_vec3_scale(u->g, s->B[c]));
+                x->Bg[c] += rad_vec3_dot(u->m, gB);
+            x->Bg[c] += u->F * s[c];
+            x->Gg[c] = rad_vec3_add(x->Gg[c], rad_vec3_scale(u->g, s[c]));
             if (h->p.source_slope && !u->is_b)
-                x->Bg[c] += rad_vec3_dot(u->m, s->gB[c]);
+                x->Bg[c] += rad_vec3_dot(u->m, gB);
         }
     }
+}
+
+/* The sources' rows of the gather (carry B: B and gB; T: T). */
+static rad_status fill_sources(rad_hier *h, int carry)
+{
+    if (!rad_sys_grow((void **)&h->src, &h->src_cap, 0, h->nel * HIER_SRC, sizeof *h->src,
+                      1024 * HIER_SRC))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' values", h->nel);
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        double *s = h->src + e * HIER_SRC;
+        for (int c = 0; c < 3; c++) {
+            s[c] = carry == CARRY_B ? x->B[c] : x->T[c];
+            if (carry == CARRY_B) {
+                s[3 + 3 * c] = x->gB[c].x;
+                s[4 + 3 * c] = x->gB[c].y;
+                s[5 + 3 * c] = x->gB[c].z;
+            }
+        }
+    }
+    return RAD_OK;
 }
 
 /* Gather every link (carry B or T) and push-pull every tree, both in
@@ -353,7 +375,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
             one(h, &h->ln[mine[i]], ends[i]);
         hier_split_roots(h, &lo, &hi);
     } else {
-        if ((st = incidence(h)) != RAD_OK)
+        if ((st = incidence(h)) != RAD_OK || (st = fill_sources(h, carry)) != RAD_OK)
             return st;
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 1024)
         for (long long e = 0; e < (long long)h->nel; e++)
@@ -572,7 +594,7 @@ rad_status hier_error_estimate(rad_hier *h)
     for (size_t e = 0; e < h->nel; e++) {
         hier_elem *x = &h->el[e];
         for (int c = 0; c < 3; c++)
-            x->q[c] = x->d[c] = x->dr[c] = x->T[c] = 0.0;
+            x->q[c] = x->d[c] = x->dr[c] = 0.0;
     }
     for (size_t k = 0; k < h->nln; k++) {
         const hier_link *l = &h->ln[k];
@@ -605,10 +627,16 @@ rad_status hier_error_estimate(rad_hier *h)
         for (int c = 0; c < 3; c++)
             x->q[c] += fabs(x->B[c] - h->E[(size_t)x->face + c * n]) * (1.0 / x->cap - 1.0);
     }
-    /* T = q + rho K T: start from T = q on the leaves */
-    for (size_t e = 0; e < h->nel; e++)
-        if (h->el[e].first_child < 0)
-            memcpy(h->el[e].T, h->el[e].q, sizeof h->el[e].T);
+    /* T = q + rho K T, whose solution lies above q: start from q on the
+       leaves, or from the last estimate's T where that is larger (a leaf
+       made since has its parent's); sealed, T is q itself */
+    for (size_t e = 0; e < h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        for (int c = 0; c < 3; c++)
+            x->T[c] = h->p.sealed ? x->q[c] : rad_dmax(x->q[c], x->T[c]);
+    }
     rad_status st = RAD_OK;
     int it;
     /* In a sealed scene the rows are normalized: an error of F only moves

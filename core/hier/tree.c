@@ -342,6 +342,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->ln);
     free(h->inc_start);
     free(h->inc);
+    free(h->src);
     free(h);
 }
 
