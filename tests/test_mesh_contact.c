@@ -45,17 +45,17 @@ static void floor2(soup *s)
     face(s, a, c, d);
 }
 
-/* A box of half side h around (1, 1) turned by 30 degrees, from z0 to z0 +
- * 0.7, four sides and a top facing out (no bottom, as the Cornell box's);
+/* A box of half side h around (x, y) turned by deg degrees, from z0 to z0
+ * + 0.7, four sides and a top facing out (no bottom, as the Cornell box's);
  * its footprint's corners in fp[4][2]. */
-static void box(soup *s, double h, double z0, double fp[4][2])
+static void box_at(soup *s, double x, double y, double deg, double h, double z0, double fp[4][2])
 {
-    double c = sqrt(3.0) / 2.0, sn = 0.5; /* 30 degrees */
+    double r = deg * 3.14159265358979323846 / 180.0, c = cos(r), sn = sin(r);
     double u[4][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
     int lo[4], hi[4];
     for (int k = 0; k < 4; k++) {
-        fp[k][0] = 1.0 + c * u[k][0] - sn * u[k][1];
-        fp[k][1] = 1.0 + sn * u[k][0] + c * u[k][1];
+        fp[k][0] = x + c * u[k][0] - sn * u[k][1];
+        fp[k][1] = y + sn * u[k][0] + c * u[k][1];
         lo[k] = vert(s, fp[k][0], fp[k][1], z0);
         hi[k] = vert(s, fp[k][0], fp[k][1], z0 + 0.7);
     }
@@ -66,6 +66,13 @@ static void box(soup *s, double h, double z0, double fp[4][2])
     }
     face(s, hi[0], hi[1], hi[2]);
     face(s, hi[0], hi[2], hi[3]);
+}
+
+/* The box around (1, 1) turned by 30 degrees: two corners on each side of
+ * the floor's diagonal. */
+static void box(soup *s, double h, double z0, double fp[4][2])
+{
+    box_at(s, 1.0, 1.0, 30.0, h, z0, fp);
 }
 
 static rad_vec3 at(const double *xyz, int v)
@@ -152,6 +159,34 @@ TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
             CHECK_MSG(in_footprint(fp, q.x, q.y) == in, "piece %zu straddles the footprint", p);
         }
         if (in)
+            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
+    }
+    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
+    rad_mesh_contacts_free(&m);
+}
+
+/* A footprint with one corner across the floor's diagonal: that corner's
+ * two edges cross the diagonal and, with it, close a triangle outside the
+ * lower floor triangle (area 0.125).  The lower triangle's pieces must not
+ * include it: each floor triangle's pieces cover its own area, and the
+ * pieces inside the footprint its area. */
+TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
+{
+    soup s = {0};
+    double fp[4][2];
+    floor2(&s);
+    box_at(&s, 1.05, 0.95, 0.0, 0.3, 0.0, fp);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(m.faces_split == 2);
+    check_pieces(&s, &m);
+    double inside = 0.0;
+    for (size_t p = 0; p + 10 < m.nt; p++) {
+        rad_vec3 v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = at(m.xyz, m.tri[3 * p + k]);
+        rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
+        if (in_footprint(fp, c.x, c.y))
             inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
     }
     CHECK_NEAR(inside, 0.36, 1e-12, 0.0);

@@ -1,6 +1,7 @@
 // Internal to the CGAL shim: the constrained Delaunay triangulation that
 // conform.cpp and contact.cpp cut polygons with [cgal:triangulation2], and
-// which of its faces lie outside the constrained boundary.
+// (for conform.cpp, whose constraints are a polygon's boundary only) which
+// of its faces lie outside that boundary.
 #ifndef RAD_MESH_CDT_HPP
 #define RAD_MESH_CDT_HPP
 

@@ -24,9 +24,8 @@
 //     coordinates away from the largest normal component (exact predicates,
 //     so the segments may cross each other and A's edges: the crossings are
 //     constructed), with A's edges and the segments, not clipped to A, as
-//     constraints; the faces inside A's edges are kept (flood fill from the
-//     infinite face that stops at constraints), in A's orientation, and new
-//     vertices are lifted onto A's plane.  A piece the scene's degenerate
+//     constraints; the faces whose centroids lie inside A are kept, in A's
+//     orientation, and new vertices are lifted onto A's plane.  A piece the scene's degenerate
 //     test refuses (a sliver where segments cross at a hair's angle) is
 //     dropped and counted.
 #include "rad_mesh.h"
@@ -150,8 +149,22 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
         cdt.insert_constraint(c[j], c[(j + 1) % 3]);
     for (const Segment &s : segs)
         cdt.insert_constraint(Point2(s.a[i0], s.a[i1]), Point2(s.b[i0], s.b[i1]));
-    radmesh::cdt_mark_outside(cdt); // info 1: outside A
-    bool ccw = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point()) == CGAL::LEFT_TURN;
+    // A face is kept when its centroid lies inside A (A's edges are
+    // constraints, so no face straddles them).  A flood fill from outside
+    // that stops at constraints would keep a region outside A that
+    // segments close against one of A's edges (a footprint's corner across
+    // the edge).
+    const CGAL::Orientation turn = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point());
+    bool ccw = turn == CGAL::LEFT_TURN;
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+        const Point2 &p = f->vertex(0)->point(), &q = f->vertex(1)->point(),
+                     &r = f->vertex(2)->point();
+        Point2 m((p.x() + q.x() + r.x()) / 3.0, (p.y() + q.y() + r.y()) / 3.0);
+        f->info() = 0;
+        for (int j = 0; j < 3; j++)
+            if (CGAL::orientation(c[j]->point(), c[(j + 1) % 3]->point(), m) != turn)
+                f->info() = 1; // outside A
+    }
     // the vertices: A's corners keep theirs, the others are lifted onto A's
     // plane when a kept face first uses them (-1: not yet)
     for (CDT::Finite_vertices_iterator h = cdt.finite_vertices_begin();
