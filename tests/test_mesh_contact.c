@@ -2,7 +2,8 @@
  * on them.  A box on a floor must cut the floor so that the pieces inside
  * its footprint cover exactly the footprint's area (no piece straddles the
  * line); the pieces of every triangle cover its area and keep its plane and
- * orientation; a box lifted off the floor, a wall along a floor's edge, a
+ * orientation; a box hovering within 1% of its size cuts the floor as if
+ * it stood on it; a box lifted farther, a wall along a floor's edge, a
  * triangle in the floor's plane or below it, and a triangle passing through
  * the floor, cut nothing; a bad index is refused, a degenerate triangle left
  * alone. */
@@ -132,7 +133,7 @@ TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
     floor2(&s);
     box(&s, 0.3, 0.0, fp);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
     /* the bottom edges of four side triangles: the two that cross the
        diagonal on both floor triangles, the other two on one each */
@@ -177,7 +178,7 @@ TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
     floor2(&s);
     box_at(&s, 1.05, 0.95, 0.0, 0.3, 0.0, fp);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 2);
     check_pieces(&s, &m);
     double inside = 0.0;
@@ -193,13 +194,46 @@ TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
     rad_mesh_contacts_free(&m);
 }
 
+/* The box hovering 5 mm above the floor (0.54% of its sides' longest edge,
+ * within the 1% that counts as hovering) cuts the floor along its
+ * footprint as if it stood there, and with hovering off (0) it cuts
+ * nothing. */
+TEST(contact_box_hovering_cuts_the_floor_along_its_footprint)
+{
+    soup s = {0};
+    double fp[4][2];
+    floor2(&s);
+    box(&s, 0.3, 0.005, fp);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
+    CHECK(m.faces_split == 2);
+    CHECK(m.segments == 6);
+    check_pieces(&s, &m);
+    double inside = 0.0;
+    for (size_t p = 0; p + 10 < m.nt; p++) {
+        rad_vec3 v[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = at(m.xyz, m.tri[3 * p + k]);
+        rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
+        CHECK_MSG(fabs(c.z) < 1e-15, "piece %zu leaves the floor", p);
+        if (in_footprint(fp, c.x, c.y))
+            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
+    }
+    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
+    rad_mesh_contacts_free(&m);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.0, &m) == RAD_OK);
+    CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
+    rad_mesh_contacts_free(&m);
+}
+
 TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
 {
     double fp[4][2];
-    /* the box lifted 1 cm (1e-2 of the floor's size, far above the tolerance) */
+    /* the box lifted 2 cm: its sides' bottom edges 2.2% of the sides' own
+       size above the floor, beyond what counts as hovering (1%) */
     soup a = {0};
     floor2(&a);
-    box(&a, 0.3, 0.01, fp);
+    box(&a, 0.3, 0.02, fp);
     /* a wall standing on the floor's outer edge, one lying in the floor's
        plane, one below the floor touching it along a segment inside */
     soup b = {0};
@@ -214,7 +248,7 @@ TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
     for (int k = 0; k < 2; k++) {
         rad_mesh_contacts m;
         CHECK(rad_mesh_split_contacts(cases[k]->xyz, (size_t)cases[k]->nv, cases[k]->tri,
-                                      (size_t)cases[k]->nt, 1e-6, &m) == RAD_OK);
+                                      (size_t)cases[k]->nt, 1e-6, 1e-2, &m) == RAD_OK);
         CHECK_MSG(m.faces_split == 0 && m.nt == (size_t)cases[k]->nt, "case %d: %zu cut", k,
                   m.faces_split);
         CHECK(memcmp(m.tri, cases[k]->tri, 3 * (size_t)cases[k]->nt * sizeof(int)) == 0);
@@ -231,7 +265,7 @@ TEST(contact_a_triangle_through_the_floor_cuts_nothing)
     int a = vert(&s, 0.5, 1.2, -0.5), b = vert(&s, 1.5, 1.2, -0.5), c = vert(&s, 1.0, 1.2, 0.5);
     face(&s, a, c, b);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 3);
     rad_mesh_contacts_free(&m);
 }
@@ -241,15 +275,15 @@ TEST(contact_refuses_bad_input)
     soup s = {0};
     floor2(&s);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, &m) != RAD_OK);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, &m) != RAD_OK);
     s.tri[1] = 17;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
           RAD_EINPUT);
     CHECK(m.xyz == NULL && m.nt == 0);
     /* a degenerate triangle (0, 0, 2) neither cuts nor is cut */
     s.tri[1] = 0;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
 }
@@ -267,7 +301,7 @@ TEST(contact_survives_tiny_triangles_far_apart)
     c = vert(&s, 1e200, 1e200 + 1e185, 1e200);
     face(&s, a, b, c);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
 }

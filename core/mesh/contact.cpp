@@ -9,9 +9,12 @@
 //  1. Candidate pairs: axis-aligned boxes (grown by the tolerance) that
 //     overlap, found through a uniform grid.
 //  2. For triangles A and B, an edge of B on A's plane (both ends within
-//     tol of it) is a contact segment on A when the rest of B lies in front
-//     of A and the edge passes through A's inside (its part within A is not
-//     on A's boundary).  A triangle that passes through another (vertices
+//     tol of it), or else hovering over it (both ends within near, B's
+//     near_rel times its longest edge: under a box a hair above the floor
+//     the floor is as dark as under one standing on it), is a contact
+//     segment on A, projected onto A's plane, when the rest of B lies in
+//     front of A and the edge passes through A's inside (its part within A
+//     is not on A's boundary).  A triangle that passes through another (vertices
 //     on both sides of its plane) cuts nothing: pieces cut along a crossing
 //     have corners on the other surface, where the visibility clipping of
 //     point form factors is not robust (non-finite values on interpenetrating
@@ -64,29 +67,37 @@ struct Segment {
     double a[3], b[3];
 };
 
-// Step 2: the contact segment of B on A, if any.
-bool contact(const Tri &A, const Tri &B, double tol, Segment *out)
+// Step 2: the contact segment of B on A, if any: B's edge on A's plane
+// (within tol), or, failing that, hovering over it (within near), with the
+// rest of B in front, projected onto the plane.
+bool contact(const Tri &A, const Tri &B, double tol, double near, Segment *out)
 {
     double dist[3];
-    int side[3], front = 0;
     for (int v = 0; v < 3; v++) {
         dist[v] = dot(A.n, B.p[v]) - A.d;
-        side[v] = dist[v] > tol ? 1 : dist[v] < -tol ? -1 : 0;
-        front |= side[v] > 0;
+        if (dist[v] < -tol)
+            return false; // behind A's plane: B passes through it, or lies behind
     }
-    if (!front)
-        return false;
     double pts[3][3];
-    int np = 0; // B's corners on A's plane; one behind it means B passes through
-    for (int v = 0; v < 3; v++)
-        if (side[v] < 0)
-            return false;
-    for (int v = 0; v < 3; v++)
-        if (side[v] == 0) {
-            for (int i = 0; i < 3; i++)
-                pts[np][i] = B.p[v][i] - dist[v] * A.n[i];
-            np++;
+    int np = 0;
+    for (double reach : {tol, near}) {
+        int low = 0, high = 0;
+        for (int v = 0; v < 3; v++) {
+            low += dist[v] <= reach;
+            high += dist[v] > reach;
         }
+        if (low == 2 && high == 1) {
+            for (int v = 0; v < 3; v++)
+                if (dist[v] <= reach) {
+                    for (int i = 0; i < 3; i++)
+                        pts[np][i] = B.p[v][i] - dist[v] * A.n[i];
+                    np++;
+                }
+            break;
+        }
+        if (low > 0)
+            return false; // a corner on the plane, but no edge: B touches at a point
+    }
     if (np != 2)
         return false;
     double len2 = 0.0;
@@ -219,12 +230,13 @@ extern "C" void rad_mesh_contacts_free(rad_mesh_contacts *c)
 }
 
 extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri,
-                                              size_t nt, double rel_tol, rad_mesh_contacts *out)
+                                              size_t nt, double rel_tol, double near_rel,
+                                              rad_mesh_contacts *out)
 {
     if (!out)
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument");
     std::memset(out, 0, sizeof *out);
-    if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0))
+    if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0) || !(near_rel >= 0.0))
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument or negative tolerance");
     rad_status st = radmesh::guarded("contacts", [&]() -> rad_status {
         std::vector<Tri> T(nt);
@@ -288,7 +300,7 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
             mean_size += A.size;
             nok++;
         }
-        const double reach = rel_tol * max_size;
+        const double reach = std::max(rel_tol, near_rel) * max_size;
         double h = nok ? 2.0 * mean_size / (double)nok : 1.0;
         long dim[3];
         for (;;) {
@@ -334,18 +346,19 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                     int ia = entries[ei].second, ib = entries[ej].second;
                     const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
                     double tol = rel_tol * std::max(A.size, B.size);
+                    double grow = std::max(tol, near_rel * std::max(A.size, B.size));
                     bool overlap = true;
                     long home = 0;
                     for (int i = 0; i < 3; i++) {
-                        overlap = overlap && B.lo[i] <= A.hi[i] + tol && A.lo[i] <= B.hi[i] + tol;
+                        overlap = overlap && B.lo[i] <= A.hi[i] + grow && A.lo[i] <= B.hi[i] + grow;
                         home = home * dim[i] + cell_of(i, std::max(A.lo[i], B.lo[i]) - reach);
                     }
                     if (!overlap || home != cell)
                         continue;
                     Segment sg;
-                    if (contact(A, B, tol, &sg))
+                    if (contact(A, B, tol, std::max(tol, near_rel * B.size), &sg))
                         segs[(size_t)ia].push_back(sg);
-                    if (contact(B, A, tol, &sg))
+                    if (contact(B, A, tol, std::max(tol, near_rel * A.size), &sg))
                         segs[(size_t)ib].push_back(sg);
                 }
         }

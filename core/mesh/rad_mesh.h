@@ -131,10 +131,12 @@ rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double
 
 /* Input triangles cut along their contact lines (contact.cpp): where an
  * edge of another triangle lies on a triangle's plane (within rel_tol times
- * the longer of the two triangles' longest edges) with the rest of it in
- * front, and that edge passes through the triangle's inside, the triangle
- * is triangulated with it as a constraint (a box standing on a floor cuts
- * the floor along its footprint).  Triangles that pass through each other
+ * the longer of the two triangles' longest edges), or failing that hovers
+ * over it (within near_rel times its own triangle's longest edge), with the
+ * rest of it in front, and that edge (projected onto the plane) passes
+ * through the triangle's inside, the triangle is triangulated with it as a
+ * constraint (a box standing on a floor, or a hair above it, cuts the floor
+ * along its footprint).  Triangles that pass through each other
  * cut nothing.  The output holds the input's vertices and
  * then the new ones; every piece keeps its input triangle's orientation and
  * names it in parent[]; a sliver that the scene's degenerate test would
@@ -155,7 +157,7 @@ typedef struct rad_mesh_contacts {
                            longest edge squared) */
 } rad_mesh_contacts;
 rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri, size_t nt,
-                                   double rel_tol, rad_mesh_contacts *out);
+                                   double rel_tol, double near_rel, rad_mesh_contacts *out);
 void rad_mesh_contacts_free(rad_mesh_contacts *c);
 
 /* OFF with full double precision. */

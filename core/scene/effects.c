@@ -60,6 +60,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->near_one = 0.5;
     p->max_amplification = 1e6;
     p->contact_rel_tol = 1e-6;
+    p->contact_near_rel = 1e-2;
 }
 
 void rad_scene_effects_list(const rad_effects_plan *plan,
@@ -262,20 +263,23 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     /* 7. contact */
     rad_mesh_contacts ct;
     rad_status st = rad_mesh_split_contacts(s->xyz, (size_t)s->nv, s->tri, (size_t)s->nt,
-                                            params->contact_rel_tol, &ct);
+                                            params->contact_rel_tol, params->contact_near_rel,
+                                            &ct);
     if (st != RAD_OK)
         return st;
     plan->contact_faces = (int)ct.faces_split;
     plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
     if (ct.faces_split > 0)
-        snprintf(why, sizeof why, "%d input triangles have others standing on them along %zu "
-                 "segments: hier cuts them there into %d pieces%s, so that no "
-                 "element straddles the line where the radiosity jumps",
-                 plan->contact_faces, ct.segments, plan->contact_pieces,
-                 ct.slivers ? " (and drops the slivers where segments cross at a hair's angle)"
+        snprintf(why, sizeof why, "%d input triangles have others standing on them, or "
+                 "within %.3g%% of their size above, along %zu segments: hier cuts them into "
+                 "%d pieces%s so that no element straddles a jump of the radiosity",
+                 plan->contact_faces, 100.0 * params->contact_near_rel, ct.segments,
+                 plan->contact_pieces,
+                 ct.slivers ? " (slivers where segments cross at a hair's angle dropped)"
                             : "");
     else
-        snprintf(why, sizeof why, "no triangle stands on another's inside: nothing to cut");
+        snprintf(why, sizeof why, "no triangle stands on (or just above) another's inside: "
+                 "nothing to cut");
     rad_mesh_contacts_free(&ct);
     settle(&plan->contact, params->contact, plan->contact_faces > 0, why);
     if (amp > params->max_amplification)

@@ -183,6 +183,9 @@ typedef struct rad_effects_params {
     double max_amplification; /* refuse scenes whose 1 / (1 - rho_max) exceeds this */
     double contact_rel_tol;   /* a corner within this times the longer longest edge of a
                                  triangle's plane lies on it (contact lines) */
+    double contact_near_rel;  /* an edge within this times its own triangle's longest
+                                 edge above a triangle's plane hovers over it: it cuts
+                                 the triangle like a contact line */
 } rad_effects_params;
 
 /* Everything automatic; clustering from 1000 triangles; pair scan up to
@@ -215,8 +218,9 @@ typedef struct rad_effects_plan {
     /* on: hierarchical radiosity links from a cluster hierarchy instead of
      * every pair of input triangles (rad_hier params.cluster). */
     rad_effect_decision clustering;
-    /* on: some triangle has another standing on it along a segment
-     * through its inside (rad_mesh_split_contacts):
+    /* on: some triangle has another standing on it (or hovering within
+     * contact_near_rel of its size above it) along a segment through its
+     * inside (rad_mesh_split_contacts):
      * hierarchical radiosity cuts it there before meshing, so that no
      * element straddles the line where its radiosity jumps. */
     rad_effect_decision contact;

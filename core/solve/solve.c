@@ -102,7 +102,8 @@ static rad_status pieces_make(prepared *pr, const rad_solution *s)
     if (!s->plan.contact.on)
         return RAD_OK;
     rad_status st = rad_mesh_split_contacts(pr->xyz, pr->nv, pr->tri, pr->nt,
-                                            s->used.effects.contact_rel_tol, &pr->cut);
+                                            s->used.effects.contact_rel_tol,
+                                            s->used.effects.contact_near_rel, &pr->cut);
     if (st != RAD_OK)
         return st;
     size_t n = pr->cut.nt, faces = (size_t)pr->faces;
