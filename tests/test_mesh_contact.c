@@ -126,33 +126,16 @@ static void check_pieces(const soup *s, const rad_mesh_contacts *m)
     free(area);
 }
 
-TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
+/* The floor's pieces (the first n of m): none straddles the footprint's
+ * edges (sample points inside each piece are all in or all out); returns
+ * the area of those inside it. */
+static double footprint_area(const rad_mesh_contacts *m, size_t n, double fp[4][2])
 {
-    soup s = {0};
-    double fp[4][2];
-    floor2(&s);
-    box(&s, 0.3, 0.0, fp);
-    rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
-    CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
-    /* the bottom edges of four side triangles: the two that cross the
-       diagonal on both floor triangles, the other two on one each */
-    CHECK(m.segments == 6);
-    check_pieces(&s, &m);
-    /* the box's ten triangles are copied unchanged, after the floor's pieces */
-    size_t box_first = m.nt - 10;
-    for (int t = 2; t < s.nt; t++) {
-        size_t p = box_first + (size_t)(t - 2);
-        CHECK(m.parent[p] == t);
-        CHECK(memcmp(m.tri + 3 * p, s.tri + 3 * t, 3 * sizeof(int)) == 0);
-    }
-    /* no piece straddles the footprint's edges: sample points inside each
-       piece are all in or all out, and the pieces in cover the footprint */
     double inside = 0.0;
-    for (size_t p = 0; p < box_first; p++) {
+    for (size_t p = 0; p < n; p++) {
         rad_vec3 v[3];
         for (int k = 0; k < 3; k++)
-            v[k] = at(m.xyz, m.tri[3 * p + k]);
+            v[k] = at(m->xyz, m->tri[3 * p + k]);
         rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
         int in = in_footprint(fp, c.x, c.y);
         for (int k = 0; k < 3; k++) {
@@ -160,10 +143,48 @@ TEST(contact_box_on_floor_cuts_the_floor_along_its_footprint)
             CHECK_MSG(in_footprint(fp, q.x, q.y) == in, "piece %zu straddles the footprint", p);
         }
         if (in)
-            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
+            inside += 0.5 * rad_vec3_norm(normal_of(m->xyz, m->tri + 3 * p));
     }
-    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
-    rad_mesh_contacts_free(&m);
+    return inside;
+}
+
+/* The box standing on the floor, and hovering 5 mm above it (0.54% of its
+ * sides' longest edge, within the 1% that counts as hovering), cuts the
+ * floor along its footprint; with hovering off (0) the hovering box cuts
+ * nothing. */
+TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
+{
+    const double lift[2] = {0.0, 0.005};
+    for (int h = 0; h < 2; h++) {
+        soup s = {0};
+        double fp[4][2];
+        floor2(&s);
+        box(&s, 0.3, lift[h], fp);
+        rad_mesh_contacts m;
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
+              RAD_OK);
+        CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
+        /* the bottom edges of four side triangles: the two that cross the
+           diagonal on both floor triangles, the other two on one each */
+        CHECK(m.segments == 6);
+        check_pieces(&s, &m); /* the pieces lie in the floor's plane */
+        /* the box's ten triangles are copied unchanged, after the floor's pieces */
+        size_t box_first = m.nt - 10;
+        for (int t = 2; t < s.nt; t++) {
+            size_t p = box_first + (size_t)(t - 2);
+            CHECK(m.parent[p] == t);
+            CHECK(memcmp(m.tri + 3 * p, s.tri + 3 * t, 3 * sizeof(int)) == 0);
+        }
+        /* no piece straddles the footprint's edges, and the pieces in cover it */
+        CHECK_NEAR(footprint_area(&m, box_first, fp), 0.36, 1e-12, 0.0);
+        rad_mesh_contacts_free(&m);
+        if (h == 1) {
+            CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.0,
+                                          &m) == RAD_OK);
+            CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
+            rad_mesh_contacts_free(&m);
+        }
+    }
 }
 
 /* A footprint with one corner across the floor's diagonal: that corner's
@@ -181,48 +202,7 @@ TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
     CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 2);
     check_pieces(&s, &m);
-    double inside = 0.0;
-    for (size_t p = 0; p + 10 < m.nt; p++) {
-        rad_vec3 v[3];
-        for (int k = 0; k < 3; k++)
-            v[k] = at(m.xyz, m.tri[3 * p + k]);
-        rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
-        if (in_footprint(fp, c.x, c.y))
-            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
-    }
-    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
-    rad_mesh_contacts_free(&m);
-}
-
-/* The box hovering 5 mm above the floor (0.54% of its sides' longest edge,
- * within the 1% that counts as hovering) cuts the floor along its
- * footprint as if it stood there, and with hovering off (0) it cuts
- * nothing. */
-TEST(contact_box_hovering_cuts_the_floor_along_its_footprint)
-{
-    soup s = {0};
-    double fp[4][2];
-    floor2(&s);
-    box(&s, 0.3, 0.005, fp);
-    rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
-    CHECK(m.faces_split == 2);
-    CHECK(m.segments == 6);
-    check_pieces(&s, &m);
-    double inside = 0.0;
-    for (size_t p = 0; p + 10 < m.nt; p++) {
-        rad_vec3 v[3];
-        for (int k = 0; k < 3; k++)
-            v[k] = at(m.xyz, m.tri[3 * p + k]);
-        rad_vec3 c = rad_vec3_scale(rad_vec3_add(rad_vec3_add(v[0], v[1]), v[2]), 1.0 / 3.0);
-        CHECK_MSG(fabs(c.z) < 1e-15, "piece %zu leaves the floor", p);
-        if (in_footprint(fp, c.x, c.y))
-            inside += 0.5 * rad_vec3_norm(normal_of(m.xyz, m.tri + 3 * p));
-    }
-    CHECK_NEAR(inside, 0.36, 1e-12, 0.0);
-    rad_mesh_contacts_free(&m);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.0, &m) == RAD_OK);
-    CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
+    CHECK_NEAR(footprint_area(&m, m.nt - 10, fp), 0.36, 1e-12, 0.0);
     rad_mesh_contacts_free(&m);
 }
 
