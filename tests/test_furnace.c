@@ -347,30 +347,25 @@ TEST(contact_cut_on_boxes_through_each_other)
     }
 }
 
-/* A small lamp in a dark open room (scenes/lamp/lamp.obj): a wall's light
- * comes nearly all straight from the lamp.  Leaves near the floor's
- * corners gather rows (the irradiance a unit radiosity brings) a little
- * over 1 from the approximations; scaling such a row back to 1 would scale
- * the lamp's accurate share with it, and p1 and p2 came out 4% and 2% too
- * dark (worst face 12%), below their own estimates.  With the defaults,
- * every basis is within 0.5% (L1) and 1.5% (worst face) of the Monte Carlo
- * reference, and its estimates bound its errors. */
-TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
+/* hier with each basis on scene (at eps) against its Monte Carlo
+ * reference: L1 at most l1_max and worst face at most worst_max, and the
+ * estimates above both. */
+static void check_bases(const char *scene, const char *reference, const char *eps, double l1_max,
+                        double worst_max)
 {
     char dir[] = "/tmp/radkit-lamp-XXXXXX";
     if (!mkdtemp(dir)) {
         CHECK(0);
         return;
     }
-    const char *scene = "scenes/lamp/lamp.obj", *reference = "experiments/reference/data/lamp.tsv";
     const char *bases[] = {"p0", "p1", "p2"};
     for (size_t k = 0; k < sizeof bases / sizeof bases[0]; k++) {
         char table[256], buf[64];
         snprintf(table, sizeof table, "%s/%s.tsv", dir, bases[k]);
         char *out = NULL, *err = NULL;
         CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scene), "--method", "hier",
-                                                           "--basis", bases[k], "--out", table,
-                                                           "--quiet", NULL},
+                                                           "--basis", bases[k], "--eps", eps,
+                                                           "--out", table, "--quiet", NULL},
                                  &out, &err) == 0);
         free(out);
         free(err);
@@ -381,14 +376,42 @@ TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
         double est_l1 =
             text && harness_header(text, "error_estimate_l1", buf, sizeof buf) ? atof(buf) : -1;
         free(text);
-        printf("# lamp %s: L1 %.3e (estimate %.3e), worst face %.3e (estimate %.3e)\n", bases[k],
-               l1, est_l1, worst, est);
-        CHECK_MSG(l1 >= 0.0 && l1 <= 0.005, "%s: L1 %.3g", bases[k], l1);
-        CHECK_MSG(worst >= 0.0 && worst <= 0.015, "%s: worst %.3g", bases[k], worst);
+        printf("# %s %s eps %s: L1 %.3e (estimate %.3e), worst face %.3e (estimate %.3e)\n",
+               scene, bases[k], eps, l1, est_l1, worst, est);
+        CHECK_MSG(l1 >= 0.0 && l1 <= l1_max, "%s: L1 %.3g", bases[k], l1);
+        CHECK_MSG(worst >= 0.0 && worst <= worst_max, "%s: worst %.3g", bases[k], worst);
         CHECK_MSG(est >= worst, "%s: estimate %.3g below the worst face %.3g", bases[k], est, worst);
         CHECK_MSG(est_l1 >= l1, "%s: L1 estimate %.3g below the L1 error %.3g", bases[k], est_l1,
                   l1);
         remove(table);
     }
     rmdir(dir);
+}
+
+/* A small lamp in a dark open room (scenes/lamp/lamp.obj): a wall's light
+ * comes nearly all straight from the lamp.  Leaves near the floor's
+ * corners gather rows (the irradiance a unit radiosity brings) a little
+ * over 1 from the approximations; scaling such a row back to 1 would scale
+ * the lamp's accurate share with it, and p1 and p2 came out 4% and 2% too
+ * dark (worst face 12%), below their own estimates.  With the defaults,
+ * every basis is within 0.5% (L1) and 1.5% (worst face) of the Monte Carlo
+ * reference, and its estimates bound its errors. */
+TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
+{
+    check_bases("scenes/lamp/lamp.obj", "experiments/reference/data/lamp.tsv", "0.1", 0.005,
+                0.015);
+}
+
+/* The lamp as a small emitting cube in a dark closed room
+ * (scenes/lamp/lamp_closed.obj): sealed, so every leaf's irradiance is
+ * divided by its row, and there the departures of the ancestors' linear
+ * couplings, which elsewhere average out over a receiver, move a leaf's
+ * mean.  Until they counted in p1's and p2's local errors, p1 at eps 0.03
+ * was 0.90% (L1) and 1.8% (worst face) off, above its estimates (1.3% and
+ * 1.5%).  At eps 0.03 every basis is within 0.5% and 1.5%, under its
+ * estimates. */
+TEST(lamp_in_a_dark_closed_room_against_the_monte_carlo_reference)
+{
+    check_bases("scenes/lamp/lamp_closed.obj", "experiments/reference/data/lamp_closed.tsv",
+                "0.03", 0.005, 0.015);
 }

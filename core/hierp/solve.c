@@ -503,13 +503,17 @@ rad_status hp_estimate_error(rad_hierp *h)
         x->q[0] = x->q[1] = x->q[2] = 0.0;
         x->T[0] = x->T[1] = x->T[2] = 0.0;
     }
+    /* Sealed, each leaf's irradiance is divided by its own row, which the
+       departures of its ancestors' linear couplings (zero-mean over their
+       receivers, so elsewhere only pointwise errors) move leaf by leaf:
+       there they count in the local error too. */
     for (size_t k = 0; k < h->nln; k++) {
-        double ea[3], eb[3];
+        double ea[3], eb[3], da[3], db[3];
         const hp_link *l = &h->ln[k];
-        hp_link_errors(h, l, ea, eb, NULL, NULL, NULL, NULL);
+        hp_link_errors(h, l, ea, eb, NULL, NULL, da, db);
         for (int c = 0; c < 3; c++) {
-            h->el[l->a].q[c] += ea[c];
-            h->el[l->b].q[c] += eb[c];
+            h->el[l->a].q[c] += ea[c] + (h->p.sealed ? da[c] : 0.0);
+            h->el[l->b].q[c] += eb[c] + (h->p.sealed ? db[c] : 0.0);
         }
     }
     size_t n = h->nroots;

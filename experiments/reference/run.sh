@@ -11,6 +11,8 @@
 #             shipped everything is black and B = E)
 #   many_64   scenes/many_objects/many_64.obj: 64 boxes in a lit room
 #   lamp      scenes/lamp/lamp.obj: a small lamp in a dark open room
+#   lamp_closed  scenes/lamp/lamp_closed.obj: a small emitting cube in a dark
+#             closed room
 #
 # Each table (data/<name>.tsv) starts with '# command = ...', the command that
 # made it; a seed makes it reproducible bit for bit on any thread count, so a
@@ -55,6 +57,7 @@ reference cornell "$SAMPLES_CORNELL" scenes/cornell/cornell.obj
 reference occluder "$SAMPLES_OCCLUDER" scenes/occluder/occluder.obj --rho 0.5
 reference many_64 "$SAMPLES_MANY" scenes/many_objects/many_64.obj
 reference lamp "$SAMPLES_LAMP" scenes/lamp/lamp.obj
+reference lamp_closed "$SAMPLES_LAMP" scenes/lamp/lamp_closed.obj
 
 dat=$here/data/${prefix}summary.dat
 {
@@ -64,7 +67,7 @@ dat=$here/data/${prefix}summary.dat
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
   printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
-  for name in cornell occluder many_64 lamp; do
+  for name in cornell occluder many_64 lamp lamp_closed; do
     f=$here/data/$prefix$name.tsv
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
       "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \

@@ -417,6 +417,22 @@ def lamp():
               ["dark walls, and a lamp that only emits (10 W/m^2)"])
 
 
+def lamp_closed():
+    """A small emitting cube in a dark closed room: sealed, direct light dominates."""
+    obj = Obj()
+    c = [0.5, 0.5, 0.5]
+    for quad in box_faces([0, 0, 0], [1, 1, 1]):
+        obj.polygon(orient(quad, towards=c), "wall")
+    for quad in box_faces([0.45, 0.45, 0.45], [0.55, 0.55, 0.55]):
+        obj.polygon(orient(quad, away=c), "lamp")
+    d = os.path.join(ROOT, "lamp")
+    obj.write(os.path.join(d, "lamp_closed.obj"), "lamp.mtl",
+              ["A small lamp in a dark closed room: a 1 m box (faces inward, reflectance 0.02)",
+               "around a 0.1 m cube at its centre (faces outward) emitting 10 W/m^2.  Every point",
+               "sees only front faces (sealed), and nearly all the light a wall reflects comes",
+               "straight from the lamp.  Written by scenes/gen/make_scenes.py."])
+
+
 def formats():
     """Small files in other formats, written as other tools write them."""
     d = os.path.join(ROOT, "formats")
@@ -529,6 +545,7 @@ def main():
     furnace_rooms()
     plates()
     lamp()
+    lamp_closed()
     formats()
     bad()
     # many_objects: the committed small instance (the generator takes any N).
