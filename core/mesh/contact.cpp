@@ -284,9 +284,10 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         }
         // step 1: candidate pairs from a uniform grid of about 2 n cells,
         // cells about twice the mean triangle's size: every triangle is
-        // entered in the cells its grown box meets, and a pair is examined
-        // in the one cell that holds the low corner of the two boxes'
-        // overlap, so once
+        // entered in the cells its box meets, grown by the on-plane reach
+        // and by how far it may hover over another (near_rel times its own
+        // size), and a pair is examined in the one cell that holds the low
+        // corner of the two grown boxes' overlap, so once
         double max_size = 0.0, mean_size = 0.0, glo[3] = {0, 0, 0}, ghi[3] = {0, 0, 0};
         size_t nok = 0;
         for (const Tri &A : T) {
@@ -300,7 +301,13 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
             mean_size += A.size;
             nok++;
         }
-        const double reach = std::max(rel_tol, near_rel) * max_size;
+        std::vector<double> grow(nt, 0.0);
+        double reach = 0.0; // the largest growth
+        for (size_t t = 0; t < nt; t++)
+            if (T[t].ok) {
+                grow[t] = rel_tol * max_size + near_rel * T[t].size;
+                reach = std::max(reach, grow[t]);
+            }
         double h = nok ? 2.0 * mean_size / (double)nok : 1.0;
         long dim[3];
         for (;;) {
@@ -327,8 +334,8 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                 continue;
             long c0[3], c1[3];
             for (int i = 0; i < 3; i++) {
-                c0[i] = cell_of(i, A.lo[i] - reach);
-                c1[i] = cell_of(i, A.hi[i] + reach);
+                c0[i] = cell_of(i, A.lo[i] - grow[t]);
+                c1[i] = cell_of(i, A.hi[i] + grow[t]);
             }
             for (long x = c0[0]; x <= c1[0]; x++)
                 for (long y = c0[1]; y <= c1[1]; y++)
@@ -346,12 +353,13 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                     int ia = entries[ei].second, ib = entries[ej].second;
                     const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
                     double tol = rel_tol * std::max(A.size, B.size);
-                    double grow = std::max(tol, near_rel * std::max(A.size, B.size));
+                    double ga = grow[(size_t)ia], gb = grow[(size_t)ib];
                     bool overlap = true;
                     long home = 0;
                     for (int i = 0; i < 3; i++) {
-                        overlap = overlap && B.lo[i] <= A.hi[i] + grow && A.lo[i] <= B.hi[i] + grow;
-                        home = home * dim[i] + cell_of(i, std::max(A.lo[i], B.lo[i]) - reach);
+                        overlap = overlap && B.lo[i] - gb <= A.hi[i] + ga &&
+                                  A.lo[i] - ga <= B.hi[i] + gb;
+                        home = home * dim[i] + cell_of(i, std::max(A.lo[i] - ga, B.lo[i] - gb));
                     }
                     if (!overlap || home != cell)
                         continue;
