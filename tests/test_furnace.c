@@ -389,13 +389,12 @@ static void check_bases(const char *scene, const char *reference, const char *ep
 }
 
 /* A small lamp in a dark open room (scenes/lamp/lamp.obj): a wall's light
- * comes nearly all straight from the lamp.  Leaves near the floor's
- * corners gather rows (the irradiance a unit radiosity brings) a little
- * over 1 from the approximations; scaling such a row back to 1 would scale
- * the lamp's accurate share with it, and p1 and p2 came out 4% and 2% too
- * dark (worst face 12%), below their own estimates.  With the defaults,
- * every basis is within 0.5% (L1) and 1.5% (worst face) of the Monte Carlo
- * reference, and its estimates bound its errors. */
+ * comes nearly all straight from the lamp, and leaves near the floor's
+ * corners gather rows (the irradiance a unit radiosity brings) over 1 from
+ * the approximations, which must not scale the lamp's accurate share down
+ * with them (rad_hier_row_ceiling).  With the defaults every basis is
+ * within 0.5% (L1) and 1.5% (worst face) of the Monte Carlo reference, and
+ * its estimates bound its errors. */
 TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
 {
     check_bases("scenes/lamp/lamp.obj", "experiments/reference/data/lamp.tsv", "0.1", 0.005,
@@ -406,10 +405,8 @@ TEST(lamp_in_a_dark_room_against_the_monte_carlo_reference)
  * (scenes/lamp/lamp_closed.obj): sealed, so every leaf's irradiance is
  * divided by its row, and there the departures of the ancestors' linear
  * couplings, which elsewhere average out over a receiver, move a leaf's
- * mean.  Until they counted in p1's and p2's local errors, p1 at eps 0.03
- * was 0.90% (L1) and 1.8% (worst face) off, above its estimates (1.3% and
- * 1.5%).  At eps 0.03 every basis is within 0.5% and 1.5%, under its
- * estimates. */
+ * mean and must count in p1's and p2's estimates.  At eps 0.03 every basis
+ * is within 0.5% (L1) and 1.5% (worst face), under its estimates. */
 TEST(lamp_in_a_dark_closed_room_against_the_monte_carlo_reference)
 {
     check_bases("scenes/lamp/lamp_closed.obj", "experiments/reference/data/lamp_closed.tsv",

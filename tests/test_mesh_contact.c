@@ -257,6 +257,15 @@ TEST(contact_refuses_bad_input)
     rad_mesh_contacts m;
     CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, &m) != RAD_OK);
     CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, &m) != RAD_OK);
+    /* tolerances must be finite, below 1 and not NaN (an infinite one would
+       ask the candidate grid for no end of cells) */
+    const double bad[3] = {INFINITY, NAN, 1.0};
+    for (int k = 0; k < 3; k++) {
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, bad[k],
+                                      &m) == RAD_EINVAL);
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, bad[k], 1e-2,
+                                      &m) == RAD_EINVAL);
+    }
     s.tri[1] = 17;
     CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
           RAD_EINPUT);

@@ -510,7 +510,8 @@ rad_status hp_estimate_error(rad_hierp *h)
     for (size_t k = 0; k < h->nln; k++) {
         double ea[3], eb[3], da[3], db[3];
         const hp_link *l = &h->ln[k];
-        hp_link_errors(h, l, ea, eb, NULL, NULL, da, db);
+        hp_link_errors(h, l, ea, eb, NULL, NULL, h->p.sealed ? da : NULL,
+                       h->p.sealed ? db : NULL);
         for (int c = 0; c < 3; c++) {
             h->el[l->a].q[c] += ea[c] + (h->p.sealed ? da[c] : 0.0);
             h->el[l->b].q[c] += eb[c] + (h->p.sealed ? db[c] : 0.0);

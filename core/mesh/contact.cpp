@@ -236,8 +236,9 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
     if (!out)
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument");
     std::memset(out, 0, sizeof *out);
-    if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0) || !(near_rel >= 0.0))
-        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument or negative tolerance");
+    if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0 && rel_tol < 1.0) ||
+        !(near_rel >= 0.0 && near_rel < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument, or a tolerance outside [0, 1)");
     rad_status st = radmesh::guarded("contacts", [&]() -> rad_status {
         std::vector<Tri> T(nt);
         for (size_t t = 0; t < nt; t++) {

@@ -142,8 +142,8 @@ rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double
  * names it in parent[]; a sliver that the scene's degenerate test would
  * refuse is dropped and counted; triangles without contact are copied as they are,
  * in order; a triangle without a normal (degenerate, not finite) neither
- * cuts nor is cut.  RAD_EINVAL for a NULL argument or a negative
- * tolerance, RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
+ * cuts nor is cut.  RAD_EINVAL for a NULL argument or a tolerance outside
+ * [0, 1) (an infinite one would ask the candidate grid for no end of cells), RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
  * RAD_EGEOM from the geometry kernel. */
 typedef struct rad_mesh_contacts {
     double *xyz;
