@@ -186,3 +186,46 @@ TEST(solve_tiny_scene_is_scale_invariant_or_refused)
                                                         "1e-100", NULL},
                                "single precision");
 }
+
+/* Scaling a scene by a power of two scales every coordinate exactly, so
+ * whatever depends on the size alone (tolerances, minimum areas, contact
+ * reaches, shaft planes) must come out the same and the table must not move
+ * at all: any absolute length left in hier, its contact cut, its clipping or
+ * cluster's rays would show here.  (A decimal scale rounds every coordinate
+ * differently, which may flip a refinement decision sitting on its
+ * threshold; that is no test of the units.) */
+TEST(hier_and_cluster_are_scale_invariant_at_powers_of_two)
+{
+    const char *scene = harness_path("scenes/cornell/cornell.obj");
+    /* method options; cluster takes no --basis */
+    const char *methods[3][4] = {{"--method", "hier", NULL},
+                                 {"--method", "hier", "--basis", "p1"},
+                                 {"--method", "cluster", NULL}};
+    const char *scales[3] = {NULL, "1048576", "9.5367431640625e-07"}; /* 1, 2^20, 2^-20 */
+    enum { N = 38 };
+    for (int m = 0; m < 3; m++) {
+        double B[3][3 * N];
+        for (int s = 0; s < 3; s++) {
+            const char *argv[10] = {scene, "--quiet"};
+            int n = 2;
+            for (int k = 0; k < 4 && methods[m][k]; k++)
+                argv[n++] = methods[m][k];
+            if (scales[s]) {
+                argv[n++] = "--scale";
+                argv[n++] = scales[s];
+            }
+            char *out, *err;
+            CHECK_MSG(harness_radkit_run("solve", argv, &out, &err) == 0, "%s", err);
+            CHECK(harness_face_table(out, B[s], N) == N);
+            free(out);
+            free(err);
+        }
+        for (int s = 1; s < 3; s++) {
+            double worst = 0.0;
+            for (int k = 0; k < 3 * N; k++)
+                worst = fmax(worst, fabs(B[s][k] - B[0][k]) / B[0][k]);
+            CHECK_MSG(worst <= 1e-14, "%s %s at scale %s: a face moved by %.3g relative",
+                      methods[m][1], methods[m][3] ? methods[m][3] : "", scales[s], worst);
+        }
+    }
+}
