@@ -63,9 +63,30 @@ double rad_ff_triangle_distance(const rad_vec3 ti[3], const rad_vec3 tj[3])
     return best;
 }
 
+/* 1 when the bounding boxes of ti and tj are more than gap apart along an
+ * axis: then so are the triangles. */
+static int boxes_apart(const rad_vec3 ti[3], const rad_vec3 tj[3], double gap)
+{
+    for (int axis = 0; axis < 3; axis++) {
+        double lo_i = INFINITY, hi_i = -INFINITY, lo_j = INFINITY, hi_j = -INFINITY;
+        for (int k = 0; k < 3; k++) {
+            double a = axis == 0 ? ti[k].x : axis == 1 ? ti[k].y : ti[k].z;
+            double b = axis == 0 ? tj[k].x : axis == 1 ? tj[k].y : tj[k].z;
+            lo_i = fmin(lo_i, a);
+            hi_i = fmax(hi_i, a);
+            lo_j = fmin(lo_j, b);
+            hi_j = fmax(hi_j, b);
+        }
+        if (lo_j - hi_i > gap || lo_i - hi_j > gap)
+            return 1;
+    }
+    return 0;
+}
+
 int rad_ff_triangles_touch(const rad_vec3 ti[3], rad_vec3 ci, double si, const rad_vec3 tj[3],
                            rad_vec3 cj, double sj)
 {
-    return rad_vec3_norm(rad_vec3_sub(ci, cj)) <= 1.001 * (si + sj) &&
-           rad_ff_triangle_distance(ti, tj) <= 1e-9 * rad_dmax(si, sj);
+    double tol = 1e-9 * rad_dmax(si, sj);
+    return rad_vec3_norm(rad_vec3_sub(ci, cj)) <= 1.001 * (si + sj) && !boxes_apart(ti, tj, tol) &&
+           rad_ff_triangle_distance(ti, tj) <= tol;
 }

@@ -186,7 +186,8 @@ double rad_ff_triangle_distance(const rad_vec3 ti[3], const rad_vec3 tj[3]);
 /* 1 when triangles ti and tj (centroids ci, cj, longest edges si, sj) touch:
  * within 1e-9 of the longer edge of each other.  A corner lies within the
  * longest edge of its centroid, so triangles whose centroids are farther
- * apart than both longest edges are dismissed before the distance. */
+ * apart than both longest edges, or whose bounding boxes are apart, are
+ * dismissed before the distance. */
 int rad_ff_triangles_touch(const rad_vec3 ti[3], rad_vec3 ci, double si, const rad_vec3 tj[3],
                            rad_vec3 cj, double sj);
 

@@ -51,7 +51,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->link_share = 0.5;
     params->far_ratio = 3.0;
     params->singular = 1;
-    params->round_tol = 1e-5;
+    params->round_tol = 0.1;
     params->max_tighten = 3;
     params->source_slope = 1;
     params->tol = 1e-10;
@@ -289,18 +289,18 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         unsigned char *tab = h->can_block;
         int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
-        for (long long r = 0; r < (long long)ntris; r++)
-            for (size_t s = 0; s < ntris; s++) {
-                if ((size_t)r == s) {
-                    tab[(size_t)r * ntris + s] = 0;
-                    continue;
-                }
+        for (long long r = 0; r < (long long)ntris; r++) {
+            tab[(size_t)r * ntris + (size_t)r] = 0;
+            /* both tests are symmetric (the shaft is the hull of the two) */
+            for (size_t s = (size_t)r + 1; s < ntris; s++) {
                 const hier_elem *a = &h->el[r], *b = &h->el[s];
                 int touch = rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
-                tab[(size_t)r * ntris + s] =
+                unsigned char v =
                     (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HIER_CAN_BLOCK : 0) |
                                     (touch ? HIER_MAY_TOUCH : 0));
+                tab[(size_t)r * ntris + s] = tab[s * ntris + (size_t)r] = v;
             }
+        }
     }
     {
         hier_job *jobs = malloc(ntris * (ntris - 1 > 0 ? ntris - 1 : 1) / 2 * sizeof *jobs + 1);

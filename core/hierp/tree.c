@@ -279,17 +279,18 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
         unsigned char *tab = h->can_block;
         int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
-        for (long long r = 0; r < (long long)ntris; r++)
-            for (size_t s = 0; s < ntris; s++) {
+        for (long long r = 0; r < (long long)ntris; r++) {
+            tab[(size_t)r * ntris + (size_t)r] = 0;
+            /* both tests are symmetric (the shaft is the hull of the two) */
+            for (size_t s = (size_t)r + 1; s < ntris; s++) {
                 const hp_elem *a = &h->el[r], *b = &h->el[s];
-                int touch = (size_t)r != s &&
-                            rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
-                tab[(size_t)r * ntris + s] =
-                    (unsigned char)(((size_t)r != s && rad_vis_pair_can_block(vis, (size_t)r, s)
-                                         ? HP_CAN_BLOCK
-                                         : 0) |
+                int touch = rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
+                unsigned char v =
+                    (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HP_CAN_BLOCK : 0) |
                                     (touch ? HP_MAY_TOUCH : 0));
+                tab[(size_t)r * ntris + s] = tab[s * ntris + (size_t)r] = v;
             }
+        }
     }
     /* every pair of input triangles (those that face make links) */
     double t0 = rad_sys_seconds();
