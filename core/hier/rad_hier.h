@@ -166,11 +166,10 @@ typedef struct rad_hier_params {
     int max_iterations;   /* steps per solve before RAD_ENUMERIC; default 100000 */
     int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
     double round_tol;     /* the solves between rounds only feed the oracle, whose
-                             decisions compare errors with eps (1e-3 and up in practice)
-                             times the mean reflected radiosity: they stop at a step
-                             change of round_tol (1 - rho_max), leaving B within about
-                             round_tol of its fixed point; the last solve goes to tol.
-                             Default 1e-5 */
+                             decisions compare errors with eps R (R the mean reflected
+                             radiosity): they stop where B is within about
+                             round_tol eps R of its fixed point; the last solve goes
+                             to tol.  Default 0.1 */
     int max_tighten;      /* ERROR: an input triangle whose bound still exceeds eps when
                              no link wants refining has its thresholds quartered, at most
                              this many times (default 3: 64-fold) */

@@ -69,8 +69,10 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
 
 /* ERROR oracle: tighten the thresholds of the input triangles whose error
  * bound (the area-weighted mean of their leaves', solve.c) exceeds eps R, by
- * 4 each time, at most max_tighten times.  Returns how many were tightened
- * (0: none fails, or none may be tightened further). */
+ * 4 each time, at most max_tighten times.  The bound's iteration part is left
+ * out: the solve between rounds stops early, refining does not reduce it and
+ * the last solve does.  Returns how many were tightened (0: none fails, or
+ * none may be tightened further). */
 int hier_tighten_failing(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -91,7 +93,7 @@ int hier_tighten_failing(rad_hier *h)
         double b = 0.0;
         for (int c = 0; c < 3; c++)
             b = rad_dmax(b, area[f] > 0.0 ? bound[3 * f + (size_t)c] / area[f] : 0.0);
-        if (b > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
+        if (b - h->iter_err > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
             h->face_scale[f] *= 0.25;
             tightened++;
         }

@@ -698,12 +698,31 @@ rad_status hier_error_estimate(rad_hier *h)
     return st;
 }
 
+/* The solve between rounds: it only feeds the oracle, whose decisions
+ * compare errors with eps R (R the mean reflected radiosity), so it stops
+ * where B is within about round_tol eps R of its fixed point.  A step change
+ * delta (relative to the largest B, bmax) leaves B within delta bmax q / (1 -
+ * q), q <= (1 + rho_max) / 2 the step's contraction; R and bmax are those of
+ * the last solve, and the first solve goes on until they are known. */
+static rad_status solve_round(rad_hier *h)
+{
+    double tol = h->p.round_tol * h->p.eps * (1.0 - h->rho_max) / 2.0;
+    for (;;) {
+        double scale = h->last_bmax > 0.0 ? hier_reflected_scale(h) / h->last_bmax : 1.0;
+        double t = fmax(h->p.tol, tol * scale);
+        if (h->stepped && h->last_change <= t)
+            return RAD_OK;
+        rad_status st = hier_solve_links(h, t);
+        if (st != RAD_OK)
+            return st;
+    }
+}
+
 rad_status rad_hier_solve(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    double round_tol = fmax(h->p.tol, h->p.round_tol * (1.0 - h->rho_max));
-    rad_status st = hier_solve_links(h, round_tol);
+    rad_status st = solve_round(h);
     for (int round = 0; st == RAD_OK; round++) {
         if (h->p.progress)
             h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
@@ -719,7 +738,7 @@ rad_status rad_hier_solve(rad_hier *h)
         }
         if (st != RAD_OK || n == 0)
             break;
-        st = hier_solve_links(h, round_tol);
+        st = solve_round(h);
     }
     if (st == RAD_OK)
         st = hier_solve_links(h, h->p.tol);

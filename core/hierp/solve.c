@@ -624,6 +624,24 @@ rad_status hp_estimate_error(rad_hierp *h)
     return st;
 }
 
+/* The solve between rounds, as rad_hier's: it only feeds the oracle, so it
+ * stops where B is within about round_tol eps R of its fixed point (a step
+ * change delta of the largest mean vmax leaves it within delta vmax q /
+ * (1 - q), q <= (1 + rho_max) / 2), R and vmax those of the last solve. */
+static rad_status solve_round(rad_hierp *h)
+{
+    double tol = h->p.round_tol * h->p.eps * (1.0 - h->rho_max) / 2.0;
+    for (int first = 1;; first = 0) {
+        double scale = h->last_vmax > 0.0 ? hp_reflected(h) / h->last_vmax : 1.0;
+        double t = rad_dmax(h->p.tol, tol * scale);
+        if (!first && h->last_change <= t)
+            return RAD_OK;
+        rad_status st = hp_solve_links(h, t);
+        if (st != RAD_OK)
+            return st;
+    }
+}
+
 rad_status rad_hierp_solve(rad_hierp *h)
 {
     if (!h)
@@ -632,8 +650,7 @@ rad_status rad_hierp_solve(rad_hierp *h)
     if (st != RAD_OK)
         return st;
     hp_rows(h);
-    double between = h->p.round_tol * (1.0 - h->rho_max);
-    st = hp_solve_links(h, rad_dmax(between, h->p.tol));
+    st = solve_round(h);
     if (st != RAD_OK)
         return st;
     if (h->p.progress)
@@ -653,7 +670,7 @@ rad_status rad_hierp_solve(rad_hierp *h)
         if ((st = hp_incidence(h)) != RAD_OK)
             return st;
         hp_rows(h);
-        if ((st = hp_solve_links(h, rad_dmax(between, h->p.tol))) != RAD_OK)
+        if ((st = solve_round(h)) != RAD_OK)
             return st;
         if (h->p.progress)
             h->p.progress(round, rad_hierp_leaf_count(h), h->nln, h->p.progress_ctx);
