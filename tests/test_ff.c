@@ -57,19 +57,6 @@ static void c14_rects(double l, double w, double h, rad_vec3 r1[2][3], rad_vec3 
     memcpy(r2, t2, sizeof t2);
 }
 
-TEST(geom_normal_follows_winding_whichever_edge_is_longest)
-{
-    /* The three rotations of one triangle put the longest edge in each slot;
-     * the normal must be the CCW (b-a) x (c-a) direction every time. */
-    rad_vec3 p[3] = {V(0.3, -0.2, 0.1), V(2.385, 0.4, -0.3), V(0.9, 1.7, 0.6)};
-    rad_vec3 ref = rad_vec3_cross(rad_vec3_sub(p[1], p[0]), rad_vec3_sub(p[2], p[0]));
-    ref = rad_vec3_scale(ref, 1.0 / rad_vec3_norm(ref));
-    for (int k = 0; k < 3; k++) {
-        rad_vec3 n = rad_geom_triangle_normal(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-        CHECK_NEAR(rad_vec3_dot(n, ref), 1.0, 1e-15, 0.0);
-    }
-}
-
 TEST(ff_kernel_clamps_each_cosine)
 {
     rad_vec3 x = V(0.1, 0.2, 0.3), nx = V(0, 0, 1), y = V(0.4, -0.3, 1.7), ny = V(0, 0.6, -0.8);
