@@ -308,6 +308,14 @@ double harness_howell_c14(double l, double w, double h)
 int main(int argc, char **argv)
 {
     int passed = 0, failed = 0;
+    /* a name selects its test: two tests of one name would run and report as one */
+    for (int t = 0; t < test_count; t++)
+        for (int u = t + 1; u < test_count; u++)
+            if (strcmp(tests[t].name, tests[u].name) == 0) {
+                printf("FAIL two tests named %s (%s, %s)\n", tests[t].name, tests[t].file,
+                       tests[u].file);
+                failed++;
+            }
     for (int t = 0; t < test_count; t++) {
         int selected = argc < 2;
         for (int a = 1; a < argc; a++)
