@@ -2,6 +2,10 @@
 #include "harness.h"
 #include "rad_geom.h"
 
+#include <float.h>
+#include <stdint.h>
+#include <stdio.h>
+
 TEST(geom_triangle_area_normal_centroid)
 {
     rad_vec3 a = {0.3, -1.2, 2.385}, b = {2.3, -1.2, 2.385}, c = {0.3, 1.8, 2.385};
@@ -52,4 +56,39 @@ TEST(geom_normal_follows_winding_whichever_edge_is_longest)
         rad_vec3 flipped = rad_geom_triangle_normal(t[0], t[2], t[1]);
         CHECK_MSG(flipped.z < -0.999, "case %d flipped: normal z = %g", k, flipped.z);
     }
+}
+
+/* rad_geom_angle against libm's atan2 (correctly rounded) within 2 ulp: the
+ * whole half-plane s >= 0 at random angles and magnitudes, both sides of each
+ * of the arctangent's reduction boundaries (tan of the angle 0.4375, 0.6875,
+ * 1.1875, 2.4375), the axes and a NaN. */
+TEST(geom_angle_matches_atan2_within_two_ulp)
+{
+    double worst = 0.0;
+    uint64_t state = 12345;
+    for (int k = 0; k < 200000; k++) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        double u = (double)(state >> 11) * 0x1.0p-53;
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        double v = (double)(state >> 11) * 0x1.0p-53;
+        double theta = u * RAD_PI, r = pow(10.0, 600.0 * v - 300.0);
+        double s = fabs(r * sin(theta)), c = r * cos(theta);
+        double want = atan2(s, c), got = rad_geom_angle(s, c);
+        worst = fmax(worst, fabs(got - want) / (DBL_EPSILON * fmax(want, DBL_MIN)));
+    }
+    const double edges[4] = {0.4375, 0.6875, 1.1875, 2.4375};
+    for (int e = 0; e < 4; e++)
+        for (int k = -4; k <= 4; k++) {
+            double t = edges[e] + k * DBL_EPSILON * edges[e];
+            for (int side = 0; side < 2; side++) {
+                double c = side ? -1.0 : 1.0, want = atan2(t, c), got = rad_geom_angle(t, c);
+                worst = fmax(worst, fabs(got - want) / (DBL_EPSILON * want));
+            }
+        }
+    CHECK_MSG(worst <= 2.0, "largest difference %.3g ulp", worst);
+    CHECK(rad_geom_angle(0.0, 1.0) == 0.0 && rad_geom_angle(0.0, -2.0) == atan2(0.0, -2.0));
+    CHECK(rad_geom_angle(3.0, 0.0) == atan2(3.0, 0.0) && rad_geom_angle(0.0, 0.0) == 0.0);
+    CHECK(rad_geom_angle(1e300, 1e-300) == atan2(1e300, 1e-300));
+    CHECK(isnan(rad_geom_angle(NAN, 1.0)) && isnan(rad_geom_angle(1.0, NAN)));
+    printf("# rad_geom_angle against atan2: largest difference %.2f ulp\n", worst);
 }

@@ -143,7 +143,7 @@ static double contour_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly
         double cn = rad_vec3_norm(c);
         if (!(cn > 0.0))
             continue; /* x on the edge's line: the edge subtends no angle */
-        double gamma = atan2(cn, rad_vec3_dot(r0, r1));
+        double gamma = rad_geom_angle(cn, rad_vec3_dot(r0, r1));
         sum += gamma * rad_vec3_dot(n, c) / cn;
     }
     return -sum / (2.0 * RAD_PI);
