@@ -105,8 +105,9 @@ int ff_clip(const rad_vec3 *in, int n, rad_vec3 nrm, rad_vec3 o, rad_vec3 *out)
     }
     int m = 0;
     for (int k = 0; k < n; k++) {
-        rad_vec3 a = in[k], b = in[(k + 1) % n];
-        double da = side[k], db = side[(k + 1) % n];
+        int k1 = k + 1 < n ? k + 1 : 0;
+        rad_vec3 a = in[k], b = in[k1];
+        double da = side[k], db = side[k1];
         if (da > 0.0)
             out[m++] = a;
         /* An edge that crosses the plane contributes its crossing point; an
@@ -138,7 +139,7 @@ static double contour_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly
 {
     double sum = 0.0;
     for (int k = 0; k < nv; k++) {
-        rad_vec3 r0 = rad_vec3_sub(poly[k], x), r1 = rad_vec3_sub(poly[(k + 1) % nv], x);
+        rad_vec3 r0 = rad_vec3_sub(poly[k], x), r1 = rad_vec3_sub(poly[k + 1 < nv ? k + 1 : 0], x);
         rad_vec3 c = rad_vec3_cross(r0, r1);
         double cn = rad_vec3_norm(c);
         if (!(cn > 0.0))
@@ -156,7 +157,7 @@ double rad_ff_point_polygon(rad_vec3 x, rad_vec3 n, const rad_vec3 *poly, int nv
     /* The polygon's own normal by Newell's method (any planar polygon). */
     rad_vec3 np = {0, 0, 0};
     for (int k = 0; k < nv; k++)
-        np = rad_vec3_add(np, rad_vec3_cross(poly[k], poly[(k + 1) % nv]));
+        np = rad_vec3_add(np, rad_vec3_cross(poly[k], poly[k + 1 < nv ? k + 1 : 0]));
     if (!(rad_vec3_dot(np, rad_vec3_sub(x, poly[0])) > 0.0))
         return 0.0;
     rad_vec3 clipped[16];

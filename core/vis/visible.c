@@ -77,7 +77,7 @@ static double area2(const poly2 *q)
 {
     double s = 0.0;
     for (int k = 0; k < q->n; k++) {
-        v2 a = q->p[k], b = q->p[(k + 1) % q->n];
+        v2 a = q->p[k], b = q->p[k + 1 < q->n ? k + 1 : 0];
         s += a.x * b.y - a.y * b.x;
     }
     return 0.5 * s;
@@ -89,7 +89,7 @@ static int split_line(const poly2 *q, v2 a, v2 b, poly2 *left, poly2 *right)
 {
     left->n = right->n = 0;
     for (int k = 0; k < q->n; k++) {
-        v2 p = q->p[k], r = q->p[(k + 1) % q->n];
+        v2 p = q->p[k], r = q->p[k + 1 < q->n ? k + 1 : 0];
         double sp = cross2(a, b, p), sr = cross2(a, b, r);
         if (left->n + 2 > POLY_MAX || right->n + 2 > POLY_MAX)
             return 0;
@@ -113,7 +113,7 @@ static int clip3(const rad_vec3 *in, int n, rad_vec3 m, double c, rad_vec3 *out)
 {
     int k = 0;
     for (int i = 0; i < n; i++) {
-        rad_vec3 p = in[i], q = in[(i + 1) % n];
+        rad_vec3 p = in[i], q = in[i + 1 < n ? i + 1 : 0];
         double sp = rad_vec3_dot(m, p) - c, sq = rad_vec3_dot(m, q) - c;
         if (sp >= 0.0)
             out[k++] = p;
@@ -252,7 +252,7 @@ static int separated(const poly2 *p, const poly2 *q, double min_edge2)
     for (int pass = 0; pass < 2; pass++) {
         const poly2 *a = pass ? q : p, *b = pass ? p : q;
         for (int e = 0; e < a->n; e++) {
-            v2 u = a->p[e], w = a->p[(e + 1) % a->n];
+            v2 u = a->p[e], w = a->p[e + 1 < a->n ? e + 1 : 0];
             double ex = w.x - u.x, ey = w.y - u.y;
             if (!(ex * ex + ey * ey > min_edge2))
                 continue; /* a (nearly) repeated corner: its direction means nothing */
