@@ -386,7 +386,7 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
             int kept = 0;
             for (int e = 0; e < q.n && rest.n >= 3; e++) {
                 poly2 in, outside;
-                if (!split_line(&rest, q.p[e], q.p[(e + 1) % q.n], &in, &outside))
+                if (!split_line(&rest, q.p[e], q.p[e + 1 < q.n ? e + 1 : 0], &in, &outside))
                     return -1;
                 if (outside.n >= 3 && area2(&outside) > min_area) {
                     bbox2(&outside);
