@@ -271,6 +271,16 @@ rad_status rad_hier_solve(rad_hier *h);
  * inaccurate ones that made it exceed 1.  Shared by rad_hier and rad_hierp. */
 double rad_hier_row_ceiling(int sealed, double rho_max);
 
+/* The step-change tolerance (relative to the largest radiosity bmax) at which
+ * a solve between refinement rounds stops: those solves only feed the
+ * oracle, whose decisions compare errors with eps R (R the mean reflected
+ * radiosity), so B within round_tol eps R of its fixed point is enough; a
+ * step change delta leaves B within delta bmax q / (1 - q), q <= (1 +
+ * rho_max) / 2 the step's contraction.  R and bmax from the last solve (bmax
+ * <= 0: none yet, taken as R); never below p->tol.  Shared by rad_hier and
+ * rad_hierp. */
+double rad_hier_round_tolerance(const rad_hier_params *p, double rho_max, double R, double bmax);
+
 void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats);
 
 /* The leaves, in a fixed order: count, then per leaf (each pointer may be

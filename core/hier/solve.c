@@ -698,18 +698,19 @@ rad_status hier_error_estimate(rad_hier *h)
     return st;
 }
 
-/* The solve between rounds: it only feeds the oracle, whose decisions
- * compare errors with eps R (R the mean reflected radiosity), so it stops
- * where B is within about round_tol eps R of its fixed point.  A step change
- * delta (relative to the largest B, bmax) leaves B within delta bmax q / (1 -
- * q), q <= (1 + rho_max) / 2 the step's contraction; R and bmax are those of
- * the last solve, and the first solve goes on until they are known. */
+double rad_hier_round_tolerance(const rad_hier_params *p, double rho_max, double R, double bmax)
+{
+    double scale = bmax > 0.0 ? R / bmax : 1.0;
+    return rad_dmax(p->tol, p->round_tol * p->eps * (1.0 - rho_max) / 2.0 * scale);
+}
+
+/* The solve between rounds (rad_hier_round_tolerance), again while the
+ * tolerance from its own R and bmax is tighter than the one it met. */
 static rad_status solve_round(rad_hier *h)
 {
-    double tol = h->p.round_tol * h->p.eps * (1.0 - h->rho_max) / 2.0;
     for (;;) {
-        double scale = h->last_bmax > 0.0 ? hier_reflected_scale(h) / h->last_bmax : 1.0;
-        double t = fmax(h->p.tol, tol * scale);
+        double t = rad_hier_round_tolerance(&h->p, h->rho_max, hier_reflected_scale(h),
+                                            h->last_bmax);
         if (h->stepped && h->last_change <= t)
             return RAD_OK;
         rad_status st = hier_solve_links(h, t);

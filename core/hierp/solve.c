@@ -624,16 +624,12 @@ rad_status hp_estimate_error(rad_hierp *h)
     return st;
 }
 
-/* The solve between rounds, as rad_hier's: it only feeds the oracle, so it
- * stops where B is within about round_tol eps R of its fixed point (a step
- * change delta of the largest mean vmax leaves it within delta vmax q /
- * (1 - q), q <= (1 + rho_max) / 2), R and vmax those of the last solve. */
+/* The solve between rounds (rad_hier_round_tolerance), again while the
+ * tolerance from its own R and largest mean is tighter than the one it met. */
 static rad_status solve_round(rad_hierp *h)
 {
-    double tol = h->p.round_tol * h->p.eps * (1.0 - h->rho_max) / 2.0;
     for (int first = 1;; first = 0) {
-        double scale = h->last_vmax > 0.0 ? hp_reflected(h) / h->last_vmax : 1.0;
-        double t = rad_dmax(h->p.tol, tol * scale);
+        double t = rad_hier_round_tolerance(&h->p, h->rho_max, hp_reflected(h), h->last_vmax);
         if (!first && h->last_change <= t)
             return RAD_OK;
         rad_status st = hp_solve_links(h, t);
