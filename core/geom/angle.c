@@ -2,9 +2,9 @@
  * product s >= 0 and their dot product c, atan2(s, c) in [0, pi].
  *
  * The point-to-polygon form factor takes one such angle per edge of every
- * visible piece; libm's atan2 is correctly rounded and handles every
- * quadrant and special value, at about three times the cost of what this
- * case needs.  The arctangent is fdlibm's (Sun Microsystems, 1993: the
+ * visible piece, from a norm (s >= 0), so only the upper half-plane
+ * occurs, and libm's atan2 (correctly rounded, every quadrant and special
+ * value) does more than it needs.  The arctangent is fdlibm's (Sun Microsystems, 1993: the
  * argument reduced to |t| < 7/16 about atan(1/2), atan(1), atan(3/2) or
  * infinity, then an odd polynomial of degree 23 in t), within 1 ulp; the
  * half-plane c < 0 is pi minus the angle of (s, -c).  Checked against libm's

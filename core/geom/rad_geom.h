@@ -38,7 +38,7 @@ static inline int rad_vec3_is_finite(rad_vec3 a) { return isfinite(a.x) && isfin
 
 /* The angle between two vectors, atan2(s, c) in [0, pi], from the norm of
  * their cross product s >= 0 (finite) and their dot product c (finite):
- * within 2 ulp of libm's atan2, in a third of its instructions (angle.c). */
+ * within 2 ulp of libm's atan2 (angle.c). */
 double rad_geom_angle(double s, double c);
 
 /* The largest coordinate magnitude radkit accepts.  Form factors multiply up

@@ -70,9 +70,9 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
 /* ERROR oracle: tighten the thresholds of the input triangles whose error
  * bound (the area-weighted mean of their leaves', solve.c) exceeds eps R, by
  * 4 each time, at most max_tighten times.  The bound's iteration part is left
- * out: the solve between rounds stops early, refining does not reduce it and
- * the last solve does.  Returns how many were tightened (0: none fails, or
- * none may be tightened further). */
+ * out: refining does not reduce it, the last solve (to tol) does.  Returns
+ * how many were tightened (0: none fails, or none may be tightened
+ * further). */
 int hier_tighten_failing(rad_hier *h)
 {
     size_t n = h->nroots;
