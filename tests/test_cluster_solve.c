@@ -247,7 +247,10 @@ TEST(cluster_effects_plan_decides_for_hier)
     double worst = 0.0;
     for (int i = 0; i < 3 * 1280; i++)
         worst = fmax(worst, fabs(B[i] - 10.0) / 10.0);
-    CHECK_MSG(worst < 1e-6, "sphere furnace through clusters: worst %g", worst);
+    /* exact up to the last solve's distance from its fixed point: within
+       eps/100 R by default (eps 0.1, R = 9 = 0.9 B) */
+    CHECK_MSG(worst < 1e-6 + 0.01 * 0.1 * 0.9, "sphere furnace through clusters: worst %g",
+              worst);
     free(out);
     free(err);
     /* forced on below the threshold: the Cornell box's 38 triangles */

@@ -839,3 +839,45 @@ TEST(hier_round_tolerance_moves_decisions_not_refinement)
     rad_vis_destroy(vis);
     unload(&s);
 }
+
+/* The last solve stops where B is within final_share eps R of its fixed
+ * point (default 0.01: a hundredth of the target), not at the solver's
+ * 1e-10: the Cornell box at eps 0.33 solved both ways has the same links,
+ * takes fewer steps, and its faces lie within that share of the ones solved
+ * to 1e-10. */
+TEST(hier_last_solve_stops_within_its_share_of_eps)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                         rad_scene_triangles(s.scene), (size_t)s.n, NULL, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.eps = 0.33;
+    double share = p.final_share;
+    rad_hier_stats st[2];
+    double *B[2];
+    for (int k = 0; k < 2; k++) {
+        p.final_share = k == 0 ? share : 0.0;
+        B[k] = face_means(&s, vis, &p, &st[k]);
+    }
+    if (B[0] && B[1]) {
+        double worst = 0.0;
+        for (size_t i = 0; i < 3 * (size_t)s.n; i++)
+            worst = fmax(worst, fabs(B[0][i] - B[1][i]) / st[1].reflected);
+        printf("# hier Cornell eps 0.33: last solve to %g eps R: %lld steps, to 1e-10: %lld "
+               "steps; faces apart by %.3g R\n", share, st[0].iterations, st[1].iterations,
+               worst);
+        CHECK(share > 0.0);
+        CHECK_MSG(st[0].links == st[1].links, "links %zu and %zu", st[0].links, st[1].links);
+        CHECK_MSG(st[0].iterations < st[1].iterations, "steps %lld and %lld", st[0].iterations,
+                  st[1].iterations);
+        CHECK_MSG(worst <= share * p.eps, "faces apart by %.3g R", worst);
+    }
+    free(B[0]);
+    free(B[1]);
+    rad_vis_destroy(vis);
+    unload(&s);
+}

@@ -122,6 +122,8 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
     if (o->solver_tol &&
         (st = solve_parse_double("--solver-tol", o->solver_tol, 0.0, &hp->tol)) != RAD_OK)
         return st;
+    if (o->solver_tol) /* the user's tolerance, not a share of eps */
+        hp->final_share = 0.0;
     if (o->max_iter && (st = cli_parse_positive_int("solve: --max-iter", o->max_iter, 100000000,
                                                     &hp->max_iterations)) != RAD_OK)
         return st;

@@ -168,8 +168,11 @@ typedef struct rad_hier_params {
     double round_tol;     /* the solves between rounds only feed the oracle, whose
                              decisions compare errors with eps R (R the mean reflected
                              radiosity): they stop where B is within about
-                             round_tol eps R of its fixed point; the last solve goes
-                             to tol.  Default 0.1 */
+                             round_tol eps R of its fixed point.  Default 0.1 */
+    double final_share;   /* the last solve stops where B is within about final_share
+                             eps R of its fixed point (a share of the target the
+                             error estimate carries as its iteration part), or at
+                             tol where that is looser; 0: at tol.  Default 0.01 */
     int max_tighten;      /* ERROR: an input triangle whose bound still exceeds eps when
                              no link wants refining has its thresholds quartered, at most
                              this many times (default 3: 64-fold) */
@@ -272,14 +275,16 @@ rad_status rad_hier_solve(rad_hier *h);
 double rad_hier_row_ceiling(int sealed, double rho_max);
 
 /* The step-change tolerance (relative to the largest radiosity bmax) at which
- * a solve between refinement rounds stops: those solves only feed the
- * oracle, whose decisions compare errors with eps R (R the mean reflected
- * radiosity), so B within round_tol eps R of its fixed point is enough; a
- * step change delta leaves B within delta bmax q / (1 - q), q <= (1 +
- * rho_max) / 2 the step's contraction.  R and bmax from the last solve (bmax
- * <= 0: none yet, taken as R); never below p->tol.  Shared by rad_hier and
- * rad_hierp. */
-double rad_hier_round_tolerance(const rad_hier_params *p, double rho_max, double R, double bmax);
+ * a solve stops that must leave B within share eps R of its fixed point (R
+ * the mean reflected radiosity): a step change delta leaves B within delta
+ * bmax q / (1 - q), q <= (1 + rho_max) / 2 the step's contraction.  The
+ * solves between refinement rounds only feed the oracle, whose decisions
+ * compare errors with eps R (share round_tol); the last one's distance is the
+ * error estimate's iteration part (share final_share).  R and bmax from the
+ * last solve (bmax <= 0: none yet, taken as R); never below p->tol.  Shared by
+ * rad_hier and rad_hierp. */
+double rad_hier_solve_tolerance(const rad_hier_params *p, double share, double rho_max, double R,
+                                double bmax);
 
 void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats);
 

@@ -698,18 +698,19 @@ rad_status hier_error_estimate(rad_hier *h)
     return st;
 }
 
-double rad_hier_round_tolerance(const rad_hier_params *p, double rho_max, double R, double bmax)
+double rad_hier_solve_tolerance(const rad_hier_params *p, double share, double rho_max, double R,
+                                double bmax)
 {
     double scale = bmax > 0.0 ? R / bmax : 1.0;
-    return rad_dmax(p->tol, p->round_tol * p->eps * (1.0 - rho_max) / 2.0 * scale);
+    return rad_dmax(p->tol, share * p->eps * (1.0 - rho_max) / 2.0 * scale);
 }
 
-/* The solve between rounds (rad_hier_round_tolerance), again while the
+/* A solve to share eps R (rad_hier_solve_tolerance), again while the
  * tolerance from its own R and bmax is tighter than the one it met. */
-static rad_status solve_round(rad_hier *h)
+static rad_status solve_share(rad_hier *h, double share)
 {
     for (;;) {
-        double t = rad_hier_round_tolerance(&h->p, h->rho_max, hier_reflected_scale(h),
+        double t = rad_hier_solve_tolerance(&h->p, share, h->rho_max, hier_reflected_scale(h),
                                             h->last_bmax);
         if (h->stepped && h->last_change <= t)
             return RAD_OK;
@@ -723,7 +724,7 @@ rad_status rad_hier_solve(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    rad_status st = solve_round(h);
+    rad_status st = solve_share(h, h->p.round_tol);
     for (int round = 0; st == RAD_OK; round++) {
         if (h->p.progress)
             h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
@@ -739,10 +740,10 @@ rad_status rad_hier_solve(rad_hier *h)
         }
         if (st != RAD_OK || n == 0)
             break;
-        st = solve_round(h);
+        st = solve_share(h, h->p.round_tol);
     }
     if (st == RAD_OK)
-        st = hier_solve_links(h, h->p.tol);
+        st = solve_share(h, h->p.final_share);
     if (st == RAD_OK)
         st = hier_error_estimate(h);
     return st;

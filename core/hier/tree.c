@@ -52,6 +52,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->far_ratio = 3.0;
     params->singular = 1;
     params->round_tol = 0.1;
+    params->final_share = 0.01;
     params->max_tighten = 3;
     params->source_slope = 1;
     params->tol = 1e-10;
@@ -90,6 +91,9 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
         p->max_tighten > 30)
         return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1) and max_tighten in "
                                      "0..30");
+    if (!(p->final_share >= 0.0) || !(p->final_share < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "hier: final_share must lie in [0, 1) (got %g)",
+                         p->final_share);
     if ((p->cluster != 0 && p->cluster != 1) ||
         (p->cluster_model != RAD_HIER_CLUSTER_ORIENTED && p->cluster_model != RAD_HIER_CLUSTER_ISO))
         return RAD_ERROR(RAD_EINVAL, "hier: cluster must be 0 or 1 and cluster_model oriented or "

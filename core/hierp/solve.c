@@ -624,12 +624,13 @@ rad_status hp_estimate_error(rad_hierp *h)
     return st;
 }
 
-/* The solve between rounds (rad_hier_round_tolerance), again while the
+/* A solve to share eps R (rad_hier_solve_tolerance), again while the
  * tolerance from its own R and largest mean is tighter than the one it met. */
-static rad_status solve_round(rad_hierp *h)
+static rad_status solve_share(rad_hierp *h, double share)
 {
     for (int first = 1;; first = 0) {
-        double t = rad_hier_round_tolerance(&h->p, h->rho_max, hp_reflected(h), h->last_vmax);
+        double t = rad_hier_solve_tolerance(&h->p, share, h->rho_max, hp_reflected(h),
+                                            h->last_vmax);
         if (!first && h->last_change <= t)
             return RAD_OK;
         rad_status st = hp_solve_links(h, t);
@@ -646,7 +647,7 @@ rad_status rad_hierp_solve(rad_hierp *h)
     if (st != RAD_OK)
         return st;
     hp_rows(h);
-    st = solve_round(h);
+    st = solve_share(h, h->p.round_tol);
     if (st != RAD_OK)
         return st;
     if (h->p.progress)
@@ -666,12 +667,12 @@ rad_status rad_hierp_solve(rad_hierp *h)
         if ((st = hp_incidence(h)) != RAD_OK)
             return st;
         hp_rows(h);
-        if ((st = solve_round(h)) != RAD_OK)
+        if ((st = solve_share(h, h->p.round_tol)) != RAD_OK)
             return st;
         if (h->p.progress)
             h->p.progress(round, rad_hierp_leaf_count(h), h->nln, h->p.progress_ctx);
     }
-    if ((st = hp_solve_links(h, h->p.tol)) != RAD_OK)
+    if ((st = solve_share(h, h->p.final_share)) != RAD_OK)
         return st;
     return hp_estimate_error(h);
 }
