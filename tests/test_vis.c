@@ -10,6 +10,7 @@
 #include "rad_geom.h"
 #include "rad_mesh.h"
 #include "rad_scene.h"
+#include "rad_sys.h"
 #include "rad_vis.h"
 
 /* Scene: bottom unit square z = 0 facing +z (triangles 0, 1), top unit square
@@ -792,4 +793,126 @@ TEST(vis_quads_and_parts_clip_exactly)
     printf("# quads, dart and fold: F_vis %.15g, expected %.15g, parts %.15g\n", whole, expect,
            parts_sum);
     rad_vis_destroy(vis);
+}
+
+/* A uniform number in [0, 1) from a counter-based stream. */
+static double unit_draw(unsigned long long *state)
+{
+    *state += 0x9E3779B97F4A7C15ull;
+    return rad_sys_hash_unit(*state);
+}
+
+/* A random box (eight corners of a rotated, scaled, shifted cube) as twelve
+ * triangles with the corners repeated per face, as files write them, facing
+ * out. */
+static void random_box(rad_vec3 c, double size, unsigned long long *seed, double *xyz,
+                       int *tri, int v0)
+{
+    double q[4];
+    for (int k = 0; k < 4; k++)
+        q[k] = 2.0 * unit_draw(seed) - 1.0;
+    double qn = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; k++)
+        q[k] /= qn;
+    double w = q[0], a = q[1], b = q[2], cc = q[3];
+    double R[3][3] = {{1 - 2 * (b * b + cc * cc), 2 * (a * b - w * cc), 2 * (a * cc + w * b)},
+                      {2 * (a * b + w * cc), 1 - 2 * (a * a + cc * cc), 2 * (b * cc - w * a)},
+                      {2 * (a * cc - w * b), 2 * (b * cc + w * a), 1 - 2 * (a * a + b * b)}};
+    double ext[3];
+    for (int k = 0; k < 3; k++)
+        ext[k] = size * (0.3 + 0.7 * unit_draw(seed));
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    int v = 0;
+    for (int f = 0; f < 6; f++) {
+        for (int k = 0; k < 4; k++) {
+            int corner = faces[f][k];
+            double l[3] = {(corner & 1 ? 0.5 : -0.5) * ext[0], (corner & 2 ? 0.5 : -0.5) * ext[1],
+                           (corner & 4 ? 0.5 : -0.5) * ext[2]};
+            double *p = xyz + 3 * (size_t)(v0 + v + k);
+            p[0] = c.x + R[0][0] * l[0] + R[0][1] * l[1] + R[0][2] * l[2];
+            p[1] = c.y + R[1][0] * l[0] + R[1][1] * l[1] + R[1][2] * l[2];
+            p[2] = c.z + R[2][0] * l[0] + R[2][1] * l[1] + R[2][2] * l[2];
+        }
+        int t[6] = {v0 + v, v0 + v + 1, v0 + v + 2, v0 + v, v0 + v + 2, v0 + v + 3};
+        memcpy(tri + 6 * f, t, sizeof t);
+        v += 4;
+    }
+}
+
+/* A closed convex solid casts the union of its faces' shadows (solid.c): a
+ * floor seen from points above it past random boxes (rotated, some cut by
+ * the floor's plane or by the point's height, some around the point) has
+ * the same visible form factor whether each box subtracts one hull or
+ * twelve faces, up to rounding; from inside a box it sees nothing. */
+TEST(vis_solids_cast_the_union_of_their_faces_shadows)
+{
+    enum { BOXES = 6, NV = 4 + 24 * BOXES, NT = 2 + 12 * BOXES };
+    unsigned long long seed = 20261202;
+    double worst = 0.0, total = 0.0;
+    int cases = 0, inside_cases = 0, ok = 1;
+    for (int scene = 0; scene < 40; scene++) {
+        double xyz[3 * NV] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+        int tri[3 * NT] = {0, 1, 2, 0, 2, 3};
+        for (int k = 0; k < BOXES; k++) {
+            rad_vec3 c = rad_vec3_make(unit_draw(&seed), unit_draw(&seed),
+                                       (scene % 4 == 0 ? 0.02 : 0.1) + unit_draw(&seed));
+            random_box(c, 0.1 + 0.3 * unit_draw(&seed), &seed, xyz, tri + 6 + 36 * k,
+                       4 + 24 * k);
+        }
+        rad_vis *hull = NULL, *faces = NULL;
+        rad_vis_params p;
+        rad_vis_params_default(&p);
+        CHECK(rad_vis_create(xyz, NV, tri, NT, &p, &hull) == RAD_OK);
+        p.no_solids = 1;
+        CHECK(rad_vis_create(xyz, NV, tri, NT, &p, &faces) == RAD_OK);
+        if (!hull || !faces) {
+            rad_vis_destroy(hull);
+            rad_vis_destroy(faces);
+            return;
+        }
+        int blockers[NT];
+        for (int k = 0; k < NT - 2; k++)
+            blockers[k] = k + 2;
+        for (int pt = 0; pt < 20; pt++) {
+            /* a box's centre now and then: the point inside it */
+            rad_vec3 x = rad_vec3_make(unit_draw(&seed), unit_draw(&seed),
+                                       0.05 + 1.2 * unit_draw(&seed));
+            if (pt % 7 == 0) {
+                int k = pt / 7 % BOXES;
+                rad_vec3 s = rad_vec3_make(0, 0, 0);
+                for (int v = 0; v < 24; v++)
+                    s = rad_vec3_add(s, rad_vec3_make(xyz[3 * (4 + 24 * k + v)],
+                                                      xyz[3 * (4 + 24 * k + v) + 1],
+                                                      xyz[3 * (4 + 24 * k + v) + 2]));
+                x = rad_vec3_scale(s, 1.0 / 24.0);
+            }
+            if (!(x.z > 0.0))
+                continue;
+            rad_vec3 nx = rad_vec3_make(unit_draw(&seed) - 0.5, unit_draw(&seed) - 0.5, -1.0);
+            nx = rad_vec3_scale(nx, 1.0 / rad_vec3_norm(nx));
+            for (int t = 0; t < 2; t++) {
+                rad_vec3 b[3];
+                for (int v = 0; v < 3; v++)
+                    b[v] = rad_vec3_make(xyz[3 * tri[3 * t + v]], xyz[3 * tri[3 * t + v] + 1],
+                                         xyz[3 * tri[3 * t + v] + 2]);
+                double Fh, Ff, Fo;
+                long ev = 0;
+                ok &= rad_vis_point_visible(hull, x, nx, b, blockers, NT - 2, &Fh, &Fo, &ev);
+                ok &= rad_vis_point_visible(faces, x, nx, b, blockers, NT - 2, &Ff, &Fo, &ev);
+                worst = fmax(worst, fabs(Fh - Ff) / fmax(Fo, 1e-300));
+                total += Ff;
+                cases++;
+                inside_cases += pt % 7 == 0 && Ff == 0.0 && Fh == 0.0;
+            }
+        }
+        rad_vis_destroy(hull);
+        rad_vis_destroy(faces);
+    }
+    printf("# %d point-to-triangle cases (%d from inside a box): visible F apart by at most "
+           "%.3g of the open F (mean visible %.4g)\n", cases, inside_cases, worst,
+           total / (cases > 0 ? cases : 1));
+    CHECK(ok);
+    CHECK(inside_cases > 0);
+    CHECK_MSG(worst <= 1e-10, "hull and faces apart by %.3g of the open F", worst);
 }

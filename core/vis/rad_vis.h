@@ -71,6 +71,10 @@ typedef struct rad_vis_params {
     int packet;
     /* Shaft-test tolerance relative to L (see rad_vis_pair_can_block).  Default 1e-9. */
     double shaft_tol_rel;
+    /* 1: the exact clipping subtracts every face's shadow by itself; 0 (default):
+     * a small closed convex solid (a box) casts one shadow, its hull (solid.c).
+     * The same visible parts up to rounding. */
+    int no_solids;
 } rad_vis_params;
 
 void rad_vis_params_default(rad_vis_params *params);

@@ -98,6 +98,11 @@ void rad_vis_destroy(rad_vis *vis)
     free(vis->order);
     free(vis->partner);
     free(vis->quad);
+    free(vis->solid);
+    free(vis->solids);
+    free(vis->solid_tri);
+    free(vis->solid_pt);
+    free(vis->solid_plane);
     free(vis);
 }
 
@@ -250,9 +255,9 @@ rad_status rad_vis_create(const double *xyz, size_t nverts, const int *tri, size
     vis->eps = p.eps_rel * vis->scale;
     vis->tol = p.shaft_tol_rel * vis->scale;
 
-    if (!vis_bvh_build(vis) || !vis_partners_build(vis)) {
-        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy or the "
-                                       "quad pairing");
+    if (!vis_bvh_build(vis) || !vis_partners_build(vis) || (!p.no_solids && !vis_solids_build(vis))) {
+        status = RAD_ERROR(RAD_ENOMEM, "visibility: no memory for the shaft hierarchy, the "
+                                       "quad pairing or the solids");
         goto fail;
     }
     *out = vis;

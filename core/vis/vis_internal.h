@@ -46,7 +46,23 @@ struct rad_vis {
     size_t blockers;    /* triangles not on a supporting plane of the scene */
     int *partner;       /* per triangle, the one it makes a convex quad with, or -1 */
     int (*quad)[4];     /* that quad's corners (vertex indices), counter-clockwise */
+    int *solid;         /* per triangle, the closed convex solid it bounds, or -1 (solid.c) */
+    int nsolids;
+    struct vis_solid *solids;
+    int *solid_tri;     /* each solid's triangles, */
+    int *solid_pt;      /* its distinct corners (vertex indices), */
+    double *solid_plane; /* and per triangle its plane (m, c): the solid lies in m.p <= c */
 };
+
+/* Solids of at most this many triangles are found (solid.c). */
+#define VIS_SOLID_MAX_TRIS 64
+
+/* A closed convex solid: its triangles solid_tri[tri .. tri + ntri) (planes
+ * alike), its corners solid_pt[pt .. pt + npt), and a sphere around them. */
+typedef struct vis_solid {
+    int tri, ntri, pt, npt;
+    double centre[3], radius; /* a sphere that holds it */
+} vis_solid;
 
 static inline rad_vec3 vis_vertex(const rad_vis *vis, size_t t, int corner)
 {
@@ -74,6 +90,10 @@ rad_status vis_occluded_ctx(const rad_vis *vis, vis_context *vc, size_t n, const
 /* partner.c */
 /* Pair the triangles that make convex quads (partner, quad).  0: no memory. */
 int vis_partners_build(rad_vis *vis);
+
+/* solid.c */
+/* Find the closed convex solids (solid, solids, ...).  0: no memory. */
+int vis_solids_build(rad_vis *vis);
 
 /* shaft.c */
 /* Classify the triangles (which can block at all; is the scene unoccluded?)

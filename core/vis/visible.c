@@ -15,7 +15,10 @@
  *    x onto b's plane: a convex polygon inside b.  Subtracting a convex
  *    polygon from a convex piece cuts the piece along each edge line of the
  *    polygon; the parts outside are kept, the part inside dropped.  The
- *    visible part is thus a list of convex pieces.
+ *    visible part is thus a list of convex pieces.  A closed convex solid
+ *    (solid.c) casts one shadow for all its listed faces, the hull of its
+ *    clipped part's projected corners; a blocker wholly behind x's own plane
+ *    casts none that matters (it would fall where x's cosine is <= 0).
  * 3. F_vis(x, b) = sum over the pieces of the closed-form point-to-polygon
  *    form factor (rad_ff_point_polygon: contour integral, x's cosine clamped).
  *    In a closed scene the visible pieces of all triangles from x tile x's
@@ -163,19 +166,24 @@ static rad_vec3 to3(const plane_frame *f, v2 q)
  * planes through x and an edge of b, all as dot(m, p) >= c. */
 typedef struct shadow_planes {
     rad_vec3 m[5];
-    double c[5];
+    double c[5], len[5]; /* len: |m| */
     double h0, d;
+    rad_vec3 nx;  /* x's normal: what lies behind x's plane blocks nothing x sees */
+    double front; /* dot(nx, p) > front: p in front of x's plane (by 1e-9 d) */
 } shadow_planes;
 
-static void make_shadow_planes(rad_vec3 x, double d, const rad_vec3 b[3], const plane_frame *f,
-                               shadow_planes *sp)
+static void make_shadow_planes(rad_vec3 x, rad_vec3 nx, double d, const rad_vec3 b[3],
+                               const plane_frame *f, shadow_planes *sp)
 {
+    sp->nx = nx;
+    sp->front = rad_vec3_dot(nx, x) + 1e-9 * d * rad_vec3_norm(nx);
     double h0 = rad_vec3_dot(f->n, f->o), eps = 1e-12 * (d + fabs(h0)) + 1e-300;
     sp->h0 = h0;
     sp->d = d;
     sp->m[0] = f->n;
     sp->c[0] = h0 + eps;
     sp->m[1] = rad_vec3_scale(f->n, -1.0);
+    sp->len[0] = sp->len[1] = 1.0;
     sp->c[1] = -(h0 + d * (1.0 - 1e-9));
     for (int e = 0; e < 3; e++) {
         rad_vec3 p = b[e], q = b[(e + 1) % 3], r = b[(e + 2) % 3];
@@ -184,6 +192,7 @@ static void make_shadow_planes(rad_vec3 x, double d, const rad_vec3 b[3], const 
             m = rad_vec3_scale(m, -1.0);
         sp->m[2 + e] = m;
         sp->c[2 + e] = rad_vec3_dot(m, x);
+        sp->len[2 + e] = rad_vec3_norm(m);
     }
 }
 
@@ -206,7 +215,11 @@ static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, const shadow_planes 
         for (int v = 0; v < 3; v++)
             buf[0][v] = vis_vertex(vis, k, v);
     }
-    int clip_mask = 0;
+    int clip_mask = 0, front = 0;
+    for (int v = 0; v < n; v++) /* behind x's plane: its shadow falls where x sees nothing */
+        front += rad_vec3_dot(sp->nx, buf[0][v]) > sp->front;
+    if (front == 0)
+        return 0;
     for (int q = 0; q < 5; q++) {
         int inside = 0;
         for (int v = 0; v < n; v++)
@@ -241,6 +254,204 @@ static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, const shadow_planes 
             out->p[v] = out->p[n - 1 - v];
             out->p[n - 1 - v] = t;
         }
+    return 1;
+}
+
+/* The convex hull of p[0..n) (sorted in place by x, then y), counter-clockwise without
+ * collinear corners, into out; 0 when it has more than POLY_MAX corners. */
+static int hull2(v2 *p, int n, poly2 *out)
+{
+    v2 h[3 * 8 * VIS_SOLID_MAX_TRIS + 17];
+    for (int i = 1; i < n; i++) { /* insertion sort: a few dozen points */
+        v2 t = p[i];
+        int j = i;
+        while (j > 0 && (p[j - 1].x > t.x || (p[j - 1].x == t.x && p[j - 1].y > t.y))) {
+            p[j] = p[j - 1];
+            j--;
+        }
+        p[j] = t;
+    }
+    int k = 0;
+    for (int i = 0; i < n; i++) { /* lower hull */
+        while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <= 0.0)
+            k--;
+        h[k++] = p[i];
+    }
+    for (int i = n - 2, lo = k + 1; i >= 0; i--) { /* upper hull */
+        while (k >= lo && cross2(h[k - 2], h[k - 1], p[i]) <= 0.0)
+            k--;
+        h[k++] = p[i];
+    }
+    k = k > 1 ? k - 1 : k; /* the last point repeats the first */
+    if (k > POLY_MAX)
+        return 0;
+    out->n = k;
+    memcpy(out->p, h, (size_t)k * sizeof *h);
+    return 1;
+}
+
+/* The point on the three planes q1, q2, q3 of sp; 0 when they do not meet in
+ * one point. */
+static int three_planes(const shadow_planes *sp, int q1, int q2, int q3, rad_vec3 *p)
+{
+    rad_vec3 a = sp->m[q1], b = sp->m[q2], c = sp->m[q3];
+    rad_vec3 bc = rad_vec3_cross(b, c), ca = rad_vec3_cross(c, a), ab = rad_vec3_cross(a, b);
+    double det = rad_vec3_dot(a, bc);
+    double scale = rad_vec3_norm(a) * rad_vec3_norm(b) * rad_vec3_norm(c);
+    if (!(fabs(det) > 1e-12 * scale))
+        return 0;
+    *p = rad_vec3_scale(rad_vec3_add(rad_vec3_add(rad_vec3_scale(bc, sp->c[q1]),
+                                                  rad_vec3_scale(ca, sp->c[q2])),
+                                     rad_vec3_scale(ab, sp->c[q3])),
+                        1.0 / det);
+    return 1;
+}
+
+/* The shadow of closed convex solid s (solid.c) on b's plane from x: the
+ * projection of its part inside the five planes, which is convex, as the
+ * hull of the projections of that part's corners: the solid's corners where
+ * no plane cuts it, else its faces' corners after clipping and the points
+ * where three planes meet inside it.  (Where the solid stays low, the
+ * polygon may reach beyond b: see below.)  1 with the polygon in out, 0 when it
+ * casts none, -1 when x lies inside the solid or the hull has more corners
+ * than a poly2 holds (the caller subtracts the faces one by one). */
+static int solid_shadow(const rad_vis *vis, int s, rad_vec3 x, const shadow_planes *sp,
+                        const plane_frame *f, poly2 *out)
+{
+    enum { PTS = 3 * 8 * VIS_SOLID_MAX_TRIS + 16 };
+    const vis_solid *so = &vis->solids[s];
+    rad_vec3 p3[PTS];
+    double hgt[3 * VIS_SOLID_MAX_TRIS];
+    int n = 0, clip_mask = 0, inside_all = 1;
+    /* heights above b's plane: the slab's two planes */
+    double lo = sp->c[0] - sp->h0, top = -sp->c[1] - sp->h0, hmax = -INFINITY;
+    int below = 0, above = 0, behind = 0;
+    for (int i = 0; i < so->npt; i++) {
+        const double *q = vis->xyz + 3 * (size_t)vis->solid_pt[so->pt + i];
+        p3[i] = rad_vec3_make(q[0], q[1], q[2]);
+        hgt[i] = rad_vec3_dot(f->n, p3[i]) - sp->h0;
+        hmax = rad_dmax(hmax, hgt[i]);
+        below += !(hgt[i] >= lo);
+        above += !(hgt[i] <= top);
+        behind += !(rad_vec3_dot(sp->nx, p3[i]) > sp->front);
+    }
+    /* below b's plane, above x, or behind x's own plane (x on the solid's
+       surface: its shadow falls where x sees nothing) */
+    if (below == so->npt || above == so->npt || behind == so->npt)
+        return 0;
+    clip_mask = (below ? 1 : 0) | (above ? 2 : 0);
+    rad_vec3 centre = rad_vec3_make(so->centre[0], so->centre[1], so->centre[2]);
+    for (int q = 2; q < 5; q++) {
+        /* the bounding sphere first: wholly outside, or wholly inside */
+        double sc = rad_vec3_dot(sp->m[q], centre) - sp->c[q], r = so->radius * sp->len[q];
+        if (sc < -r)
+            return 0;
+        if (sc > r)
+            continue;
+        int inside = 0;
+        for (int i = 0; i < so->npt; i++)
+            inside += rad_vec3_dot(sp->m[q], p3[i]) >= sp->c[q];
+        if (inside == 0)
+            return 0;
+        if (inside < so->npt)
+            clip_mask |= 1 << q;
+    }
+    /* from inside (a room's walls), segments to other points inside cross
+       none of its faces: those are subtracted one by one */
+    inside_all = rad_vec3_norm(rad_vec3_sub(x, centre)) < so->radius;
+    for (int i = 0; i < so->ntri && inside_all; i++) {
+        const double *pl = vis->solid_plane + 4 * (size_t)(so->tri + i);
+        inside_all = pl[0] * x.x + pl[1] * x.y + pl[2] * x.z < pl[3];
+    }
+    if (inside_all)
+        return -1;
+    /* Within b the projection of the solid's part in the slab is that of its
+       part in the cone too, so where the solid stays below 0.99 of x's
+       height (the projection at most multiplies distances from x's foot by
+       100) the cone planes are left to the subtraction, which keeps what
+       lies outside the shadow anyway; nearer x's height they bound the
+       projection.  Cut by b's plane alone, the part's corners are the
+       solid's above it and where its edges cross it. */
+    if (hmax <= 0.99 * sp->d) {
+        if (!below) {
+            n = so->npt;
+        } else {
+            for (int i = 0; i < so->npt; i++)
+                if (hgt[i] >= lo)
+                    p3[n++] = p3[i];
+            for (int i = 0; i < so->ntri; i++) {
+                rad_vec3 c[3];
+                double hc[3];
+                for (int v = 0; v < 3; v++) {
+                    c[v] = vis_vertex(vis, (size_t)vis->solid_tri[so->tri + i], v);
+                    hc[v] = rad_vec3_dot(f->n, c[v]) - sp->h0 - lo;
+                }
+                for (int v = 0; v < 3; v++) {
+                    int w = v + 1 < 3 ? v + 1 : 0;
+                    if ((hc[v] > 0.0 && hc[w] < 0.0) || (hc[v] < 0.0 && hc[w] > 0.0))
+                        p3[n++] = rad_vec3_add(c[v], rad_vec3_scale(rad_vec3_sub(c[w], c[v]),
+                                                                    hc[v] / (hc[v] - hc[w])));
+                }
+            }
+        }
+        clip_mask = 0;
+    }
+    if (clip_mask == 0) {
+        if (n == 0)
+            n = so->npt;
+    } else {
+        /* each face clipped, a quad (partner.c) as one polygon */
+        for (int i = 0; i < so->ntri; i++) {
+            int t = vis->solid_tri[so->tri + i], pa = vis->partner ? vis->partner[t] : -1;
+            if (pa >= 0 && pa < t)
+                continue;
+            rad_vec3 buf[2][POLY_MAX];
+            int m = pa >= 0 ? 4 : 3, cur = 0;
+            for (int v = 0; v < m; v++) {
+                const double *q = vis->xyz + 3 * (size_t)(pa >= 0 ? vis->quad[t][v]
+                                                                   : vis->tri[3 * (size_t)t + (size_t)v]);
+                buf[0][v] = rad_vec3_make(q[0], q[1], q[2]);
+            }
+            for (int q = 0; q < 5 && m >= 3; q++)
+                if (clip_mask & (1 << q)) {
+                    m = clip3(buf[cur], m, sp->m[q], sp->c[q], buf[1 - cur]);
+                    cur = 1 - cur;
+                }
+            for (int v = 0; v < m && m >= 3; v++)
+                p3[n++] = buf[cur][v];
+        }
+        /* where three planes that cut the solid meet inside it */
+        for (int q1 = 0; q1 < 5; q1++)
+            for (int q2 = q1 + 1; q2 < 5; q2++)
+                for (int q3 = q2 + 1; q3 < 5; q3++) {
+                    rad_vec3 p;
+                    if (!(clip_mask >> q1 & clip_mask >> q2 & clip_mask >> q3 & 1) ||
+                        !three_planes(sp, q1, q2, q3, &p))
+                        continue;
+                    int in = 1;
+                    for (int q = 0; q < 5 && in; q++)
+                        if (q != q1 && q != q2 && q != q3)
+                            in = rad_vec3_dot(sp->m[q], p) >= sp->c[q];
+                    for (int i = 0; i < so->ntri && in; i++) {
+                        const double *pl = vis->solid_plane + 4 * (size_t)(so->tri + i);
+                        in = pl[0] * p.x + pl[1] * p.y + pl[2] * p.z <= pl[3];
+                    }
+                    if (in)
+                        p3[n++] = p;
+                }
+    }
+    if (n < 3)
+        return 0;
+    v2 p2[PTS];
+    double d = sp->d;
+    for (int i = 0; i < n; i++) {
+        double h = rad_vec3_dot(f->n, p3[i]) - sp->h0;
+        p2[i] = to2(f, rad_vec3_add(x, rad_vec3_scale(rad_vec3_sub(p3[i], x), d / (d - h))));
+    }
+    if (!hull2(p2, n, out))
+        return -1;
+    if (out->n < 3 || !(area2(out) > 1e-15 * f->area))
+        return 0;
     return 1;
 }
 
@@ -338,6 +549,39 @@ static int listed_partner(const rad_vis *vis, const int *blockers, int nb, int k
     return 0;
 }
 
+/* The solids a visible part has met (visible_pieces), each with how its
+ * shadow was subtracted: a small open-addressed set; once full, further
+ * solids are not recorded (solid_mark returns NULL) and their faces are
+ * subtracted one by one. */
+enum { SOLID_SET = 512, SOLID_NEW = 0, SOLID_DONE = 1, SOLID_FACES = 2 };
+typedef struct solid_set {
+    int n;
+    int key[SOLID_SET], mode[SOLID_SET];
+    unsigned char used[SOLID_SET];
+} solid_set;
+
+/* The mode slot of solid s (SOLID_NEW when it was not there), or NULL. */
+static int *solid_mark(solid_set *set, int s)
+{
+    if (set->n == 0)
+        memset(set->used, 0, sizeof set->used);
+    unsigned h = ((unsigned)s * 2654435761u) % SOLID_SET;
+    for (int probe = 0; probe < SOLID_SET; probe++, h = (h + 1) % SOLID_SET) {
+        if (!set->used[h]) {
+            if (2 * set->n >= SOLID_SET)
+                return NULL;
+            set->used[h] = 1;
+            set->key[h] = s;
+            set->mode[h] = SOLID_NEW;
+            set->n++;
+            return &set->mode[h];
+        }
+        if (set->key[h] == s)
+            return &set->mode[h];
+    }
+    return NULL;
+}
+
 /* The visible part of b from x as convex pieces (*out points into ws); -1
  * when it needs more pieces, or pieces with more corners, than the
  * workspace holds (a larger one may do), -2 when it would take more than
@@ -346,7 +590,7 @@ static int listed_partner(const rad_vis *vis, const int *blockers, int nb, int k
  * are kept in one list: a piece a shadow misses stays where it is, one it
  * cuts is replaced by its first part outside the shadow and the others are
  * appended, one it covers is dropped. */
-static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
+static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad_vec3 b[3],
                           const plane_frame *f, const int *blockers, int nb, long max_work,
                           pieces_ws *ws, const poly2 **out, int *cut)
 {
@@ -365,11 +609,29 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, const rad_vec3 b[3],
     double min_area = 1e-13 * f->area;
     shadow_planes sp;
     if (nb > 0)
-        make_shadow_planes(x, d, b, f, &sp);
+        make_shadow_planes(x, nx, d, b, f, &sp);
+    solid_set seen = {.n = 0};
     for (int k = 0; k < nb && np > 0; k++) {
         poly2 q;
-        if (listed_partner(vis, blockers, nb, k) ||
-            !shadow(vis, (size_t)blockers[k], x, &sp, f, &q))
+        int s = vis->solid ? vis->solid[blockers[k]] : -1, *mode = NULL, got;
+        if (s >= 0 && !(mode = solid_mark(&seen, s)))
+            s = -1; /* too many solids to remember: face by face */
+        if (s >= 0 && *mode != SOLID_NEW) {
+            if (*mode == SOLID_DONE)
+                continue; /* its shadow is subtracted already */
+            s = -1;       /* subtracted face by face */
+        }
+        if (s >= 0) {
+            got = solid_shadow(vis, s, x, &sp, f, &q);
+            *mode = got < 0 ? SOLID_FACES : SOLID_DONE;
+            if (got < 0)
+                got = !listed_partner(vis, blockers, nb, k) &&
+                      shadow(vis, (size_t)blockers[k], x, &sp, f, &q);
+        } else {
+            got = !listed_partner(vis, blockers, nb, k) &&
+                  shadow(vis, (size_t)blockers[k], x, &sp, f, &q);
+        }
+        if (!got)
             continue;
         bbox2(&q);
         int end = np; /* the pieces before this shadow; those appended lie outside it */
@@ -460,9 +722,9 @@ static int point_visible_ws(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const r
     } else {
         const poly2 *pieces;
         int cut;
-        int np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
+        int np = visible_pieces(vis, x, nx, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
         if (np == -1 && ws_grow(ws))
-            np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
+            np = visible_pieces(vis, x, nx, b, &f, blockers, nb, max_work, ws, &pieces, &cut);
         if (np < 0) {
             if (evals)
                 *evals += ev;
@@ -528,9 +790,9 @@ int rad_vis_point_visible_parts(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, con
         ws_init(&ws);
         const poly2 *pieces;
         int cut;
-        int np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
+        int np = visible_pieces(vis, x, nx, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
         if (np == -1 && ws_grow(&ws))
-            np = visible_pieces(vis, x, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
+            np = visible_pieces(vis, x, nx, b, &f, blockers, nb, max_work, &ws, &pieces, &cut);
         ok = np >= 0;
         for (int i = 0; ok && i < nparts; i++) {
             if (!cut && np == 1) { /* no shadow reached b */
