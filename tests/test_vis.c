@@ -844,13 +844,16 @@ static void random_box(rad_vec3 c, double size, unsigned long long *seed, double
  * floor seen from points above it past random boxes (rotated, some cut by
  * the floor's plane or by the point's height, some around the point) has
  * the same visible form factor whether each box subtracts one hull or
- * twelve faces, up to rounding; from inside a box it sees nothing. */
+ * twelve faces, up to rounding; from inside a box it sees nothing.  And a
+ * blocker behind a point's own plane hides nothing from it: from a point on
+ * a box's face, the floor's visible form factor is the same with the box
+ * listed as a blocker (one hull, or its faces) and without it. */
 TEST(vis_solids_cast_the_union_of_their_faces_shadows)
 {
     enum { BOXES = 6, NV = 4 + 24 * BOXES, NT = 2 + 12 * BOXES };
     unsigned long long seed = 20261202;
-    double worst = 0.0, total = 0.0;
-    int cases = 0, inside_cases = 0, ok = 1;
+    double worst = 0.0, total = 0.0, on_face_worst = 0.0;
+    int cases = 0, inside_cases = 0, on_face_cases = 0, ok = 1;
     for (int scene = 0; scene < 40; scene++) {
         double xyz[3 * NV] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
         int tri[3 * NT] = {0, 1, 2, 0, 2, 3};
@@ -906,9 +909,47 @@ TEST(vis_solids_cast_the_union_of_their_faces_shadows)
                 inside_cases += pt % 7 == 0 && Ff == 0.0 && Fh == 0.0;
             }
         }
+        /* from a point on a box's face, facing out and down, the box lies
+           behind the point's plane: listed or not, it hides nothing */
+        for (int k = 0; k < BOXES; k++)
+            for (int face = 0; face < 6; face++) {
+                const double *q0 = xyz + 3 * (4 + 24 * k + 4 * face);
+                rad_vec3 c[4], x = rad_vec3_make(0, 0, 0);
+                for (int v = 0; v < 4; v++) {
+                    c[v] = rad_vec3_make(q0[3 * v], q0[3 * v + 1], q0[3 * v + 2]);
+                    x = rad_vec3_add(x, rad_vec3_scale(c[v], 0.25));
+                }
+                rad_vec3 nx = rad_vec3_cross(rad_vec3_sub(c[1], c[0]), rad_vec3_sub(c[2], c[0]));
+                nx = rad_vec3_scale(nx, 1.0 / rad_vec3_norm(nx));
+                if (!(nx.z < -0.1) || !(x.z > 0.0))
+                    continue;
+                int others[NT], no = 0;
+                for (int j = 0; j < NT - 2; j++)
+                    if ((blockers[j] - 2) / 12 != k)
+                        others[no++] = blockers[j];
+                for (int t = 0; t < 2; t++) {
+                    rad_vec3 b[3];
+                    for (int v = 0; v < 3; v++)
+                        b[v] = rad_vec3_make(xyz[3 * tri[3 * t + v]], xyz[3 * tri[3 * t + v] + 1],
+                                             xyz[3 * tri[3 * t + v] + 2]);
+                    double F[3], Fo;
+                    long ev = 0;
+                    ok &= rad_vis_point_visible(hull, x, nx, b, blockers, NT - 2, &F[0], &Fo, &ev);
+                    ok &= rad_vis_point_visible(faces, x, nx, b, blockers, NT - 2, &F[1], &Fo, &ev);
+                    ok &= rad_vis_point_visible(faces, x, nx, b, others, no, &F[2], &Fo, &ev);
+                    for (int m = 0; m < 2; m++)
+                        on_face_worst = fmax(on_face_worst, fabs(F[m] - F[2]) / fmax(Fo, 1e-300));
+                    on_face_cases++;
+                }
+            }
         rad_vis_destroy(hull);
         rad_vis_destroy(faces);
     }
+    printf("# %d cases from a box's face: with and without the box apart by %.3g of the open F\n",
+           on_face_cases, on_face_worst);
+    CHECK(on_face_cases > 0);
+    CHECK_MSG(on_face_worst <= 1e-10, "from a box's face, the box itself hides %.3g of the open F",
+              on_face_worst);
     printf("# %d point-to-triangle cases (%d from inside a box): visible F apart by at most "
            "%.3g of the open F (mean visible %.4g)\n", cases, inside_cases, worst,
            total / (cases > 0 ? cases : 1));
