@@ -798,6 +798,31 @@ TEST(hier_rejects_bad_parameters)
     rad_hier_destroy(NULL);
 }
 
+/* The Cornell box solved with params p[0] and p[1]: their stats, and the
+ * largest difference of a face's radiosity over the second run's R; 0 when a
+ * run failed. */
+static int cornell_two_ways(const rad_hier_params p[2], rad_hier_stats st[2], double *worst)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return 0;
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                         rad_scene_triangles(s.scene), (size_t)s.n, NULL, &vis) == RAD_OK);
+    double *B[2];
+    for (int k = 0; k < 2; k++)
+        B[k] = face_means(&s, vis, &p[k], &st[k]);
+    int ok = B[0] && B[1];
+    *worst = 0.0;
+    for (size_t i = 0; ok && i < 3 * (size_t)s.n; i++)
+        *worst = fmax(*worst, fabs(B[1][i] - B[0][i]) / st[1].reflected);
+    free(B[0]);
+    free(B[1]);
+    rad_vis_destroy(vis);
+    unload(&s);
+    return ok;
+}
+
 /* The solves between refinement rounds stop where B is within round_tol eps
  * R of its fixed point; the oracle's tightening leaves the unfinished
  * iteration's share of the bound out.  So how far those solves go moves a
@@ -808,36 +833,21 @@ TEST(hier_rejects_bad_parameters)
  * unfinished solve pushes over eps). */
 TEST(hier_round_tolerance_moves_decisions_not_refinement)
 {
-    scene_arrays s;
-    if (!load("scenes/cornell/cornell.obj", &s))
-        return;
-    rad_vis *vis = NULL;
-    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
-                         rad_scene_triangles(s.scene), (size_t)s.n, NULL, &vis) == RAD_OK);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.eps = 0.33;
-    rad_hier_stats st[2];
-    double *B[2];
-    const double round_tol[2] = {0.1, 0.9};
+    rad_hier_params p[2];
     for (int k = 0; k < 2; k++) {
-        p.round_tol = round_tol[k];
-        B[k] = face_means(&s, vis, &p, &st[k]);
+        rad_hier_params_default(&p[k]);
+        p[k].eps = 0.33;
+        p[k].round_tol = k == 0 ? 0.1 : 0.9;
     }
-    if (B[0] && B[1]) {
-        double worst = 0.0;
-        for (size_t i = 0; i < 3 * (size_t)s.n; i++)
-            worst = fmax(worst, fabs(B[1][i] - B[0][i]) / st[0].reflected);
-        printf("# hier Cornell eps 0.33: round_tol 0.1 %zu links, 0.9 %zu links, faces apart by "
-               "%.3g R\n", st[0].links, st[1].links, worst);
-        CHECK_MSG(st[1].links <= 1.2 * st[0].links && st[1].links >= 0.8 * st[0].links,
-                  "links %zu against %zu", st[1].links, st[0].links);
-        CHECK_MSG(worst <= 0.1 * p.eps, "faces apart by %.3g R", worst);
-    }
-    free(B[0]);
-    free(B[1]);
-    rad_vis_destroy(vis);
-    unload(&s);
+    rad_hier_stats st[2];
+    double worst;
+    if (!cornell_two_ways(p, st, &worst))
+        return;
+    printf("# hier Cornell eps 0.33: round_tol 0.1 %zu links, 0.9 %zu links, faces apart by "
+           "%.3g R\n", st[0].links, st[1].links, worst);
+    CHECK_MSG(st[1].links <= 1.2 * st[0].links && st[1].links >= 0.8 * st[0].links,
+              "links %zu against %zu", st[1].links, st[0].links);
+    CHECK_MSG(worst <= 0.1 * p[0].eps, "faces apart by %.3g R", worst);
 }
 
 /* The last solve stops where B is within final_share eps R of its fixed
@@ -847,37 +857,22 @@ TEST(hier_round_tolerance_moves_decisions_not_refinement)
  * to 1e-10. */
 TEST(hier_last_solve_stops_within_its_share_of_eps)
 {
-    scene_arrays s;
-    if (!load("scenes/cornell/cornell.obj", &s))
-        return;
-    rad_vis *vis = NULL;
-    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
-                         rad_scene_triangles(s.scene), (size_t)s.n, NULL, &vis) == RAD_OK);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.eps = 0.33;
-    double share = p.final_share;
-    rad_hier_stats st[2];
-    double *B[2];
+    rad_hier_params p[2];
     for (int k = 0; k < 2; k++) {
-        p.final_share = k == 0 ? share : 0.0;
-        B[k] = face_means(&s, vis, &p, &st[k]);
+        rad_hier_params_default(&p[k]);
+        p[k].eps = 0.33;
     }
-    if (B[0] && B[1]) {
-        double worst = 0.0;
-        for (size_t i = 0; i < 3 * (size_t)s.n; i++)
-            worst = fmax(worst, fabs(B[0][i] - B[1][i]) / st[1].reflected);
-        printf("# hier Cornell eps 0.33: last solve to %g eps R: %lld steps, to 1e-10: %lld "
-               "steps; faces apart by %.3g R\n", share, st[0].iterations, st[1].iterations,
-               worst);
-        CHECK(share > 0.0);
-        CHECK_MSG(st[0].links == st[1].links, "links %zu and %zu", st[0].links, st[1].links);
-        CHECK_MSG(st[0].iterations < st[1].iterations, "steps %lld and %lld", st[0].iterations,
-                  st[1].iterations);
-        CHECK_MSG(worst <= share * p.eps, "faces apart by %.3g R", worst);
-    }
-    free(B[0]);
-    free(B[1]);
-    rad_vis_destroy(vis);
-    unload(&s);
+    double share = p[0].final_share;
+    p[1].final_share = 0.0;
+    rad_hier_stats st[2];
+    double worst;
+    if (!cornell_two_ways(p, st, &worst))
+        return;
+    printf("# hier Cornell eps 0.33: last solve to %g eps R: %lld steps, to 1e-10: %lld "
+           "steps; faces apart by %.3g R\n", share, st[0].iterations, st[1].iterations, worst);
+    CHECK(share > 0.0);
+    CHECK_MSG(st[0].links == st[1].links, "links %zu and %zu", st[0].links, st[1].links);
+    CHECK_MSG(st[0].iterations < st[1].iterations, "steps %lld and %lld", st[0].iterations,
+              st[1].iterations);
+    CHECK_MSG(worst <= share * p[0].eps, "faces apart by %.3g R", worst);
 }
