@@ -736,6 +736,13 @@ TEST(hier_rejects_bad_parameters)
     p.far_ratio = -1.0;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
     CHECK(strstr(rad_error_message(), "far_ratio") != NULL);
+    const double bad_share[3] = {-0.01, 1.0, NAN};
+    for (int k = 0; k < 3; k++) {
+        rad_hier_params_default(&p);
+        p.final_share = bad_share[k];
+        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+        CHECK(strstr(rad_error_message(), "final_share") != NULL);
+    }
     rad_hier_params_default(&p);
     p.oracle = (rad_hier_oracle)7;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
