@@ -835,9 +835,9 @@ static int cornell_two_ways(const rad_hier_params p[2], rad_hier_stats st[2], do
  * iteration's share of the bound out.  So how far those solves go moves a
  * few decisions, not the amount of refinement: the Cornell box at eps 0.33
  * with round_tol 0.1 (the default) and 0.9 (a tenth of the steps' accuracy)
- * must make about as many links, the same faces to well within eps R (were
- * the iteration's share counted, 0.9 would tighten every face its
- * unfinished solve pushes over eps). */
+ * must make about as many links, the same faces to well within eps R.  A
+ * tightening that counted the iteration's share would fail it: with 0.9 it
+ * tightens every face its unfinished solve pushes over eps. */
 TEST(hier_round_tolerance_moves_decisions_not_refinement)
 {
     rad_hier_params p[2];

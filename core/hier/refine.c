@@ -70,7 +70,7 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
 /* ERROR oracle: tighten the thresholds of the input triangles whose error
  * bound (the area-weighted mean of their leaves', solve.c) exceeds eps R, by
  * 4 each time, at most max_tighten times.  The bound's iteration part is left
- * out: refining does not reduce it, the last solve (to tol) does.  Returns
+ * out: refining does not reduce it, the last solve (to final_share eps R) does.  Returns
  * how many were tightened (0: none fails, or none may be tightened
  * further). */
 int hier_tighten_failing(rad_hier *h)

@@ -109,7 +109,6 @@ int vis_solids_build(rad_vis *vis)
 {
     size_t nv = vis->nverts, nt = vis->ntris;
     vis->solid = NULL;
-    vis->nsolids = 0;
     if (nt == 0)
         return 1;
     corner *cs = malloc((nv + 1) * sizeof *cs);
@@ -234,7 +233,27 @@ int vis_solids_build(rad_vis *vis)
         used_pt += (size_t)np;
         nsol++;
     }
-    vis->nsolids = nsol;
+    if (nsol == 0) { /* none: the clipping need not look */
+        free(vis->solid);
+        free(vis->solids);
+        free(vis->solid_tri);
+        free(vis->solid_pt);
+        free(vis->solid_plane);
+        vis->solid = NULL;
+        vis->solids = NULL;
+        vis->solid_tri = vis->solid_pt = NULL;
+        vis->solid_plane = NULL;
+    } else { /* keep what is used (shrinking cannot fail to keep the data) */
+        void *q;
+        if ((q = realloc(vis->solids, (size_t)nsol * sizeof *vis->solids)))
+            vis->solids = q;
+        if ((q = realloc(vis->solid_tri, used_tri * sizeof *vis->solid_tri)))
+            vis->solid_tri = q;
+        if ((q = realloc(vis->solid_pt, used_pt * sizeof *vis->solid_pt)))
+            vis->solid_pt = q;
+        if ((q = realloc(vis->solid_plane, 4 * used_tri * sizeof *vis->solid_plane)))
+            vis->solid_plane = q;
+    }
 done:
     free(cs);
     free(point);

@@ -46,8 +46,8 @@ struct rad_vis {
     size_t blockers;    /* triangles not on a supporting plane of the scene */
     int *partner;       /* per triangle, the one it makes a convex quad with, or -1 */
     int (*quad)[4];     /* that quad's corners (vertex indices), counter-clockwise */
-    int *solid;         /* per triangle, the closed convex solid it bounds, or -1 (solid.c) */
-    int nsolids;
+    int *solid;         /* per triangle, the closed convex solid it bounds, or -1 (solid.c);
+                           NULL: the scene has none */
     struct vis_solid *solids;
     int *solid_tri;     /* each solid's triangles, */
     int *solid_pt;      /* its distinct corners (vertex indices), */

@@ -261,7 +261,7 @@ static int shadow(const rad_vis *vis, size_t k, rad_vec3 x, const shadow_planes 
  * collinear corners, into out; 0 when it has more than POLY_MAX corners. */
 static int hull2(v2 *p, int n, poly2 *out)
 {
-    v2 h[3 * 8 * VIS_SOLID_MAX_TRIS + 17];
+    v2 h[9 * VIS_SOLID_MAX_TRIS + 11]; /* n + 1 at most: solid_shadow's PTS */
     for (int i = 1; i < n; i++) { /* insertion sort: a few dozen points */
         v2 t = p[i];
         int j = i;
@@ -318,7 +318,9 @@ static int three_planes(const shadow_planes *sp, int q1, int q2, int q3, rad_vec
 static int solid_shadow(const rad_vis *vis, int s, rad_vec3 x, const shadow_planes *sp,
                         const plane_frame *f, poly2 *out)
 {
-    enum { PTS = 3 * 8 * VIS_SOLID_MAX_TRIS + 16 };
+    /* a face (triangle or quad) clipped by five planes keeps at most 9
+       corners; ten triple points; b's plane alone: corners and crossings */
+    enum { PTS = 9 * VIS_SOLID_MAX_TRIS + 10 };
     const vis_solid *so = &vis->solids[s];
     rad_vec3 p3[PTS];
     double hgt[3 * VIS_SOLID_MAX_TRIS];
@@ -373,9 +375,8 @@ static int solid_shadow(const rad_vis *vis, int s, rad_vec3 x, const shadow_plan
        projection.  Cut by b's plane alone, the part's corners are the
        solid's above it and where its edges cross it. */
     if (hmax <= 0.99 * sp->d) {
-        if (!below) {
-            n = so->npt;
-        } else {
+        n = below ? 0 : so->npt;
+        if (below) {
             for (int i = 0; i < so->npt; i++)
                 if (hgt[i] >= lo)
                     p3[n++] = p3[i];
@@ -394,11 +395,8 @@ static int solid_shadow(const rad_vis *vis, int s, rad_vec3 x, const shadow_plan
                 }
             }
         }
-        clip_mask = 0;
-    }
-    if (clip_mask == 0) {
-        if (n == 0)
-            n = so->npt;
+    } else if (!clip_mask) {
+        n = so->npt;
     } else {
         /* each face clipped, a quad (partner.c) as one polygon */
         for (int i = 0; i < so->ntri; i++) {
@@ -550,7 +548,7 @@ static int listed_partner(const rad_vis *vis, const int *blockers, int nb, int k
 }
 
 /* The solids a visible part has met (visible_pieces), each with how its
- * shadow was subtracted: a small open-addressed set; once full, further
+ * shadow is subtracted: a small open-addressed set; once half full, further
  * solids are not recorded (solid_mark returns NULL) and their faces are
  * subtracted one by one. */
 enum { SOLID_SET = 512, SOLID_NEW = 0, SOLID_DONE = 1, SOLID_FACES = 2 };
@@ -560,7 +558,7 @@ typedef struct solid_set {
     unsigned char used[SOLID_SET];
 } solid_set;
 
-/* The mode slot of solid s (SOLID_NEW when it was not there), or NULL. */
+/* The mode slot of solid s (SOLID_NEW when it is new to the set), or NULL. */
 static int *solid_mark(solid_set *set, int s)
 {
     if (set->n == 0)
@@ -610,27 +608,21 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
     shadow_planes sp;
     if (nb > 0)
         make_shadow_planes(x, nx, d, b, f, &sp);
-    solid_set seen = {.n = 0};
+    solid_set seen; /* its arrays are read only where set->n says they are filled */
+    seen.n = 0;
     for (int k = 0; k < nb && np > 0; k++) {
         poly2 q;
-        int s = vis->solid ? vis->solid[blockers[k]] : -1, *mode = NULL, got;
-        if (s >= 0 && !(mode = solid_mark(&seen, s)))
-            s = -1; /* too many solids to remember: face by face */
-        if (s >= 0 && *mode != SOLID_NEW) {
-            if (*mode == SOLID_DONE)
-                continue; /* its shadow is subtracted already */
-            s = -1;       /* subtracted face by face */
-        }
-        if (s >= 0) {
+        int s = vis->solid ? vis->solid[blockers[k]] : -1, got = -1;
+        int *mode = s >= 0 ? solid_mark(&seen, s) : NULL;
+        if (mode && *mode == SOLID_DONE)
+            continue; /* the solid's shadow is subtracted already */
+        if (mode && *mode == SOLID_NEW) {
             got = solid_shadow(vis, s, x, &sp, f, &q);
             *mode = got < 0 ? SOLID_FACES : SOLID_DONE;
-            if (got < 0)
-                got = !listed_partner(vis, blockers, nb, k) &&
-                      shadow(vis, (size_t)blockers[k], x, &sp, f, &q);
-        } else {
+        }
+        if (got < 0) /* not a solid's, or the solid's faces one by one */
             got = !listed_partner(vis, blockers, nb, k) &&
                   shadow(vis, (size_t)blockers[k], x, &sp, f, &q);
-        }
         if (!got)
             continue;
         bbox2(&q);
