@@ -133,6 +133,7 @@ struct rad_hier {
     int use_vis;
     unsigned char *can_block; /* per pair of input triangles, or NULL (ask each time):
                                  HIER_CAN_BLOCK | HIER_MAY_TOUCH */
+    rad_hier_memo *memo;      /* touching pairs' singular integrals */
     rad_vec3 *normal;         /* unit normal per input triangle */
     size_t nroots;
     double *rho, *E;          /* per input triangle, ntris x 3 */

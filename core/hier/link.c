@@ -281,14 +281,16 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
             rule.scheme = RAD_FF_EXACT;
             rule.order = 0;
         }
-        /* an explicit rule keeps the caller's tolerances; the contour
-           integral of a contact is needed to the link's accuracy only */
-        rad_ff_params ffp = h->p.use_rule ? h->p.ff : rad_ff_params_link_exact(&h->p.ff);
+        /* an explicit rule keeps the caller's tolerances; the singular
+           rules are needed to the link's accuracy only, and the memo gives
+           a pair the value of an earlier one equal up to translation and
+           scale (subdivision repeats them) */
         rad_ff_result res, low;
-        rad_status st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &res);
+        rad_status st = h->p.use_rule ? rad_ff_compute(ea->p, eb->p, rule, &h->p.ff, &res)
+                                      : rad_hier_memo_compute(h->memo, ea->p, eb->p, rule, &res);
         if (st == RAD_OK && adjacent) {
             rule.order = 4;
-            st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &low);
+            st = rad_hier_memo_compute(h->memo, ea->p, eb->p, rule, &low);
             wc->evals += low.evals;
         }
         if (st != RAD_OK)

@@ -286,6 +286,20 @@ double rad_hier_row_ceiling(int sealed, double rho_max);
 double rad_hier_solve_tolerance(const rad_hier_params *p, double share, double rho_max, double R,
                                 double bmax);
 
+/* Touching pairs' singular integrals, remembered (memo.c): rad_ff_compute
+ * of the pair with params, run on the pair moved and scaled by a power of two
+ * to a canonical frame and rounded there to 2^-40 of its size, so that pairs
+ * equal up to translation and power-of-two scale (midpoint subdivision makes
+ * many) share one computation and every call gets the same bits, remembered
+ * or not.  out->evals are the value's, remembered or not.  Thread-safe.
+ * Shared by rad_hier and rad_hierp. */
+typedef struct rad_hier_memo rad_hier_memo;
+rad_hier_memo *rad_hier_memo_create(const rad_ff_params *params);
+void rad_hier_memo_destroy(rad_hier_memo *m);
+rad_status rad_hier_memo_compute(rad_hier_memo *m, const rad_vec3 ti[3], const rad_vec3 tj[3],
+                                 rad_ff_rule rule, rad_ff_result *out);
+size_t rad_hier_memo_count(const rad_hier_memo *m); /* values remembered */
+
 void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats);
 
 /* The leaves, in a fixed order: count, then per leaf (each pointer may be

@@ -274,6 +274,11 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
                        ntris, (double)ntris * (double)(ntris - 1) / 2.0, p.max_links);
         goto fail;
     }
+    rad_ff_params touching = rad_ff_params_link_exact(&p.ff);
+    if (!(h->memo = rad_hier_memo_create(&touching))) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+        goto fail;
+    }
     double t0 = rad_sys_seconds();
     if (p.cluster) {
         if ((st = hier_cluster_create(h)) != RAD_OK)
@@ -338,6 +343,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->rho);
     free(h->E);
     free(h->can_block);
+    rad_hier_memo_destroy(h->memo);
     free(h->normal);
     free(h->face_scale);
     hier_cluster_destroy(h);

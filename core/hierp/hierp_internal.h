@@ -67,6 +67,7 @@ struct rad_hierp {
     const rad_vis *vis;
     int use_vis;
     unsigned char *can_block; /* per pair of input triangles: HP_CAN_BLOCK | HP_MAY_TOUCH */
+    rad_hier_memo *memo;      /* touching pairs' singular integrals */
     rad_vec3 *normal;
     size_t nroots;
     double *rho, *E;

@@ -252,12 +252,11 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     }
     if (adjacent || contact) {
         rad_ff_rule rule = {adjacent ? RAD_FF_SS : RAD_FF_EXACT, adjacent ? 5 : 0};
-        rad_ff_params ffp = rad_ff_params_link_exact(&h->p.ff);
         rad_ff_result res, low;
-        rad_status st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &res);
+        rad_status st = rad_hier_memo_compute(h->memo, ea->p, eb->p, rule, &res);
         if (st == RAD_OK && adjacent) {
             rule.order = 4;
-            st = rad_ff_compute(ea->p, eb->p, rule, &ffp, &low);
+            st = rad_hier_memo_compute(h->memo, ea->p, eb->p, rule, &low);
             wc->evals += low.evals;
         }
         if (st != RAD_OK)

@@ -269,6 +269,11 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     }
     h->nel = ntris;
     h->row_ceiling = rad_hier_row_ceiling(p.sealed, h->rho_max);
+    rad_ff_params touching = rad_ff_params_link_exact(&p.ff);
+    if (!(h->memo = rad_hier_memo_create(&touching))) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+        goto fail;
+    }
     if (h->use_vis && ntris <= 8192) {
         /* which pairs of input triangles something can block, once */
         h->can_block = malloc(ntris * ntris);
@@ -325,6 +330,7 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->normal);
     free(h->face_scale);
     free(h->can_block);
+    rad_hier_memo_destroy(h->memo);
     free(h->el);
     free(h->ln);
     free(h->K);
