@@ -957,3 +957,133 @@ TEST(vis_solids_cast_the_union_of_their_faces_shadows)
     CHECK(inside_cases > 0);
     CHECK_MSG(worst <= 1e-10, "hull and faces apart by %.3g of the open F", worst);
 }
+
+/* Appends the quad q (planar, counter-clockwise seen from its front) as two
+ * triangles, split along the diagonal that keeps both inside it. */
+static void add_quad(double *xyz, int *tri, int *nv, int *nt, const double q[4][3])
+{
+    rad_vec3 p[4];
+    for (int v = 0; v < 4; v++) {
+        p[v] = rad_vec3_make(q[v][0], q[v][1], q[v][2]);
+        for (int i = 0; i < 3; i++)
+            xyz[3 * (*nv + v) + i] = q[v][i];
+    }
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(p[2], p[0]), rad_vec3_sub(p[3], p[1]));
+    /* the diagonal 0-2 serves when 1 and 3 lie on either side of it */
+    int d02 = rad_vec3_dot(rad_vec3_cross(rad_vec3_sub(p[1], p[0]), rad_vec3_sub(p[2], p[0])), n) > 0.0 &&
+              rad_vec3_dot(rad_vec3_cross(rad_vec3_sub(p[2], p[0]), rad_vec3_sub(p[3], p[0])), n) > 0.0;
+    const int a[6] = {0, 1, 2, 0, 2, 3}, b[6] = {0, 1, 3, 1, 2, 3};
+    for (int k = 0; k < 6; k++)
+        tri[3 * *nt + k] = *nv + (d02 ? a[k] : b[k]);
+    *nv += 4;
+    *nt += 2;
+}
+
+/* Child k of t's midpoint subdivision (corners k = 0, 1, 2; 3 the middle). */
+static void sub_triangle(const rad_vec3 t[3], int k, rad_vec3 out[3])
+{
+    rad_vec3 m[3];
+    for (int v = 0; v < 3; v++)
+        m[v] = rad_vec3_scale(rad_vec3_add(t[v], t[(v + 1) % 3]), 0.5);
+    const rad_vec3 ch[4][3] = {{t[0], m[0], m[2]}, {m[0], t[1], m[1]}, {m[2], m[1], t[2]},
+                               {m[0], m[1], m[2]}};
+    memcpy(out, ch[k], sizeof ch[k]);
+}
+
+/* In a closed room the parts of every triangle a point sees tile its
+ * hemisphere: sum_b F_vis(x, b) = 1, here over the 16 grandchildren of every
+ * triangle (hier's elements).  The room is the Cornell box's with its short
+ * block, open below, standing on a floor whose triangles meet the block's
+ * corners as the contact cut makes them: the floor under the block is hidden
+ * from every point outside, by shadows that meet the floor's plane along
+ * the pieces' edges and at their corners, where clipping repeats corners to
+ * within rounding. */
+TEST(vis_closed_room_with_a_block_tiles_every_hemisphere)
+{
+    double xyz[3 * 4 * 16];
+    int tri[3 * 2 * 16], nv = 0, nt = 0;
+    /* y up in the Cornell box, z up here */
+    const double w = 0.556, d = 0.5592, top_z = 0.5488, bh = 0.165;
+    const double O[4][2] = {{0, 0}, {w, 0}, {w, d}, {0, d}};
+    const double I[4][2] = {{0.13, 0.065}, {0.29, 0.114}, {0.24, 0.272}, {0.082, 0.225}};
+    for (int k = 0; k < 4; k++) { /* the floor around the block, facing up */
+        int n = (k + 1) % 4;
+        const double q[4][3] = {{O[k][0], O[k][1], 0}, {O[n][0], O[n][1], 0},
+                                {I[n][0], I[n][1], 0}, {I[k][0], I[k][1], 0}};
+        add_quad(xyz, tri, &nv, &nt, q);
+    }
+    const double under[4][3] = {{I[0][0], I[0][1], 0}, {I[1][0], I[1][1], 0},
+                                {I[2][0], I[2][1], 0}, {I[3][0], I[3][1], 0}};
+    add_quad(xyz, tri, &nv, &nt, under);
+    const int nfloor = nt;
+    const double room[5][4][3] = {
+        {{0, 0, top_z}, {0, d, top_z}, {w, d, top_z}, {w, 0, top_z}}, /* ceiling, facing down */
+        {{0, 0, 0}, {0, 0, top_z}, {w, 0, top_z}, {w, 0, 0}},         /* y = 0, facing +y */
+        {{w, d, 0}, {w, d, top_z}, {0, d, top_z}, {0, d, 0}},         /* y = d */
+        {{0, d, 0}, {0, d, top_z}, {0, 0, top_z}, {0, 0, 0}},         /* x = 0 */
+        {{w, 0, 0}, {w, 0, top_z}, {w, d, top_z}, {w, d, 0}}};        /* x = w */
+    for (int k = 0; k < 5; k++)
+        add_quad(xyz, tri, &nv, &nt, room[k]);
+    const double lid[4][3] = {{I[0][0], I[0][1], bh}, {I[1][0], I[1][1], bh},
+                              {I[2][0], I[2][1], bh}, {I[3][0], I[3][1], bh}};
+    add_quad(xyz, tri, &nv, &nt, lid);
+    for (int k = 0; k < 4; k++) { /* the block's sides, facing out */
+        int n = (k + 1) % 4;
+        const double q[4][3] = {{I[k][0], I[k][1], 0}, {I[n][0], I[n][1], 0},
+                                {I[n][0], I[n][1], bh}, {I[k][0], I[k][1], bh}};
+        add_quad(xyz, tri, &nv, &nt, q);
+    }
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)nt, NULL, &vis) == RAD_OK);
+    if (!vis)
+        return;
+    unsigned long long state = 20261202;
+    double worst = 0.0;
+    int ok = 1, points = 0;
+    for (int s = nfloor; s < nt; s++) { /* points on the room's walls and the block */
+        rad_vec3 c[3];
+        for (int v = 0; v < 3; v++)
+            c[v] = rad_vec3_make(xyz[3 * tri[3 * s + v]], xyz[3 * tri[3 * s + v] + 1],
+                                 xyz[3 * tri[3 * s + v] + 2]);
+        rad_vec3 nx = rad_vec3_cross(rad_vec3_sub(c[1], c[0]), rad_vec3_sub(c[2], c[0]));
+        nx = rad_vec3_scale(nx, 1.0 / rad_vec3_norm(nx));
+        for (int i = 0; i < 12; i++) {
+            double r1 = unit_draw(&state), r2 = unit_draw(&state);
+            if (r1 + r2 > 1.0) {
+                r1 = 1.0 - r1;
+                r2 = 1.0 - r2;
+            }
+            rad_vec3 x = rad_geom_triangle_point(c[0], c[1], c[2], r1, r2);
+            double sum = 0.0;
+            for (int b = 0; b < nt; b++) {
+                if (b == s)
+                    continue;
+                int blockers[32], nb = 0;
+                for (int k = 0; k < nt; k++)
+                    if (k != b && k != s)
+                        blockers[nb++] = k;
+                rad_vec3 tb[3];
+                for (int v = 0; v < 3; v++)
+                    tb[v] = rad_vec3_make(xyz[3 * tri[3 * b + v]], xyz[3 * tri[3 * b + v] + 1],
+                                          xyz[3 * tri[3 * b + v] + 2]);
+                /* b's 16 grandchildren (midpoint subdivision twice), as hier's
+                   elements meet them */
+                for (int g = 0; g < 16; g++) {
+                    rad_vec3 c1[3], c2[3];
+                    sub_triangle(tb, g / 4, c1);
+                    sub_triangle(c1, g % 4, c2);
+                    double F = 0.0, Fo = 0.0;
+                    long evals = 0;
+                    ok &= rad_vis_point_visible(vis, x, nx, c2, blockers, nb, &F, &Fo, &evals);
+                    sum += F;
+                }
+            }
+            worst = fmax(worst, fabs(sum - 1.0));
+            points++;
+        }
+    }
+    CHECK(ok && points == 12 * (nt - nfloor));
+    CHECK_MSG(worst <= 1e-9, "a hemisphere sums to 1 %+.3g", worst);
+    printf("# closed room with a block: %d points, |sum_b F_vis - 1| <= %.3g\n", points, worst);
+    rad_vis_destroy(vis);
+}

@@ -604,7 +604,7 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
     bbox2(&pieces[0]);
     int np = 1;
     long work = 0;
-    double min_area = 1e-13 * f->area;
+    double min_area = 1e-13 * f->area, sliver = 1e-18 * f->area;
     shadow_planes sp;
     if (nb > 0)
         make_shadow_planes(x, nx, d, b, f, &sp);
@@ -630,7 +630,7 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
         if (max_work > 0 && (work += end) > max_work)
             return -2;
         for (int i = 0; i < end;) {
-            if (boxes_apart(&pieces[i], &q) || separated(&pieces[i], &q, 1e-18 * f->area)) {
+            if (boxes_apart(&pieces[i], &q) || separated(&pieces[i], &q, sliver)) {
                 i++;
                 continue;
             }
@@ -640,7 +640,11 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
             int kept = 0;
             for (int e = 0; e < q.n && rest.n >= 3; e++) {
                 poly2 in, outside;
-                if (!split_line(&rest, q.p[e], q.p[e + 1 < q.n ? e + 1 : 0], &in, &outside))
+                v2 u = q.p[e], w = q.p[e + 1 < q.n ? e + 1 : 0];
+                if (!((w.x - u.x) * (w.x - u.x) + (w.y - u.y) * (w.y - u.y) > sliver))
+                    continue; /* a repeated corner: every point lies on its line, and
+                                 the part "outside" it would be the whole rest */
+                if (!split_line(&rest, u, w, &in, &outside))
                     return -1;
                 if (outside.n >= 3 && area2(&outside) > min_area) {
                     bbox2(&outside);
