@@ -18,7 +18,7 @@
  *
  * The table is shared by the threads of an estimate batch (one lock; a
  * lookup is a few hundred instructions against the rule's tens of
- * thousands) and stops growing at MEMO_MAX entries. */
+ * thousands) and stops growing at MEMO_MAX entries (32 MB of slots). */
 #include "rad_hier.h"
 
 #include <math.h>
@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { MEMO_KEY = 18, MEMO_MAX = 1 << 20 };
+enum { MEMO_KEY = 18, MEMO_MAX = 1 << 16 }; /* about 250 B each, at most half the slots used */
 
 typedef struct memo_entry {
     double key[MEMO_KEY];
