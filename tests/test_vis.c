@@ -996,8 +996,9 @@ static int segment_crosses(rad_vec3 p, rad_vec3 q, const rad_vec3 t[3])
 /* A shadow whose clipping repeats a corner to within rounding (a corner a
  * hair in front of a clipping plane keeps itself and adds the crossing next
  * to it) must still be subtracted.  Split along that edge of zero length,
- * every point of a piece lies on its line; the subtraction once kept the
- * whole rest as "outside" the shadow, and b counted as seen.  The case is
+ * every point of a piece lies on its line and both sides are the whole
+ * rest: a subtraction that kept it as "outside" the shadow would count b
+ * as seen.  The case is
  * one the Cornell box met (hier, eps 0.33): a point on the floor, an
  * element of the tall block's face behind the short block, whose top (a
  * triangle, its partner unlisted) and one side (a quad of two) are the

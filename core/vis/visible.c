@@ -453,6 +453,15 @@ static int solid_shadow(const rad_vis *vis, int s, rad_vec3 x, const shadow_plan
     return 1;
 }
 
+/* 1 when the edge u -> w is shorter than sqrt(min_edge2): a corner repeated
+ * to within rounding, whose direction means nothing (every point lies on
+ * its line). */
+static int short_edge(v2 u, v2 w, double min_edge2)
+{
+    double ex = w.x - u.x, ey = w.y - u.y;
+    return !(ex * ex + ey * ey > min_edge2);
+}
+
 /* 1 when the convex polygons p and q (counter-clockwise) are separated by
  * the line of an edge of either (touching counts as separated): then
  * subtracting q leaves p whole instead of cutting it into slivers. */
@@ -462,9 +471,8 @@ static int separated(const poly2 *p, const poly2 *q, double min_edge2)
         const poly2 *a = pass ? q : p, *b = pass ? p : q;
         for (int e = 0; e < a->n; e++) {
             v2 u = a->p[e], w = a->p[e + 1 < a->n ? e + 1 : 0];
-            double ex = w.x - u.x, ey = w.y - u.y;
-            if (!(ex * ex + ey * ey > min_edge2))
-                continue; /* a (nearly) repeated corner: its direction means nothing */
+            if (short_edge(u, w, min_edge2))
+                continue;
             int k = 0;
             while (k < b->n && cross2(u, w, b->p[k]) <= 0.0)
                 k++;
@@ -641,9 +649,8 @@ static int visible_pieces(const rad_vis *vis, rad_vec3 x, rad_vec3 nx, const rad
             for (int e = 0; e < q.n && rest.n >= 3; e++) {
                 poly2 in, outside;
                 v2 u = q.p[e], w = q.p[e + 1 < q.n ? e + 1 : 0];
-                if (!((w.x - u.x) * (w.x - u.x) + (w.y - u.y) * (w.y - u.y) > sliver))
-                    continue; /* a repeated corner: every point lies on its line, and
-                                 the part "outside" it would be the whole rest */
+                if (short_edge(u, w, sliver))
+                    continue; /* both sides of its line would be the whole rest */
                 if (!split_line(&rest, u, w, &in, &outside))
                     return -1;
                 if (outside.n >= 3 && area2(&outside) > min_area) {
