@@ -382,8 +382,8 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
     /* a refinement's batch comes in splits of four jobs: estimated a split at
        a time (estimate_split), the unit of the threads' and processes' shares */
     size_t unit = splits ? 4 : 1, units = n / unit;
-    int chunk = (int)(32 / unit);
-#pragma omp parallel for schedule(dynamic, chunk) reduction(+ : evals, rays) if (n / step > 32) num_threads(threads)
+    int chunk = (int)(4 / unit);
+#pragma omp parallel for schedule(dynamic, chunk) reduction(+ : evals, rays) if (n / step > 4) num_threads(threads)
     for (long long u = (long long)first; u < (long long)units; u += (long long)step) {
         work_count wc = {0, 0};
         int facing[4] = {0, 0, 0, 0};

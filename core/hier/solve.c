@@ -377,13 +377,13 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
     } else {
         if ((st = incidence(h)) != RAD_OK || (st = fill_sources(h, carry)) != RAD_OK)
             return st;
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 1024)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
         for (long long e = 0; e < (long long)h->nel; e++)
             gather_elem(h, (size_t)e, carry);
     }
     hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T);
     double ch = *change, vm = *vmax;
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 1024 && hi - lo > 1)
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
     for (long long t = (long long)lo; t < (long long)hi; t++)
         push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
     *change = ch;

@@ -410,8 +410,8 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n, int spl
        a time (estimate_split) */
     size_t unit = splits ? 4 : 1;
     long long units = (long long)(n / unit);
-    int chunk = (int)(16 / unit);
-#pragma omp parallel for schedule(dynamic, chunk) reduction(+ : evals, rays) if (n > 16) num_threads(threads)
+    int chunk = (int)(4 / unit);
+#pragma omp parallel for schedule(dynamic, chunk) reduction(+ : evals, rays) if (n > 4) num_threads(threads)
     for (long long u = 0; u < units; u++) {
         work_count wc = {0, 0};
         int facing[4] = {0, 0, 0, 0};

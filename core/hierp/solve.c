@@ -141,7 +141,7 @@ static void gather(rad_hierp *h, int unit)
             for (int c = 0; c < 3; c++)
                 memcpy(h->Bs + (e * 3 + (size_t)c) * (size_t)m, h->el[e].B[c],
                        (size_t)m * sizeof *h->Bs);
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
     for (long long e = 0; e < (long long)h->nel; e++) {
         switch (m) {
         case 1: gather_elem(h, (size_t)e, unit, 1); break;
@@ -282,7 +282,7 @@ void hp_rows(rad_hierp *h)
 {
     gather(h, 1);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 256)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 64)
     for (long long t = 0; t < (long long)h->nroots; t++)
         push_rows(h, (int)t);
 }
@@ -309,7 +309,7 @@ static void step(rad_hierp *h, double *change, double *vmax)
     gather(h, 0);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     double ch = 0.0, vm = 0.0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 256)
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64)
     for (long long t = 0; t < (long long)h->nroots; t++) {
         double c = 0.0, v = 0.0;
         step_tree(h, (int)t, &c, &v);
@@ -419,7 +419,7 @@ void hp_pull_dev(rad_hierp *h)
     /* a leaf departs from its polynomial by the departures its links and its
        ancestors' bring (dep, pushed down) */
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
     for (long long e = 0; e < (long long)h->nel; e++) {
         hp_elem *x = &h->el[e];
         memset(x->dep, 0, sizeof x->dep);
@@ -541,7 +541,7 @@ rad_status hp_estimate_error(rad_hierp *h)
                            h->p.max_iterations);
             break;
         }
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 256)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
         for (long long e = 0; e < (long long)h->nel; e++) {
             hp_elem *x = &h->el[e];
             memset(x->Tg, 0, sizeof x->Tg);

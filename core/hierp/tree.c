@@ -283,7 +283,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
         }
         unsigned char *tab = h->can_block;
         int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 16) if (ntris > 64) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 1) if (ntris > 16) num_threads(threads)
         for (long long r = 0; r < (long long)ntris; r++) {
             tab[(size_t)r * ntris + (size_t)r] = 0;
             /* both tests are symmetric (the shaft is the hull of the two) */
