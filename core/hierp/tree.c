@@ -274,6 +274,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
         goto fail;
     }
+    double t0 = rad_sys_seconds(); /* the link phase: the blocker table and the initial links */
     if (h->use_vis && ntris <= 8192) {
         /* which pairs of input triangles something can block, once */
         h->can_block = malloc(ntris * ntris);
@@ -298,7 +299,6 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
         }
     }
     /* every pair of input triangles (those that face make links) */
-    double t0 = rad_sys_seconds();
     size_t npairs = ntris * (ntris - 1) / 2;
     hp_job *jobs = malloc((npairs ? npairs : 1) * sizeof *jobs);
     if (!jobs) {
