@@ -8,7 +8,8 @@
 #    interpolation between the two runs that bracket it), the fastest run that
 #    reaches it and that run's links (pairs; an implementation with one-way
 #    links needs two per pair).  Targets for hier: 1% in 0.02 s, 0.5% in
-#    0.05 s with under 25k one-way links;
+#    0.05 s with under 25k one-way links; the same for the error oracle
+#    with --basis p1 and p2 (hier-error-p1, -p2);
 #  - the fastest hier run reaching 0.5% against dense at refinement 3 (auto),
 #    side by side (target: at most 1/40 of its time);
 #  - the exponent of links against leaves as eps goes from 0.1 to 0.003

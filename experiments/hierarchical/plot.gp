@@ -19,6 +19,8 @@ do for [fmt in "png pdf"] {
        sel("dense-gauss2") using 6:5 with linespoints pt 6 title "dense, gauss:2 (refine 0..3)", \
        sel("hier-bf") using 6:5 with linespoints pt 5 title "hier, BF oracle", \
        sel("hier-error") using 6:5 with linespoints pt 9 title "hier, error oracle", \
+       sel("hier-error-p1") using 6:5 with linespoints pt 11 title "hier, error, p1", \
+       sel("hier-error-p2") using 6:5 with linespoints pt 13 title "hier, error, p2", \
        0.01 with lines dashtype 2 lc "black" title "1%", \
        0.005 with lines dashtype 4 lc "black" title "0.5%", \
        refse with lines dashtype 3 lc "gray" title "reference standard error"

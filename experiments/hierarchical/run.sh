@@ -8,7 +8,8 @@
 # error_worst, the worst face and channel on that scale, for
 #  - hier with the error oracle at EPS_ERROR and the BF oracle at EPS_BF (each
 #    with its default minimum area, which follows eps), with the error estimate
-#    each run reports of itself (error_estimate: worst face; _l1),
+#    each run reports of itself (error_estimate: worst face; _l1), and the
+#    error oracle with --basis p1 and p2 at EPS_BASES,
 #  - dense at refinements 0..MAX_REFINE with auto at 1e-3 and with gauss:2 (the
 #    fastest rule of experiments/accuracy_time), its default solver,
 # with wall time (the median of REPEAT runs: single runs of a tenth of a second
@@ -25,6 +26,9 @@ case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac # we cd below
 # 0.01, where a target falls between runs, then coarser to 0.001
 EPS_ERROR=${EPS_ERROR:-"0.33 0.27 0.22 0.18 0.15 0.12 0.1 0.082 0.068 0.056 0.047 0.039 0.033 0.027 0.022 0.018 0.015 0.012 0.01 0.005 0.003 0.002 0.001"}
 EPS_BF=${EPS_BF:-"1 0.3 0.1 0.05 0.03"}
+# the error oracle with linear and quadratic elements (papers/bases.md), from
+# larger eps: a higher order reaches a coarse target with far fewer links
+EPS_BASES=${EPS_BASES:-"1 0.82 0.68 0.56 0.47 0.39 0.33 0.27 0.22 0.18 0.15 0.12 0.1 0.082 0.068"}
 REPEAT=${REPEAT:-5}
 ORACLES="bf error"
 MAX_REFINE=${MAX_REFINE:-3}
@@ -78,6 +82,13 @@ for o in $ORACLES; do
     row "hier-$o" "$e" "$t" "$(solve "$t" --method hier --oracle "$o" --eps "$e")"
   done
 done
+for basis in p1 p2; do
+  for e in $EPS_BASES; do
+    t=data/hier_error_${basis}_$e.tsv
+    echo "hierarchical: hier --basis $basis --eps $e" >&2
+    row "hier-error-$basis" "$e" "$t" "$(solve "$t" --method hier --basis "$basis" --eps "$e")"
+  done
+done
 for rule in auto gauss:2; do
   k=0
   name=dense-$(echo "$rule" | tr -d ':')
@@ -116,7 +127,7 @@ done
 # run's links.
 target=data/target.dat
 printf 'method\ttarget\ttime_s\tfirst_run_s\tfirst_run_links\n' > "$target"
-for m in dense-auto dense-gauss2 hier-bf hier-error; do
+for m in dense-auto dense-gauss2 hier-bf hier-error hier-error-p1 hier-error-p2; do
   for goal in 0.01 0.005 0.001; do
     printf '%s\t%s\t%s\n' "$m" "$goal" "$(awk -F'\t' -v m="$m" -v mc=1 -v ec=5 -v tc=6 -v kc=4 \
       -v g="$goal" -f "$root/scripts/time_to_target.awk" "$dat")" >> "$target"
