@@ -1,4 +1,7 @@
-/* rad_sys: the large-array allocator. */
+/* rad_sys: the large-array allocator, binding threads to CPUs. */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_SET */
+#include <omp.h>
+#include <sched.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,4 +27,43 @@ TEST(sys_alloc_huge_gives_aligned_usable_memory)
         CHECK(p[0] == 0xA5 && p[sizes[k] - 1] == 0xA5);
         free(p);
     }
+}
+
+/* Each thread's CPUs after rad_sys_bind_threads: one each, in turn over
+ * the allowed ones, the calling thread on the first; the environment's
+ * OMP_PROC_BIND leaves them alone.  The test process's threads get their
+ * CPUs back at the end. */
+TEST(sys_bind_threads_gives_each_thread_one_cpu)
+{
+    cpu_set_t allowed;
+    CHECK(sched_getaffinity(0, sizeof allowed, &allowed) == 0);
+    int ncpu = CPU_COUNT(&allowed), first = -1;
+    for (int c = 0; c < CPU_SETSIZE && first < 0; c++)
+        if (CPU_ISSET(c, &allowed))
+            first = c;
+    setenv("OMP_PROC_BIND", "false", 1);
+    CHECK(rad_sys_bind_threads(2) == 0);
+    unsetenv("OMP_PROC_BIND");
+    CHECK(rad_sys_bind_threads(1) == 0); /* one thread: nothing to keep apart */
+    int bound = rad_sys_bind_threads(2);
+    CHECK(bound == (ncpu >= 2 ? 2 : 0));
+    int count[2] = {0, 0}, cpu[2] = {-1, -1};
+#pragma omp parallel num_threads(2)
+    {
+        int t = omp_get_thread_num();
+        cpu_set_t mine;
+        if (t < 2 && sched_getaffinity(0, sizeof mine, &mine) == 0) {
+            count[t] = CPU_COUNT(&mine);
+            for (int c = 0; c < CPU_SETSIZE; c++)
+                if (CPU_ISSET(c, &mine))
+                    cpu[t] = c;
+        }
+    }
+    if (bound == 2) {
+        CHECK(count[0] == 1 && count[1] == 1);
+        CHECK(cpu[0] == first);
+        CHECK(cpu[1] != cpu[0] && cpu[1] >= 0 && CPU_ISSET(cpu[1], &allowed));
+    }
+#pragma omp parallel num_threads(2)
+    sched_setaffinity(0, sizeof allowed, &allowed);
 }

@@ -11,6 +11,7 @@
 #include "rad_io.h"
 #include "rad_scene.h"
 #include "rad_solve.h"
+#include "rad_sys.h"
 #include "solve.h"
 
 static const char help_head[] =
@@ -271,6 +272,12 @@ int cli_solve(int argc, char **argv)
     if (!o.quiet)
         for (int w = 0; w < rad_scene_warning_count(scene); w++)
             fprintf(stderr, "radkit: warning: %s\n", rad_scene_warning(scene, w));
+    /* hier, cluster and mc run many short parallel loops: bound threads keep
+       them from waiting on a thread the scheduler moved (rad_sys.h); dense
+       does not bind, because OpenBLAS would start its workers on the main
+       thread's one CPU */
+    if (p.method != RAD_SOLVE_DENSE)
+        rad_sys_bind_threads(p.threads);
     st = rad_solve_run(scene, &p, &sol);
     if (show_progress)
         fputc('\n', stderr);

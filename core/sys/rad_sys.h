@@ -31,6 +31,15 @@ static inline double rad_sys_hash_unit(uint64_t x) { return rad_sys_unit(rad_sys
 /* Seconds on a monotonic clock (only differences are meaningful). */
 double rad_sys_seconds(void);
 
+/* Bind each of the threads OpenMP runs a loop of `threads` (0: its default)
+ * on to one of the CPUs this process may use, the calling thread to the
+ * first, in turn (as OMP_PROC_BIND=true does); nothing when the environment
+ * sets OMP_PROC_BIND or OMP_PLACES, or with one CPU or one thread.  Threads
+ * the bound calling thread starts later inherit its one CPU: a program that
+ * starts other pools after (OpenBLAS restarts its workers after a threaded
+ * call) should not bind.  Returns how many threads were bound. */
+int rad_sys_bind_threads(int threads);
+
 /* Physical memory of the machine in bytes (0 if unknown).  The environment
  * variable RADKIT_MEMORY_LIMIT (bytes) overrides it, so tests can exercise the
  * "too big" path without a huge machine. */
