@@ -3,6 +3,7 @@
  * same leaves, the minimum area, the growth of links with elements, and the
  * rejection of bad parameters. */
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -882,4 +883,79 @@ TEST(hier_last_solve_stops_within_its_share_of_eps)
     CHECK_MSG(st[0].iterations < st[1].iterations, "steps %lld and %lld", st[0].iterations,
               st[1].iterations);
     CHECK_MSG(worst <= share * p[0].eps, "faces apart by %.3g R", worst);
+}
+
+/* The pair table (pairs.c) gives every pair of the Cornell box's triangles
+ * the flags of the direct tests, whether an entry is made by the table's own
+ * shaft walk or handed the answer of one, and whichever thread asks first. */
+TEST(hier_pair_table_equals_the_direct_tests)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    const double *xyz = rad_scene_vertices(s.scene);
+    const int *tri = rad_scene_triangles(s.scene);
+    size_t n = (size_t)s.n;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, (size_t)rad_scene_vertex_count(s.scene), tri, n, &vp, &vis) ==
+          RAD_OK);
+    rad_hier_pairs *t = vis ? rad_hier_pairs_create(vis, n) : NULL;
+    CHECK(t != NULL);
+    if (!t) {
+        rad_vis_destroy(vis);
+        unload(&s);
+        return;
+    }
+    rad_vec3 (*p)[3] = malloc(n * sizeof *p);
+    double *size = malloc(n * sizeof *size);
+    for (size_t i = 0; i < n; i++) {
+        for (int v = 0; v < 3; v++) {
+            const double *q = xyz + 3 * (size_t)tri[3 * i + (size_t)v];
+            p[i][v] = rad_vec3_make(q[0], q[1], q[2]);
+        }
+        size[i] = rad_geom_triangle_longest_edge(p[i]);
+        rad_hier_pairs_set_triangle(t, i, p[i], rad_geom_triangle_centroid(p[i][0], p[i][1],
+                                                                            p[i][2]), size[i]);
+    }
+    /* half the entries handed the direct answer (as an initial link does),
+       the others left to the table, from two threads in opposite orders */
+    int bad = 0, blocking = 0, touching = 0;
+#pragma omp parallel for num_threads(2) reduction(+ : bad)
+    for (long long k = 0; k < (long long)(n * n); k++) {
+        size_t r = (size_t)k / n, c = (size_t)k % n;
+        if (omp_get_thread_num() == 1) {
+            r = n - 1 - r;
+            c = n - 1 - c;
+        }
+        if (r == c)
+            continue;
+        int direct = rad_vis_pair_can_block(vis, r, c);
+        unsigned got = rad_hier_pairs_get(t, (int)r, (int)c, (r + c) % 2 ? direct : -1);
+        bad += !rad_hier_pairs_known(t, (int)r, (int)c) || !rad_hier_pairs_known(t, (int)c, (int)r);
+        bad += ((got & RAD_HIER_PAIR_CAN_BLOCK) != 0) != (direct != 0);
+    }
+    CHECK_MSG(bad == 0, "%d entries differ from the direct tests", bad);
+    for (size_t r = 0; r < n; r++)
+        for (size_t c = 0; c < n; c++) {
+            if (r == c)
+                continue;
+            rad_vec3 cr = rad_geom_triangle_centroid(p[r][0], p[r][1], p[r][2]);
+            rad_vec3 cc = rad_geom_triangle_centroid(p[c][0], p[c][1], p[c][2]);
+            int touch = rad_ff_triangles_touch(p[r], cr, size[r], p[c], cc, size[c]);
+            unsigned got = rad_hier_pairs_get(t, (int)r, (int)c, -1);
+            CHECK(((got & RAD_HIER_PAIR_MAY_TOUCH) != 0) == (touch != 0));
+            CHECK(got == rad_hier_pairs_get(t, (int)c, (int)r, -1)); /* symmetric */
+            blocking += (got & RAD_HIER_PAIR_CAN_BLOCK) != 0;
+            touching += (got & RAD_HIER_PAIR_MAY_TOUCH) != 0;
+        }
+    /* both kinds occur: the checks above compared something */
+    CHECK(blocking > 0 && blocking < (int)(n * (n - 1)));
+    CHECK(touching > 0 && touching < (int)(n * (n - 1)));
+    free(p);
+    free(size);
+    rad_hier_pairs_destroy(t);
+    rad_vis_destroy(vis);
+    unload(&s);
 }

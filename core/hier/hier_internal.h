@@ -131,8 +131,7 @@ struct rad_hier {
     rad_hier_params p;
     const rad_vis *vis;
     int use_vis;
-    unsigned char *can_block; /* per pair of input triangles, or NULL (ask each time):
-                                 HIER_CAN_BLOCK | HIER_MAY_TOUCH */
+    rad_hier_pairs *pairs;    /* per pair of input triangles, or NULL (ask each time) */
     rad_hier_memo *memo;      /* touching pairs' singular integrals */
     rad_vec3 *normal;         /* unit normal per input triangle */
     size_t nroots;
@@ -191,7 +190,6 @@ typedef struct hier_job {
  * splits: the jobs come in fours, (child i of one element, the same other
  * element), i = 0..3, as a refinement makes them. */
 rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int splits);
-enum { HIER_CAN_BLOCK = 1, HIER_MAY_TOUCH = 2 };
 int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
 /* 0 when no element of input triangle r can touch one of s (their distance
  * exceeds the contact test's 1e-9 of the larger's longest edge, which no

@@ -2,10 +2,9 @@
  *
  * 1. Facing test (rad_ff_facing): a pair facing away or coplanar makes no link.
  * 2. Blockers: none without visibility, or when the pair of input triangles
- *    is clear (the table of rad_vis_pair_can_block made at creation: a
- *    sub-element pair's shaft lies inside its input pair's); otherwise the
- *    triangles the shaft of the two elements does not dismiss
- *    (rad_vis_blockers).
+ *    is clear (the pair table, pairs.c: a sub-element pair's shaft lies
+ *    inside its input pair's); otherwise the triangles the shaft of the two
+ *    elements does not dismiss (rad_vis_blockers).
  * 3. Point values at the nodes x_k of the symmetric rule on a and y_k on b:
  *    F(x_k, b) and F(y_k, a), the closed-form point-to-triangle form factor
  *    over the part visible from the point (rad_vis_point_visible_limited:
@@ -40,14 +39,14 @@ int hier_pair_can_block(const rad_hier *h, int r, int s)
 {
     if (!h->use_vis)
         return 0;
-    if (h->can_block)
-        return h->can_block[(size_t)r * h->nroots + (size_t)s] & HIER_CAN_BLOCK;
+    if (h->pairs)
+        return rad_hier_pairs_get(h->pairs, r, s, -1) & RAD_HIER_PAIR_CAN_BLOCK;
     return rad_vis_pair_can_block(h->vis, (size_t)r, (size_t)s);
 }
 
 int hier_pair_may_touch(const rad_hier *h, int r, int s)
 {
-    return !h->can_block || (h->can_block[(size_t)r * h->nroots + (size_t)s] & HIER_MAY_TOUCH);
+    return !h->pairs || (rad_hier_pairs_get(h->pairs, r, s, -1) & RAD_HIER_PAIR_MAY_TOUCH);
 }
 
 /* Work counters of estimates made on one thread. */
@@ -193,16 +192,25 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
         return RAD_OK;
     }
     *facing = 1;
-    int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0;
-    int blocked = hier_pair_can_block(h, ea->face, eb->face);
-    if (blocked && pre && pre->nb >= 0) {
-        nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
-    } else if (blocked) {
+    int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0, blocked;
+    /* the initial link of two input triangles walks their shaft for its
+       blockers and tells the pair table what it found */
+    int first = !pre && h->pairs && ia == ea->face && ib == eb->face &&
+                !rad_hier_pairs_known(h->pairs, ia, ib);
+    if (first) {
         nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
-        too_many = nb > LINK_MAX_BLOCKERS;
-        if (too_many)
-            nb = 0;
+        blocked = rad_hier_pairs_get(h->pairs, ia, ib, nb != 0) & RAD_HIER_PAIR_CAN_BLOCK;
+    } else {
+        blocked = hier_pair_can_block(h, ea->face, eb->face);
+        if (blocked && pre && pre->nb >= 0)
+            nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
+        else if (blocked)
+            nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk,
+                                  LINK_MAX_BLOCKERS);
     }
+    too_many = nb > LINK_MAX_BLOCKERS;
+    if (too_many)
+        nb = 0;
     int far = 0;
     if (!blocked && h->p.far_ratio > 0.0)
         far = rad_vec3_norm(rad_vec3_sub(ea->c, eb->c)) >

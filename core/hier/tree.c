@@ -289,27 +289,13 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         return RAD_OK;
     }
     if (h->use_vis && ntris <= HIER_BLOCK_TABLE_MAX) {
-        h->can_block = malloc(ntris * ntris);
-        if (!h->can_block) {
+        if (!(h->pairs = rad_hier_pairs_create(vis, ntris))) {
             st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the blocker table of %zu "
                                        "triangles", ntris);
             goto fail;
         }
-        unsigned char *tab = h->can_block;
-        int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) if (ntris > 16) num_threads(threads)
-        for (long long r = 0; r < (long long)ntris; r++) {
-            tab[(size_t)r * ntris + (size_t)r] = 0;
-            /* both tests are symmetric (the shaft is the hull of the two) */
-            for (size_t s = (size_t)r + 1; s < ntris; s++) {
-                const hier_elem *a = &h->el[r], *b = &h->el[s];
-                int touch = rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
-                unsigned char v =
-                    (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HIER_CAN_BLOCK : 0) |
-                                    (touch ? HIER_MAY_TOUCH : 0));
-                tab[(size_t)r * ntris + s] = tab[s * ntris + (size_t)r] = v;
-            }
-        }
+        for (size_t t = 0; t < ntris; t++)
+            rad_hier_pairs_set_triangle(h->pairs, t, h->el[t].p, h->el[t].c, h->el[t].size);
     }
     {
         hier_job *jobs = malloc(ntris * (ntris - 1 > 0 ? ntris - 1 : 1) / 2 * sizeof *jobs + 1);
@@ -342,7 +328,7 @@ void rad_hier_destroy(rad_hier *h)
         return;
     free(h->rho);
     free(h->E);
-    free(h->can_block);
+    rad_hier_pairs_destroy(h->pairs);
     rad_hier_memo_destroy(h->memo);
     free(h->normal);
     free(h->face_scale);

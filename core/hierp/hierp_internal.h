@@ -66,7 +66,7 @@ struct rad_hierp {
     int order, m;
     const rad_vis *vis;
     int use_vis;
-    unsigned char *can_block; /* per pair of input triangles: HP_CAN_BLOCK | HP_MAY_TOUCH */
+    rad_hier_pairs *pairs;    /* per pair of input triangles, or NULL (ask each time) */
     rad_hier_memo *memo;      /* touching pairs' singular integrals */
     rad_vec3 *normal;
     size_t nroots;
@@ -105,9 +105,6 @@ struct rad_hierp {
     double qmax[HP_M];
 };
 
-/* can_block's flags: something may block the pair; the pair may touch (a
- * vertex of one within 1e-9 of its size of the other) */
-enum { HP_CAN_BLOCK = 1, HP_MAY_TOUCH = 2 };
 
 /* tree.c */
 rad_status hp_grow_elems(rad_hierp *h, size_t extra);

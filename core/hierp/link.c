@@ -49,15 +49,15 @@ static int pair_can_block(const rad_hierp *h, int r, int s)
 {
     if (!h->use_vis)
         return 0;
-    if (h->can_block)
-        return h->can_block[(size_t)r * h->nroots + (size_t)s] & HP_CAN_BLOCK;
+    if (h->pairs)
+        return rad_hier_pairs_get(h->pairs, r, s, -1) & RAD_HIER_PAIR_CAN_BLOCK;
     return rad_vis_pair_can_block(h->vis, (size_t)r, (size_t)s);
 }
 
 /* 0 when no element of input triangle r can touch one of s. */
 static int pair_may_touch(const rad_hierp *h, int r, int s)
 {
-    return !h->can_block || (h->can_block[(size_t)r * h->nroots + (size_t)s] & HP_MAY_TOUCH);
+    return !h->pairs || (rad_hier_pairs_get(h->pairs, r, s, -1) & RAD_HIER_PAIR_MAY_TOUCH);
 }
 
 static rad_vec3 node(const rad_hierp *h, const hp_elem *e, int i)
@@ -149,12 +149,18 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     *facing = 1;
     int n = h->nodes, m = h->m;
     int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0;
-    int blocked = pair_can_block(h, ea->face, eb->face);
+    /* the initial link of two input triangles walks their shaft for its
+       blockers and tells the pair table what it found */
+    int first = !pre && h->pairs && ia == ea->face && ib == eb->face &&
+                !rad_hier_pairs_known(h->pairs, ia, ib);
+    int blocked = first || pair_can_block(h, ea->face, eb->face);
     if (blocked && pre && pre->nb >= 0) {
         nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
         blocked = nb > 0;
     } else if (blocked) {
         nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
+        if (first)
+            rad_hier_pairs_get(h->pairs, ia, ib, nb != 0);
         too_many = nb > LINK_MAX_BLOCKERS;
         if (too_many)
             nb = 0;

@@ -276,27 +276,13 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     }
     double t0 = rad_sys_seconds(); /* the link phase: the blocker table and the initial links */
     if (h->use_vis && ntris <= 8192) {
-        /* which pairs of input triangles something can block, once */
-        h->can_block = malloc(ntris * ntris);
-        if (!h->can_block) {
+        /* which pairs of input triangles something can block (pairs.c) */
+        if (!(h->pairs = rad_hier_pairs_create(vis, ntris))) {
             st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
             goto fail;
         }
-        unsigned char *tab = h->can_block;
-        int threads = p.threads > 0 ? p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) if (ntris > 16) num_threads(threads)
-        for (long long r = 0; r < (long long)ntris; r++) {
-            tab[(size_t)r * ntris + (size_t)r] = 0;
-            /* both tests are symmetric (the shaft is the hull of the two) */
-            for (size_t s = (size_t)r + 1; s < ntris; s++) {
-                const hp_elem *a = &h->el[r], *b = &h->el[s];
-                int touch = rad_ff_triangles_touch(a->p, a->c, a->size, b->p, b->c, b->size);
-                unsigned char v =
-                    (unsigned char)((rad_vis_pair_can_block(vis, (size_t)r, s) ? HP_CAN_BLOCK : 0) |
-                                    (touch ? HP_MAY_TOUCH : 0));
-                tab[(size_t)r * ntris + s] = tab[s * ntris + (size_t)r] = v;
-            }
-        }
+        for (size_t t = 0; t < ntris; t++)
+            rad_hier_pairs_set_triangle(h->pairs, t, h->el[t].p, h->el[t].c, h->el[t].size);
     }
     /* every pair of input triangles (those that face make links) */
     size_t npairs = ntris * (ntris - 1) / 2;
@@ -329,7 +315,7 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->E);
     free(h->normal);
     free(h->face_scale);
-    free(h->can_block);
+    rad_hier_pairs_destroy(h->pairs);
     rad_hier_memo_destroy(h->memo);
     free(h->el);
     free(h->ln);

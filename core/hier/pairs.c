@@ -1,0 +1,88 @@
+/* rad_hier: the table of input-triangle pairs (rad_hier_pairs_*).
+ *
+ * A sub-element pair's shaft lies inside its input pair's, so what the
+ * input pair's shaft test says (nothing can block it: rad_vis_pair_can_block)
+ * holds for every pair of elements under it, and so does the contact test's
+ * (the two cannot touch: rad_ff_triangles_touch).  Each entry is made the
+ * first time a link estimate asks for it: the initial link of the pair
+ * itself, which walks the same shaft to list its blockers and hands the
+ * answer over (no second walk), and a pair that faces away is never asked.
+ * Threads that ask for the same entry at once compute the same byte, stored
+ * and read atomically (a process sharing a solve makes the entries of the
+ * initial links it did not estimate when it first meets them). */
+#include "hier_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "rad_ff.h"
+
+enum { PAIR_KNOWN = 4 };
+
+struct rad_hier_pairs {
+    const rad_vis *vis;
+    size_t n;
+    rad_vec3 (*p)[3]; /* the triangles' corners, */
+    rad_vec3 *c;      /* centroids */
+    double *size;     /* and longest edges */
+    unsigned char *bits; /* n x n, 0 until known */
+};
+
+rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis, size_t n)
+{
+    rad_hier_pairs *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->vis = vis;
+    t->n = n;
+    t->bits = calloc(n ? n : 1, n ? n : 1);
+    t->p = calloc(n ? n : 1, sizeof *t->p);
+    t->c = calloc(n ? n : 1, sizeof *t->c);
+    t->size = calloc(n ? n : 1, sizeof *t->size);
+    if (!t->bits || !t->p || !t->c || !t->size) {
+        rad_hier_pairs_destroy(t);
+        return NULL;
+    }
+    return t;
+}
+
+void rad_hier_pairs_set_triangle(rad_hier_pairs *t, size_t i, const rad_vec3 p[3], rad_vec3 c,
+                                 double size)
+{
+    memcpy(t->p[i], p, sizeof t->p[i]);
+    t->c[i] = c;
+    t->size[i] = size;
+}
+
+void rad_hier_pairs_destroy(rad_hier_pairs *t)
+{
+    if (!t)
+        return;
+    free(t->bits);
+    free(t->p);
+    free(t->c);
+    free(t->size);
+    free(t);
+}
+
+unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
+{
+    size_t i = (size_t)r * t->n + (size_t)s;
+    unsigned char v = __atomic_load_n(&t->bits[i], __ATOMIC_RELAXED);
+    if (v & PAIR_KNOWN)
+        return v & (RAD_HIER_PAIR_CAN_BLOCK | RAD_HIER_PAIR_MAY_TOUCH);
+    if (can_block < 0)
+        can_block = rad_vis_pair_can_block(t->vis, (size_t)r, (size_t)s);
+    int touch = rad_ff_triangles_touch(t->p[r], t->c[r], t->size[r], t->p[s], t->c[s], t->size[s]);
+    v = (unsigned char)((can_block ? RAD_HIER_PAIR_CAN_BLOCK : 0) |
+                        (touch ? RAD_HIER_PAIR_MAY_TOUCH : 0));
+    __atomic_store_n(&t->bits[i], (unsigned char)(v | PAIR_KNOWN), __ATOMIC_RELAXED);
+    __atomic_store_n(&t->bits[(size_t)s * t->n + (size_t)r], (unsigned char)(v | PAIR_KNOWN),
+                     __ATOMIC_RELAXED);
+    return v;
+}
+
+int rad_hier_pairs_known(const rad_hier_pairs *t, int r, int s)
+{
+    return __atomic_load_n(&t->bits[(size_t)r * t->n + (size_t)s], __ATOMIC_RELAXED) & PAIR_KNOWN;
+}
