@@ -10,7 +10,10 @@
  *    far pair that nothing can block, the product rule of the kernel below
  *    gives them instead (the kernel is smooth there).
  * 2. The kernel at every node pair, k_ij V_ij; V_ij = 1 where x_i sees all of
- *    b or y_j all of a, 0 where either sees none of it, else a ray.
+ *    b or y_j all of a, 0 where either sees none of it, else whether the
+ *    segment crosses one of the pair's blockers (the only triangles that
+ *    can: rad_vis_segment_blocked_by, exact, no Embree); where the blockers
+ *    were too many to list or clip, an Embree ray per node pair.
  * 3. The couplings (phi = q / sqrt(A)):
  *      K_00 = G / sqrt(A_a A_b), G the two sides' estimates A_a sum w F and
  *      A_b sum w G weighted towards the smaller element (rad_hier's rule),
@@ -202,6 +205,9 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     }
     /* visibility of the node pairs */
     if (too_many) {
+        rad_status st = rad_vis_prepare_rays(h->vis);
+        if (st != RAD_OK)
+            return st;
         for (int i = 0; i < n; i++)
             for (int j = 0; j < n; j++)
                 if (kv[i][j] > 0.0 && !ray_open(h, x[i], y[j], ea->face, eb->face, wc))
@@ -225,7 +231,9 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
             for (int j = 0; j < n; j++) {
                 if (kv[i][j] == 0.0 || Fa[i] == Fao[i] || Fb[j] == Fbo[j])
                     continue;
-                if (Fa[i] == 0.0 || Fb[j] == 0.0 || !ray_open(h, x[i], y[j], ea->face, eb->face, wc))
+                /* the segment lies in the pair's shaft: only its blockers can cross it */
+                if (Fa[i] == 0.0 || Fb[j] == 0.0 ||
+                    rad_vis_segment_blocked_by(h->vis, x[i], y[j], blk, nb))
                     kv[i][j] = 0.0;
             }
     }

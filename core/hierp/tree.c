@@ -184,12 +184,6 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     if (vis && rad_vis_triangle_count(vis) != ntris)
         return RAD_ERROR(RAD_EINVAL, "hier: the visibility holds %zu triangles, the scene %zu",
                          rad_vis_triangle_count(vis), ntris);
-    /* the higher modes sample visibility with rays (link.c) */
-    if (vis && !rad_vis_is_unoccluded(vis) && order > 0) {
-        rad_status rays_ready = rad_vis_prepare_rays(vis);
-        if (rays_ready != RAD_OK)
-            return rays_ready;
-    }
     rad_hierp *h = calloc(1, sizeof *h);
     if (!h)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");

@@ -309,6 +309,14 @@ int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double di
 int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double q[3],
                             int ignore0, int ignore1);
 
+/* The same test against the listed triangles only, in double precision and
+ * without Embree: for a segment inside a shaft whose blockers the caller
+ * has (rad_vis_blockers, rad_vis_blockers_within), which are the only
+ * triangles that can cross it.  A segment along a triangle's plane crosses
+ * nothing. */
+int rad_vis_segment_blocked_by(const rad_vis *vis, rad_vec3 p, rad_vec3 q, const int *blockers,
+                               int n);
+
 #ifdef __cplusplus
 }
 #endif

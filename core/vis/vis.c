@@ -480,6 +480,35 @@ int rad_vis_ray_closest(const rad_vis *vis, const double org[3], const double di
     return 1;
 }
 
+int rad_vis_segment_blocked_by(const rad_vis *vis, rad_vec3 p, rad_vec3 q, const int *blockers,
+                               int n)
+{
+    rad_vec3 d = rad_vec3_sub(q, p);
+    double len = rad_vec3_norm(d);
+    if (!(len > 2.0 * vis->eps))
+        return 0;
+    double tn = vis->eps / len, tf = 1.0 - tn;
+    for (int k = 0; k < n; k++) { /* Moller-Trumbore, edges and corners included */
+        rad_vec3 v0 = vis_vertex(vis, (size_t)blockers[k], 0);
+        rad_vec3 e1 = rad_vec3_sub(vis_vertex(vis, (size_t)blockers[k], 1), v0);
+        rad_vec3 e2 = rad_vec3_sub(vis_vertex(vis, (size_t)blockers[k], 2), v0);
+        rad_vec3 pv = rad_vec3_cross(d, e2);
+        double det = rad_vec3_dot(e1, pv);
+        if (!(fabs(det) > 1e-12 * len * rad_vec3_norm(e1) * rad_vec3_norm(e2)))
+            continue; /* along its plane */
+        double inv = 1.0 / det;
+        rad_vec3 tv = rad_vec3_sub(p, v0);
+        double u = rad_vec3_dot(tv, pv) * inv;
+        if (!(u >= 0.0 && u <= 1.0))
+            continue;
+        rad_vec3 qv = rad_vec3_cross(tv, e1);
+        double v = rad_vec3_dot(d, qv) * inv, t = rad_vec3_dot(e2, qv) * inv;
+        if (v >= 0.0 && u + v <= 1.0 && t >= tn && t <= tf)
+            return 1;
+    }
+    return 0;
+}
+
 int rad_vis_segment_blocked(const rad_vis *vis, const double p[3], const double q[3],
                             int ignore0, int ignore1)
 {
