@@ -97,9 +97,9 @@ static const char help_head[] =
     "                   the default), p1 (linear) or p2 (quadratic), discontinuous\n"
     "                   and orthonormal; the table keeps the per-face averages\n"
     "  --threads N      OpenMP threads for the assembly (hier: for the link\n"
-    "                   estimates; mc: for the paths; default: all cores); but\n"
-    "                   for dense, each is bound to one CPU unless OMP_PROC_BIND\n"
-    "                   or OMP_PLACES says otherwise\n"
+    "                   estimates; mc: for the paths; default: all cores); as\n"
+    "                   many as the CPUs, each is bound to one (not for dense)\n"
+    "                   unless OMP_PROC_BIND or OMP_PLACES says otherwise\n"
     "  --vis-strata K   where a pair's visibility is too complex to clip exactly\n"
     "                   (too many possible blockers): K^2 points per triangle,\n"
     "                   K^4 rays (default 8)\n"
@@ -275,9 +275,9 @@ int cli_solve(int argc, char **argv)
         for (int w = 0; w < rad_scene_warning_count(scene); w++)
             fprintf(stderr, "radkit: warning: %s\n", rad_scene_warning(scene, w));
     /* hier, cluster and mc run many short parallel loops: bound threads keep
-       them from waiting on a thread the scheduler moved (rad_sys.h); dense
-       does not bind, because OpenBLAS would start its workers on the main
-       thread's one CPU */
+       them from waiting on a thread the scheduler moved (rad_sys.h: only a
+       pool that fills the CPUs); dense does not bind, because OpenBLAS would
+       start its workers on the main thread's one CPU */
     if (p.method != RAD_SOLVE_DENSE)
         rad_sys_bind_threads(p.threads);
     st = rad_solve_run(scene, &p, &sol);

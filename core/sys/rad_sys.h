@@ -33,8 +33,9 @@ double rad_sys_seconds(void);
 
 /* Bind each of the threads OpenMP runs a loop of `threads` (0: its default)
  * on to one of the CPUs this process may use, the calling thread to the
- * first, in turn (as OMP_PROC_BIND=true does); nothing when the environment
- * sets OMP_PROC_BIND or OMP_PLACES, or with one CPU or one thread.  Threads
+ * first, in turn (as OMP_PROC_BIND=true does), when they are as many as
+ * those CPUs (more than one); nothing when the environment sets
+ * OMP_PROC_BIND or OMP_PLACES, or when the threads are fewer or more.  Threads
  * the bound calling thread starts later inherit its one CPU: a program that
  * starts other pools after (OpenBLAS restarts its workers after a threaded
  * call) should not bind.  Returns how many threads were bound. */

@@ -8,7 +8,11 @@
  * 0.0276 s unbound and 0.0226 s bound (median of 15 runs; the quartiles
  * narrow from 0.025-0.031 to 0.022-0.026), the same as OMP_PROC_BIND=true
  * gives.  Binding only the workers and leaving the main thread free gains
- * little (0.0262 s).  What the environment says of binding (OMP_PROC_BIND,
+ * little (0.0262 s).  Only a pool that fills the CPUs the process may use
+ * is bound: with fewer threads, several runs may be sharing the machine
+ * (a study that starts one per core with --threads 1, or four with
+ * --threads 4 on sixteen cores), and each would bind its threads to the
+ * same first CPUs.  What the environment says of binding (OMP_PROC_BIND,
  * OMP_PLACES) is left to the OpenMP runtime. */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include "rad_sys.h"
@@ -29,8 +33,8 @@ int rad_sys_bind_threads(int threads)
         if (CPU_ISSET(c, &allowed))
             cpus[ncpu++] = c;
     int n = threads > 0 ? threads : omp_get_max_threads();
-    if (ncpu < 2 || n < 2)
-        return 0;
+    if (ncpu < 2 || n != ncpu)
+        return 0; /* fewer threads than CPUs: several runs may share the machine */
     int bound = 0;
 #pragma omp parallel num_threads(n) reduction(+ : bound)
     {
