@@ -74,21 +74,19 @@ row() { # method param table time
     "$(hdr $3 kernel_evals)" "$(hdr $3 links_partial)" "$(compare $3 error_worst)" \
     "$(hdr $3 error_estimate)" "$(hdr $3 error_estimate_l1)" >> "$dat"
 }
-for o in $ORACLES; do
-  if [ "$o" = bf ]; then list=$EPS_BF; else list=$EPS_ERROR; fi
+# sweep METHOD TAG "EPS..." ARGS...: a row of METHOD per eps, hier with ARGS
+sweep() {
+  m=$1; tag=$2; list=$3; shift 3
   for e in $list; do
-    t=data/hier_${o}_$e.tsv
-    echo "hierarchical: hier --oracle $o --eps $e" >&2
-    row "hier-$o" "$e" "$t" "$(solve "$t" --method hier --oracle "$o" --eps "$e")"
+    t=data/hier_${tag}_$e.tsv
+    echo "hierarchical: hier $* --eps $e" >&2
+    row "$m" "$e" "$t" "$(solve "$t" --method hier "$@" --eps "$e")"
   done
-done
-for basis in p1 p2; do
-  for e in $EPS_BASES; do
-    t=data/hier_error_${basis}_$e.tsv
-    echo "hierarchical: hier --basis $basis --eps $e" >&2
-    row "hier-error-$basis" "$e" "$t" "$(solve "$t" --method hier --basis "$basis" --eps "$e")"
-  done
-done
+}
+sweep hier-bf bf "$EPS_BF" --oracle bf
+sweep hier-error error "$EPS_ERROR" --oracle error
+sweep hier-error-p1 error_p1 "$EPS_BASES" --basis p1
+sweep hier-error-p2 error_p2 "$EPS_BASES" --basis p2
 for rule in auto gauss:2; do
   k=0
   name=dense-$(echo "$rule" | tr -d ':')
