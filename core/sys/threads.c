@@ -3,17 +3,14 @@
  * A hierarchical solve is a long run of short parallel loops (one per
  * refinement generation and per gather step), each ending at a barrier.
  * Left free, the scheduler moves the threads between CPUs and at times
- * puts two on one, and every such loop then waits for the late one: on the
- * 2-core machine of the benchmarks the Cornell box at hier p1 eps 0.82 takes
- * 0.0276 s unbound and 0.0226 s bound (median of 15 runs; the quartiles
- * narrow from 0.025-0.031 to 0.022-0.026), the same as OMP_PROC_BIND=true
- * gives.  Binding only the workers and leaving the main thread free gains
- * little (0.0262 s).  Only a pool that fills the CPUs the process may use
- * is bound: with fewer threads, several runs may be sharing the machine
- * (a study that starts one per core with --threads 1, or four with
- * --threads 4 on sixteen cores), and each would bind its threads to the
- * same first CPUs.  What the environment says of binding (OMP_PROC_BIND,
- * OMP_PLACES) is left to the OpenMP runtime. */
+ * puts two on one, and every such loop then waits for the late one.  The
+ * main thread is bound too: binding the workers alone leaves most of the
+ * waiting.  Only a pool that fills the CPUs the process may use is bound:
+ * with fewer threads, several runs may be sharing the machine (a study that
+ * starts one per core with --threads 1, or four with --threads 4 on sixteen
+ * cores), and each would bind its threads to the same first CPUs.  What the
+ * environment says of binding (OMP_PROC_BIND, OMP_PLACES) is left to the
+ * OpenMP runtime. */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include "rad_sys.h"
 
