@@ -901,7 +901,7 @@ TEST(hier_pair_table_equals_the_direct_tests)
     rad_vis *vis = NULL;
     CHECK(rad_vis_create(xyz, (size_t)rad_scene_vertex_count(s.scene), tri, n, &vp, &vis) ==
           RAD_OK);
-    rad_hier_pairs *t = vis ? rad_hier_pairs_create(vis, n) : NULL;
+    rad_hier_pairs *t = vis ? rad_hier_pairs_create(vis) : NULL;
     CHECK(t != NULL);
     if (!t) {
         rad_vis_destroy(vis);
@@ -916,8 +916,6 @@ TEST(hier_pair_table_equals_the_direct_tests)
             p[i][v] = rad_vec3_make(q[0], q[1], q[2]);
         }
         size[i] = rad_geom_triangle_longest_edge(p[i]);
-        rad_hier_pairs_set_triangle(t, i, p[i], rad_geom_triangle_centroid(p[i][0], p[i][1],
-                                                                            p[i][2]), size[i]);
     }
     /* half the entries handed the direct answer (as an initial link does),
        the others left to the table, from two threads in opposite orders */

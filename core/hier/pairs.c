@@ -13,56 +13,49 @@
 #include "hier_internal.h"
 
 #include <stdlib.h>
-#include <string.h>
 
 #include "rad_ff.h"
 
 enum { PAIR_KNOWN = 4 };
 
 struct rad_hier_pairs {
-    const rad_vis *vis;
+    const rad_vis *vis; /* over the input triangles: their corners */
     size_t n;
-    rad_vec3 (*p)[3]; /* the triangles' corners, */
-    rad_vec3 *c;      /* centroids */
-    double *size;     /* and longest edges */
     unsigned char *bits; /* n x n, 0 until known */
 };
 
-rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis, size_t n)
+rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis)
 {
     rad_hier_pairs *t = calloc(1, sizeof *t);
     if (!t)
         return NULL;
     t->vis = vis;
-    t->n = n;
-    t->bits = calloc(n ? n : 1, n ? n : 1);
-    t->p = calloc(n ? n : 1, sizeof *t->p);
-    t->c = calloc(n ? n : 1, sizeof *t->c);
-    t->size = calloc(n ? n : 1, sizeof *t->size);
-    if (!t->bits || !t->p || !t->c || !t->size) {
-        rad_hier_pairs_destroy(t);
+    t->n = rad_vis_triangle_count(vis);
+    if (!(t->bits = calloc(t->n ? t->n : 1, t->n ? t->n : 1))) {
+        free(t);
         return NULL;
     }
     return t;
 }
 
-void rad_hier_pairs_set_triangle(rad_hier_pairs *t, size_t i, const rad_vec3 p[3], rad_vec3 c,
-                                 double size)
-{
-    memcpy(t->p[i], p, sizeof t->p[i]);
-    t->c[i] = c;
-    t->size[i] = size;
-}
-
 void rad_hier_pairs_destroy(rad_hier_pairs *t)
 {
-    if (!t)
-        return;
-    free(t->bits);
-    free(t->p);
-    free(t->c);
-    free(t->size);
+    if (t)
+        free(t->bits);
     free(t);
+}
+
+/* rad_ff_triangles_touch of input triangles r and s (the centroid and the
+ * longest edge as the elements have them). */
+static int touch(const rad_vis *vis, int r, int s)
+{
+    rad_vec3 a[3], b[3];
+    rad_vis_triangle_corners(vis, (size_t)r, a);
+    rad_vis_triangle_corners(vis, (size_t)s, b);
+    return rad_ff_triangles_touch(a, rad_geom_triangle_centroid(a[0], a[1], a[2]),
+                                  rad_geom_triangle_longest_edge(a), b,
+                                  rad_geom_triangle_centroid(b[0], b[1], b[2]),
+                                  rad_geom_triangle_longest_edge(b));
 }
 
 unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
@@ -73,9 +66,8 @@ unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
         return v & (RAD_HIER_PAIR_CAN_BLOCK | RAD_HIER_PAIR_MAY_TOUCH);
     if (can_block < 0)
         can_block = rad_vis_pair_can_block(t->vis, (size_t)r, (size_t)s);
-    int touch = rad_ff_triangles_touch(t->p[r], t->c[r], t->size[r], t->p[s], t->c[s], t->size[s]);
     v = (unsigned char)((can_block ? RAD_HIER_PAIR_CAN_BLOCK : 0) |
-                        (touch ? RAD_HIER_PAIR_MAY_TOUCH : 0));
+                        (touch(t->vis, r, s) ? RAD_HIER_PAIR_MAY_TOUCH : 0));
     __atomic_store_n(&t->bits[i], (unsigned char)(v | PAIR_KNOWN), __ATOMIC_RELAXED);
     __atomic_store_n(&t->bits[(size_t)s * t->n + (size_t)r], (unsigned char)(v | PAIR_KNOWN),
                      __ATOMIC_RELAXED);

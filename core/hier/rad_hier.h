@@ -286,20 +286,16 @@ double rad_hier_row_ceiling(int sealed, double rho_max);
 double rad_hier_solve_tolerance(const rad_hier_params *p, double share, double rho_max, double R,
                                 double bmax);
 
-/* Per pair of input triangles (pairs.c): whether something can block it
- * (rad_vis_pair_can_block) and whether the two may touch
- * (rad_ff_triangles_touch), each entry made when first asked for, from the
- * copy of each triangle's corners, centroid and longest edge that
- * set_triangle gives it.  get: the entry's flags; can_block >= 0 gives the
- * shaft test's answer when the caller has walked the pair's shaft already
- * (its blockers: nonzero when any), -1 lets the table walk it.  known:
- * whether the entry is made.  Thread-safe.  Shared by rad_hier and
- * rad_hierp. */
+/* Per pair of the triangles of vis (the input triangles, pairs.c): whether
+ * something can block it (rad_vis_pair_can_block) and whether the two may
+ * touch (rad_ff_triangles_touch), each entry made when first asked for.
+ * get: the entry's flags; can_block >= 0 gives the shaft test's answer when
+ * the caller has walked the pair's shaft already (its blockers: nonzero when
+ * any), -1 lets the table walk it.  known: whether the entry is made.
+ * Thread-safe.  Shared by rad_hier and rad_hierp. */
 enum { RAD_HIER_PAIR_CAN_BLOCK = 1, RAD_HIER_PAIR_MAY_TOUCH = 2 };
 typedef struct rad_hier_pairs rad_hier_pairs;
-rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis, size_t n);
-void rad_hier_pairs_set_triangle(rad_hier_pairs *t, size_t i, const rad_vec3 p[3], rad_vec3 c,
-                                 double size);
+rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis);
 void rad_hier_pairs_destroy(rad_hier_pairs *t);
 unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block);
 int rad_hier_pairs_known(const rad_hier_pairs *t, int r, int s);

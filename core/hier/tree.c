@@ -289,13 +289,11 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         return RAD_OK;
     }
     if (h->use_vis && ntris <= HIER_BLOCK_TABLE_MAX) {
-        if (!(h->pairs = rad_hier_pairs_create(vis, ntris))) {
+        if (!(h->pairs = rad_hier_pairs_create(vis))) {
             st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the blocker table of %zu "
                                        "triangles", ntris);
             goto fail;
         }
-        for (size_t t = 0; t < ntris; t++)
-            rad_hier_pairs_set_triangle(h->pairs, t, h->el[t].p, h->el[t].c, h->el[t].size);
     }
     {
         hier_job *jobs = malloc(ntris * (ntris - 1 > 0 ? ntris - 1 : 1) / 2 * sizeof *jobs + 1);

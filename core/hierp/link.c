@@ -12,8 +12,8 @@
  * 2. The kernel at every node pair, k_ij V_ij; V_ij = 1 where x_i sees all of
  *    b or y_j all of a, 0 where either sees none of it, else whether the
  *    segment crosses one of the pair's blockers (the only triangles that
- *    can: rad_vis_segment_blocked_by, exact, no Embree); where the blockers
- *    were too many to list or clip, an Embree ray per node pair.
+ *    can: rad_vis_segment_blocked_by, exact, no Embree); an Embree ray per
+ *    node pair where the blockers are too many to list or clip.
  * 3. The couplings (phi = q / sqrt(A)):
  *      K_00 = G / sqrt(A_a A_b), G the two sides' estimates A_a sum w F and
  *      A_b sum w G weighted towards the smaller element (rad_hier's rule),

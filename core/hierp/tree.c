@@ -271,12 +271,10 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     double t0 = rad_sys_seconds(); /* the link phase: the blocker table and the initial links */
     if (h->use_vis && ntris <= 8192) {
         /* which pairs of input triangles something can block (pairs.c) */
-        if (!(h->pairs = rad_hier_pairs_create(vis, ntris))) {
+        if (!(h->pairs = rad_hier_pairs_create(vis))) {
             st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
             goto fail;
         }
-        for (size_t t = 0; t < ntris; t++)
-            rad_hier_pairs_set_triangle(h->pairs, t, h->el[t].p, h->el[t].c, h->el[t].size);
     }
     /* every pair of input triangles (those that face make links) */
     size_t npairs = ntris * (ntris - 1) / 2;

@@ -36,9 +36,9 @@ double rad_sys_seconds(void);
  * first, in turn (as OMP_PROC_BIND=true does), when they are as many as
  * those CPUs (more than one); nothing when the environment sets
  * OMP_PROC_BIND or OMP_PLACES, or when the threads are fewer or more.  Threads
- * the bound calling thread starts later inherit its one CPU: a program that
- * starts other pools after (OpenBLAS restarts its workers after a threaded
- * call) should not bind.  Returns how many threads were bound. */
+ * the bound calling thread starts later inherit its one CPU, so a program
+ * whose other thread pools start later (OpenBLAS's, at each threaded call)
+ * should not bind.  Returns the number of threads bound. */
 int rad_sys_bind_threads(int threads);
 
 /* Physical memory of the machine in bytes (0 if unknown).  The environment

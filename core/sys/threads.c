@@ -31,7 +31,7 @@ int rad_sys_bind_threads(int threads)
             cpus[ncpu++] = c;
     int n = threads > 0 ? threads : omp_get_max_threads();
     if (ncpu < 2 || n != ncpu)
-        return 0; /* fewer threads than CPUs: several runs may share the machine */
+        return 0; /* not one thread per CPU: several runs may share the machine */
     int bound = 0;
 #pragma omp parallel num_threads(n) reduction(+ : bound)
     {

@@ -107,6 +107,8 @@ void rad_vis_destroy(rad_vis *vis);
 double rad_vis_epsilon(const rad_vis *vis);
 double rad_vis_scale(const rad_vis *vis);
 size_t rad_vis_triangle_count(const rad_vis *vis);
+/* Triangle t's corners (t < rad_vis_triangle_count). */
+void rad_vis_triangle_corners(const rad_vis *vis, size_t t, rad_vec3 out[3]);
 
 /* Nonzero when no triangle can block any segment between two points of the
  * scene: every vertex lies on or in front of every triangle's plane (within the

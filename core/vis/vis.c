@@ -270,6 +270,11 @@ fail:
 double rad_vis_epsilon(const rad_vis *vis) { return vis ? vis->eps : 0.0; }
 double rad_vis_scale(const rad_vis *vis) { return vis ? vis->scale : 0.0; }
 size_t rad_vis_triangle_count(const rad_vis *vis) { return vis ? vis->ntris : 0; }
+void rad_vis_triangle_corners(const rad_vis *vis, size_t t, rad_vec3 out[3])
+{
+    for (int v = 0; v < 3; v++)
+        out[v] = vis_vertex(vis, t, v);
+}
 int rad_vis_is_unoccluded(const rad_vis *vis) { return vis ? vis->unoccluded : 0; }
 
 /* Ray setup of one segment: returns 0 when the segment is too short to test. */
