@@ -22,7 +22,7 @@ TSV="$ROOT/bench/cluster.tsv"
 [ "${REUSE:-0}" = 1 ] || RADKIT="$RADKIT" sh "$ROOT/experiments/clustering/run.sh" >/dev/null
 data="$ROOT/experiments/clustering/data"
 {
-  echo "# cluster bench: $("$RADKIT" --version), $(nproc) cores; from experiments/clustering"
+  echo "# cluster bench: $("$RADKIT" --version), $(sh "$ROOT/scripts/machine.sh"); from experiments/clustering"
   echo "# rooms of N boxes (scenes/gen/many_objects.py), eps 0.1: links (pairs), wall time, peak memory"
   grep -v '^#' "$data/scaling.dat"
   echo "# log-log slopes against input triangles (targets: links <= 1.15, time <= 1.3, from 3.6k to 36k triangles)"

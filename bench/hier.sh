@@ -23,7 +23,7 @@ TSV="$ROOT/bench/hier.tsv"
 [ "${REUSE:-0}" = 1 ] || RADKIT="$RADKIT" sh "$ROOT/experiments/hierarchical/run.sh" >/dev/null
 data="$ROOT/experiments/hierarchical/data"
 {
-  echo "# hier bench: $("$RADKIT" --version), Cornell box against the Monte Carlo reference, $(nproc) cores; from experiments/hierarchical"
+  echo "# hier bench: $("$RADKIT" --version), Cornell box against the Monte Carlo reference, $(sh "$ROOT/scripts/machine.sh"); from experiments/hierarchical"
   echo "# time_s: wall time (median of 5 runs) to reach the target L1 error, interpolated between the runs that bracket it"
   echo "# first_run_s, first_run_links: the fastest run that reaches it, and its links (pairs)"
   cat "$data/target.dat"

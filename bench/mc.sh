@@ -17,7 +17,7 @@ g++ -x c -std=c11 -O2 -fopenmp -D_POSIX_C_SOURCE=200809L $INC "$ROOT/bench/mc_be
    -o "$OUT/mc_bench"
 cd "$ROOT"
 {
-  echo "# radkit mc benchmark: $("$RADKIT" --version), $(nproc) cores"
+  echo "# radkit mc benchmark: $("$RADKIT" --version), $(sh "$ROOT/scripts/machine.sh")"
   for scene in scenes/cornell/cornell.obj scenes/furnace_room/room_27.obj; do
     OMP_PROC_BIND=false "$OUT/mc_bench" "$scene" "${MC_BENCH_RAYS:-4000000}" "${MC_BENCH_SAMPLES:-16384}"
   done

@@ -17,7 +17,7 @@ tmp=$(mktemp)
 case "$RADKIT" in /*) ;; *) RADKIT=$(pwd)/$RADKIT;; esac
 cd "$ROOT" # scenes are named relative to the repository
 {
-  echo "# radiosity bench: $("$RADKIT" --version), Cornell box, $(nproc) cores"
+  echo "# radiosity bench: $("$RADKIT" --version), Cornell box, $(sh "$ROOT/scripts/machine.sh")"
   echo "# pairs_per_s = unordered pairs / assembly seconds (rays included)"
   printf 'config\trefine\telements\tthreads\tpairs\tassemble_s\tpairs_per_s\trays\tMrays_per_s\tsolve_s\tsolve_GFLOP_per_s\ttotal_s\n'
 } > "$TSV"

@@ -35,7 +35,7 @@ hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
 fur=data/furnaces.dat
 {
   echo "# experiment = accuracy: furnaces, B = E / (1 - rho) on every face"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# max_err, mean_err: largest face error and area-weighted mean error over E / (1 - rho);"
   echo "# estimate: hier's error_estimate (worst face) on the same scale (- for dense)"
   printf 'scene\trho\tmethod\tmax_err\tmean_err\testimate\ttime_s\telements\n'
@@ -74,7 +74,7 @@ cor=data/cornell.dat
 compare() { (cd "$root" && "$RADKIT" compare "$cornell" "$here/$1" "$ref") | sed -n "s/^# $2 = //p"; }
 {
   echo "# experiment = accuracy: Cornell box against the Monte Carlo reference ($ref)"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# error_worst, error_l1: radkit compare (worst face and channel; area-weighted), over the"
   echo "# mean reflected radiosity; estimate, estimate_l1: the run's error_estimate and _l1"
   printf 'method\tparam\terror_worst\terror_l1\testimate\testimate_l1\ttime_s\telements\tlinks\n'

@@ -40,7 +40,7 @@ compare() {
 dat=data/errors.dat
 {
   echo "# experiment = accuracy_time: dense radiosity on the Cornell box"
-  echo "# generator = $version solve --solver lu; machine = $(nproc) cores"
+  echo "# generator = $version solve --solver lu; machine = $(sh "$root/scripts/machine.sh")"
   echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
   echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"
   echo "# reference_se_l1 = $(compare "../../$ref" reference_se_l1)"

@@ -40,7 +40,7 @@ version=$("$RADKIT" --version)
 dat=$here/data/cornell.dat
 {
   echo "# experiment = bases: dense p0, p1, p2 on $scene against $ref"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# error_l1, error_worst: radkit compare (over the mean reflected radiosity); time_s: time_total_s"
   printf "basis\trefine\telements\tunknowns\ttime_s\terror_l1\terror_worst\n"
 } > "$dat"
@@ -69,7 +69,7 @@ g++ -x c -std=c11 -O2 -fopenmp -D_POSIX_C_SOURCE=200809L $inc "$here/manufacture
 man=$here/data/manufactured.dat
 {
   echo "# experiment = bases: the manufactured case (experiments/bases/manufactured.c) on scenes/plates_parallel"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   "$libdir/manufactured" scenes/plates_parallel/plates.obj "${MAN_P0:-5}" "${MAN_P1:-4}" "${MAN_P2:-3}"
 } > "$man"
 # fitted order between the last two refinements of each basis
@@ -82,7 +82,7 @@ cat "$here/data/orders.dat"
 hier=$here/data/hier.dat
 {
   echo "# experiment = bases: hier --basis p0, p1, p2 on $scene against $ref, eps swept"
-  echo "# generator = $version; machine = $(nproc) cores; time_s: median time_total_s of $REPEAT runs"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh"); time_s: median time_total_s of $REPEAT runs"
   echo "# error_l1, error_worst: radkit compare; estimate: the run's error_estimate (worst face)"
   printf "basis\teps\telements\tlinks\ttime_s\terror_l1\terror_worst\testimate\n"
 } > "$hier"

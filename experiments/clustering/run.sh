@@ -58,7 +58,7 @@ if want scaling; then
 dat=data/scaling.dat
 {
   echo "# experiment = clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes"
   printf 'method\tboxes\tfaces\tlinks\tlinks_cluster\telements\ttime_s\tmemory_bytes\testimate\n'
 } > "$dat"
@@ -97,7 +97,7 @@ if want accuracy; then
 acc=data/accuracy.dat
 {
   echo "# experiment = clustering accuracy against the Monte Carlo references (experiments/reference)"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare; estimate: the run's error_estimate"
   printf 'scene\tmethod\teps\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\ttime_s\n'
 } > "$acc"
@@ -134,7 +134,7 @@ if want furnace; then
   fur=data/furnace.dat
   {
     echo "# experiment = clustering furnaces: rooms of boxes, every surface E = 1, rho = $FURNACE_RHO (exact B = 1 / (1 - rho))"
-    echo "# generator = $version; machine = $(nproc) cores"
+    echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
     printf 'boxes\tfaces\teps\tlinks\tlinks_cluster\ttime_s\tmemory_bytes\tmax_error\tmean_error\n'
   } > "$fur"
   mkdir -p "$tmp/furnace"

@@ -60,7 +60,7 @@ solve() {
 dat=data/runs.dat
 {
   echo "# experiment = hierarchical: hier (bf, error oracles) and dense on the Cornell box"
-  echo "# generator = $version; machine = $(nproc) cores"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
   echo "# reference = $ref ($(sed -n 's/^# command = //p' "$root/$ref"))"
   echo "# reference_se_l1 = $(compare "../../$ref" reference_se_l1)"
   echo "# error = error_l1 of radkit compare: area-weighted mean |B - B_ref| over the mean reflected radiosity; worst: the largest face and channel"

@@ -62,7 +62,7 @@ reference lamp_closed "$SAMPLES_LAMP" scenes/lamp/lamp_closed.obj
 dat=$here/data/${prefix}summary.dat
 {
   echo "# experiment = reference: Monte Carlo references (radkit solve --method mc)"
-  echo "# generator = $("$RADKIT" --version); machine = $(nproc) cores"
+  echo "# generator = $("$RADKIT" --version); machine = $(sh "$root/scripts/machine.sh")"
   echo "# se_rel_l1 = sum_f A_f sum_c se_fc / sum_f A_f sum_c (B_fc - E_fc): the area-weighted"
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
