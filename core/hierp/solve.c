@@ -426,14 +426,15 @@ void hp_pull_dev(rad_hierp *h)
         memset(x->dep1, 0, sizeof x->dep1);
         for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
             const hp_link *l = &h->ln[h->inc[i] >> 1];
-            double d[3], d1[3];
-            if (h->inc[i] & 1)
-                hp_link_errors(h, l, NULL, NULL, NULL, d, NULL, d1);
-            else
-                hp_link_errors(h, l, NULL, NULL, d, NULL, d1, NULL);
+            /* hp_link_errors' departure terms at this end only: x receives
+               from the other end */
+            int at_b = (int)(h->inc[i] & 1);
+            const hp_elem *s = &h->el[at_b ? l->a : l->b];
+            double f = at_b ? l->fb : l->fa, f1 = at_b ? l->fb1 : l->fa1;
             for (int c = 0; c < 3; c++) {
-                x->dep[c] += d[c];
-                x->dep1[c] += d1[c];
+                double rho = h->rho[(size_t)x->face + (size_t)c * h->nroots], w = weight(h, x, s, c);
+                x->dep[c] += rho * f * w;
+                x->dep1[c] += rho * f1 * w;
             }
         }
     }
