@@ -14,7 +14,7 @@ cc -std=c11 -O2 -fopenmp -D_POSIX_C_SOURCE=200809L $INC "$ROOT/bench/dense_bench
 SIZES=${DENSE_BENCH_SIZES:-1000 2000 4000}
 LARGE=${DENSE_BENCH_LARGE:-10000 20000}   # one run each: a 20000 solve takes minutes
 TSV="$ROOT/bench/dense.tsv"
-echo "# dense bench: LU solve (2/3 n^3 + 2 n^2 flops), best of 3 ($LARGE: one run), rad_dense_lu_solve vs LAPACKE_dgesv" > "$TSV"
+echo "# dense bench: LU solve (2/3 n^3 + 2 n^2 flops), best of 3 ($LARGE: one run), rad_dense_lu_solve vs LAPACKE_dgesv; $(sh "$ROOT/scripts/machine.sh")" > "$TSV"
 first=1
 for t in 1 2; do
   if [ $first = 1 ]; then

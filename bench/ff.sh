@@ -14,7 +14,7 @@ edge90|0 0 0 1 0 0 0.35 0.85 0|0 0 0 0.55 0 0.8 1 0 0'
 rules="vertex centroid gauss:2 gauss:5 gauss:10 gauss:20 analytic:5 analytic:10 analytic:20 ss:4 ss:8 ss:14 exact auto"
 
 {
-    echo "# radkit form-factor benchmark: $("$RADKIT" --version), $(uname -m)"
+    echo "# radkit form-factor benchmark: $("$RADKIT" --version), $(uname -m), $(sh "$here/../scripts/machine.sh")"
     echo "# one thread; each entry repeats the pair for about 0.3 s (radkit ff --repeat); auto at tol 1e-6"
     printf 'pair\trule\tused\tevals\tseconds_per_pair\tpairs_per_second\tns_per_eval\n'
     echo "$pairs" | while IFS='|' read -r name t1 t2; do

@@ -7,7 +7,7 @@ set -eu
 RADKIT=${1:-build/radkit}
 out=$(dirname "$0")/galerkin1d.tsv
 {
-  echo "# bench = galerkin1d; generator = $("$RADKIT" --version); machine = $(sh "$ROOT/scripts/machine.sh")"
+  echo "# bench = galerkin1d; generator = $("$RADKIT" --version); machine = $(sh "$(dirname "$0")/../scripts/machine.sh")"
   echo "# times are the best of 3 runs"
   printf 'basis\tassembly\tn\tthreads\tassemble_s\tsolve_s\tsolve_gflops\tentries_per_s\n'
 } > "$out"

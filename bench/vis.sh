@@ -12,5 +12,5 @@ INC=$(for d in "$ROOT"/core/*/; do printf ' -I%s' "$d"; done)
 cc -std=c11 -O2 -fopenmp -D_POSIX_C_SOURCE=200809L $INC "$ROOT/bench/vis_bench.c" \
    "$LIBDIR/libradkit.a" -lembree3 -lpng -llapacke -lopenblas -lm -o "$OUT/vis_bench"
 RAYS=${VIS_BENCH_RAYS:-2000000}
-OMP_PROC_BIND=false "$OUT/vis_bench" "$RAYS" > "$ROOT/bench/vis.tsv"
+{ echo "# machine: $(sh "$ROOT/scripts/machine.sh")"; OMP_PROC_BIND=false "$OUT/vis_bench" "$RAYS"; } > "$ROOT/bench/vis.tsv"
 cat "$ROOT/bench/vis.tsv"
