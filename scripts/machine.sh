@@ -1,8 +1,7 @@
 #!/bin/sh
 # scripts/machine.sh: one line naming the machine a benchmark ran on (cores,
-# processor model and family, clock): wall times of the same build differ by up
-# to a factor of two between machines of the same kind, so a table of times
-# says where it was measured.
+# processor model and family, clock): wall times depend on the processor as
+# much as on the build, so a table of times says where it was measured.
 cores=$(nproc)
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
 family=$(sed -n 's/^cpu family[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)

@@ -138,10 +138,10 @@ rad_status hp_estimate_error(rad_hierp *h);
 /* What a link brings its receivers per channel (W/m^2; any pointer may be
  * NULL): ea, eb the errors of the transport, which reach a receiver's mean
  * (the constants' integration error, the source's unresolved detail);
- * da, db the departure from the receiver's polynomial, pointwise only, da1,
- * db1 its mean over the receiver. */
+ * ma, mb the mean over the receiver of its departure from the receiver's
+ * polynomial (the pointwise departure is hp_pull_dev's, one end at a time). */
 void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double eb[3],
-                    double da[3], double db[3], double da1[3], double db1[3]);
+                    double ma[3], double mb[3]);
 
 /* The oracle's errors of a link on a and on b (the largest channel): the
  * receiver's departure and the constants' integration error at the largest

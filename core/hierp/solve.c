@@ -382,7 +382,7 @@ static link_channel channel(const rad_hierp *h, const hp_link *l, int c)
 }
 
 void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double eb[3],
-                    double da[3], double db[3], double da1[3], double db1[3])
+                    double ma[3], double mb[3])
 {
     const hp_elem *a = &h->el[l->a], *b = &h->el[l->b];
     for (int c = 0; c < 3; c++) {
@@ -391,14 +391,10 @@ void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double e
             ea[c] = x.ra * (l->dG / a->area * x.wb + l->ka * b->dev[c]);
         if (eb)
             eb[c] = x.rb * (l->dG / b->area * x.wa + l->kb * a->dev[c]);
-        if (da)
-            da[c] = x.ra * l->fa * x.wb;
-        if (db)
-            db[c] = x.rb * l->fb * x.wa;
-        if (da1)
-            da1[c] = x.ra * l->fa1 * x.wb;
-        if (db1)
-            db1[c] = x.rb * l->fb1 * x.wa;
+        if (ma)
+            ma[c] = x.ra * l->fa1 * x.wb;
+        if (mb)
+            mb[c] = x.rb * l->fb1 * x.wa;
     }
 }
 
@@ -426,8 +422,8 @@ void hp_pull_dev(rad_hierp *h)
         memset(x->dep1, 0, sizeof x->dep1);
         for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
             const hp_link *l = &h->ln[h->inc[i] >> 1];
-            /* hp_link_errors' departure terms at this end only: x receives
-               from the other end */
+            /* the departure terms at this end only (hp_link_errors gives
+               their means for both ends): x receives from the other end */
             int at_b = (int)(h->inc[i] & 1);
             const hp_elem *s = &h->el[at_b ? l->a : l->b];
             double f = at_b ? l->fb : l->fa, f1 = at_b ? l->fb1 : l->fa1;
@@ -509,13 +505,12 @@ rad_status hp_estimate_error(rad_hierp *h)
        receivers, so elsewhere only pointwise errors) move leaf by leaf:
        there they count in the local error too. */
     for (size_t k = 0; k < h->nln; k++) {
-        double ea[3], eb[3], da[3], db[3];
+        double ea[3], eb[3], ma[3], mb[3];
         const hp_link *l = &h->ln[k];
-        hp_link_errors(h, l, ea, eb, NULL, NULL, h->p.sealed ? da : NULL,
-                       h->p.sealed ? db : NULL);
+        hp_link_errors(h, l, ea, eb, h->p.sealed ? ma : NULL, h->p.sealed ? mb : NULL);
         for (int c = 0; c < 3; c++) {
-            h->el[l->a].q[c] += ea[c] + (h->p.sealed ? da[c] : 0.0);
-            h->el[l->b].q[c] += eb[c] + (h->p.sealed ? db[c] : 0.0);
+            h->el[l->a].q[c] += ea[c] + (h->p.sealed ? ma[c] : 0.0);
+            h->el[l->b].q[c] += eb[c] + (h->p.sealed ? mb[c] : 0.0);
         }
     }
     size_t n = h->nroots;
