@@ -12,10 +12,13 @@
  *    its row, the irradiance a uniform unit radiosity would bring (1
  *    everywhere, exactly, in a scene whose every point sees only front
  *    faces).  In such a sealed scene each leaf's irradiance is corrected to
- *    H + (u - row) H_0 / row_0 (u the unit function): a uniform radiosity
- *    then gathers exactly itself, so the hierarchy's approximations move
- *    light around without creating or losing any, which reflectance near 1
- *    would amplify.  Elsewhere a row whose mean exceeds the ceiling of
+ *    H + (u - row) s (u the unit function), s = H_0 / row_0 the mean
+ *    radiosity the row sees, at most the largest value of the sources its
+ *    links and its ancestors' gather from: a uniform radiosity then gathers
+ *    exactly itself, so the hierarchy's approximations move light around
+ *    without creating or losing any, which reflectance near 1 would amplify;
+ *    and a leaf that sees little (its row a small tail of a fit) cannot
+ *    extrapolate its sources' slopes into more than they hold.  Elsewhere a row whose mean exceeds the ceiling of
  *    rad_hier_row_ceiling (between 1 and 1 / rho_max) is scaled back to it,
  *    so that the step contracts; what that takes off a leaf is charged to
  *    its error (3).
@@ -58,7 +61,7 @@ rad_status hp_incidence(rad_hierp *h)
         h->inc_cap = 2 * nl;
     }
     if (ne > h->Bs_cap) {
-        double *Bs = realloc(h->Bs, ne * 3 * HP_M * sizeof *Bs);
+        double *Bs = realloc(h->Bs, ne * (3 * HP_M + 3) * sizeof *Bs);
         if (!Bs)
             return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", ne);
         h->Bs = Bs;
@@ -108,7 +111,7 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
 {
     hp_elem *x = &h->el[e];
     const size_t mm = (size_t)m * (size_t)m;
-    double H[3][HP_M] = {{0.0}};
+    double H[3][HP_M] = {{0.0}}, smax[3] = {0.0, 0.0, 0.0};
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const double *K = h->K + (h->inc[i] >> 1) * mm;
         const int is_b = (int)(h->inc[i] & 1);
@@ -120,13 +123,17 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
                 H[0][r] += K[is_b ? r : r * m] * u;
             continue;
         }
-        const double *b = h->Bs + (size_t)s * 3 * (size_t)m;
+        const double *b = h->Bs + (size_t)s * (3 * (size_t)m + 3);
+        for (int c = 0; c < 3; c++)
+            smax[c] = rad_dmax(smax[c], b[3 * m + c]);
         if (is_b)
             add_product(H, K, b, m, 1, m); /* K^T b_s */
         else
             add_product(H, K, b, m, m, 1); /* K b_s */
     }
     memcpy(x->H, H, sizeof H);
+    if (!unit)
+        memcpy(x->Smax, smax, sizeof smax);
 }
 
 /* Every element's H from its own links, in parallel over the elements, each
@@ -137,10 +144,13 @@ static void gather(rad_hierp *h, int unit)
     int m = h->m;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     if (!unit)
-        for (size_t e = 0; e < h->nel; e++)
-            for (int c = 0; c < 3; c++)
-                memcpy(h->Bs + (e * 3 + (size_t)c) * (size_t)m, h->el[e].B[c],
-                       (size_t)m * sizeof *h->Bs);
+        for (size_t e = 0; e < h->nel; e++) {
+            double *b = h->Bs + e * (3 * (size_t)m + 3);
+            for (int c = 0; c < 3; c++) {
+                memcpy(b + c * m, h->el[e].B[c], (size_t)m * sizeof *h->Bs);
+                b[3 * m + c] = hp_poly_bound(h, h->el[e].B[c], h->el[e].area);
+            }
+        }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
     for (long long e = 0; e < (long long)h->nel; e++) {
         switch (m) {
@@ -161,6 +171,9 @@ static inline void push_elem(const rad_hierp *h, hp_elem *x, int channels, const
     if (x->parent < 0)
         return;
     const hp_elem *p = &h->el[x->parent];
+    if (channels == 3)
+        for (int c = 0; c < 3; c++)
+            x->Smax[c] = rad_dmax(x->Smax[c], p->Smax[c]);
     for (int c = 0; c < channels; c++)
         for (int r = 0; r < m; r++) {
             double v = 0.0;
@@ -219,7 +232,11 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
         double t[HP_M];
         memcpy(t, x->H[c], sizeof t);
         if (h->p.sealed && r0 > 0.0) {
-            double s = t[0] / r0;
+            /* the mean radiosity the row sees, an average over its
+               sources: a small row (an element that sees little, its
+               irradiance the tail of a fit) cannot take it above their
+               largest value */
+            double s = rad_dmin(t[0] / r0, x->Smax[c]);
             for (int k = 0; k < m; k++)
                 t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
         } else if (r0 > h->row_ceiling * sa) {
