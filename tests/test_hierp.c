@@ -390,14 +390,14 @@ TEST(hierp_answer_independent_of_threads)
     rad_scene_destroy(scene);
 }
 
-/* In a sealed scene each leaf's irradiance is divided by its row; a leaf
- * that sees little (a row of a few % of its area, the tail of a linear fit
- * over a larger ancestor) once extrapolated its sources' slopes into more
- * light than they hold, and p1 on 27 boxes (gen/many_objects.py 27 2) at
- * eps 0.04 diverged ("a radiosity is not finite" after 1879 steps).  With
- * the defaults it must converge to rows that are finite, nonnegative and
- * conserve power: what the ceiling emits, every face absorbs, sum A (1 -
- * rho) (B - E) / rho over the faces, per channel. */
+/* In a sealed scene each leaf's irradiance is divided by its row.  On 27
+ * boxes (gen/many_objects.py 27 2) p1 at eps 0.04 makes leaves that see
+ * little (rows of a few % of their area, the tails of an ancestor's linear
+ * fit), whose division would extrapolate their sources' slopes into more
+ * light than the sources hold and feed it back.  With the defaults the
+ * solve must converge to rows that are finite, nonnegative and conserve
+ * power: what the ceiling emits, the faces absorb, sum A (1 - rho) (B - E)
+ * / rho over the faces, per channel. */
 TEST(hierp_sealed_leaves_that_see_little_conserve_power)
 {
     rad_scene *scene = harness_scene_load("scenes/many_objects/many_27_seed2.obj", NULL);

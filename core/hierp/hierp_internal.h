@@ -26,8 +26,8 @@ typedef struct hp_elem {
     double Bmax[3];          /* hp_poly_bound of B: set by hp_bound_B (refinement and
                                 error rounds, where B holds still) and by hp_split */
     double H[3][HP_M];       /* irradiance its own links gather (coefficients) */
-    double Smax[3];          /* a bound of the radiosity of the sources its links and its
-                                ancestors' gather from (solve.c: the sealed correction) */
+    double Smax[3];          /* sealed: a bound of the radiosity of the sources its links
+                                and its ancestors' gather from (solve.c's correction) */
     double dep[3], dep1[3];           /* the departure of the irradiance its links bring from
                                 its polynomial, times rho (pointwise, W/m^2); on a
                                 leaf, summed with its ancestors'; dep1 the same
@@ -91,8 +91,8 @@ struct rad_hierp {
     int *inc_src;
     size_t inc_nel, inc_cap;
     /* the gather's copy of every element's B, m coefficients per channel
-       side by side and then hp_poly_bound of each channel (3 m + 3 per
-       element), so that a link's source is one short read instead of
+       side by side and then, sealed, hp_poly_bound of each channel (3 m + 3
+       per element), so that a link's source is one short read instead of
        scattered rows of a large element */
     double *Bs;
     size_t Bs_cap;

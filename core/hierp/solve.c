@@ -124,8 +124,9 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
             continue;
         }
         const double *b = h->Bs + (size_t)s * (3 * (size_t)m + 3);
-        for (int c = 0; c < 3; c++)
-            smax[c] = rad_dmax(smax[c], b[3 * m + c]);
+        if (h->p.sealed)
+            for (int c = 0; c < 3; c++)
+                smax[c] = rad_dmax(smax[c], b[3 * m + c]);
         if (is_b)
             add_product(H, K, b, m, 1, m); /* K^T b_s */
         else
@@ -148,7 +149,8 @@ static void gather(rad_hierp *h, int unit)
             double *b = h->Bs + e * (3 * (size_t)m + 3);
             for (int c = 0; c < 3; c++) {
                 memcpy(b + c * m, h->el[e].B[c], (size_t)m * sizeof *h->Bs);
-                b[3 * m + c] = hp_poly_bound(h, h->el[e].B[c], h->el[e].area);
+                b[3 * m + c] =
+                    h->p.sealed ? hp_poly_bound(h, h->el[e].B[c], h->el[e].area) : 0.0;
             }
         }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
@@ -171,7 +173,7 @@ static inline void push_elem(const rad_hierp *h, hp_elem *x, int channels, const
     if (x->parent < 0)
         return;
     const hp_elem *p = &h->el[x->parent];
-    if (channels == 3)
+    if (channels == 3 && h->p.sealed)
         for (int c = 0; c < 3; c++)
             x->Smax[c] = rad_dmax(x->Smax[c], p->Smax[c]);
     for (int c = 0; c < channels; c++)
