@@ -209,6 +209,8 @@ typedef struct rad_hier_stats {
      * their elements face each other */
     size_t links_clear, links_visible, links_partial, links_blocked, links_unknown;
     size_t links_leaf;    /* live links joining two leaves */
+    size_t links_constant;/* hier p1/p2: live links reduced to the constants' coupling
+                             because a mode through them did not contract (hierp/solve.c) */
     size_t links_cluster; /* live links with a cluster of two or more triangles at one end
                              (counted in links too) */
     size_t clusters;      /* nodes of the cluster hierarchy (0 without clustering) */

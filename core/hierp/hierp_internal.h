@@ -43,6 +43,8 @@ typedef struct hp_elem {
     double q[3];             /* the errors its own links bring (W/m^2); on a leaf after
                                 the estimate, summed with its ancestors' */
     double T[3], Tg[3];      /* the transported error (mean value) and its gather */
+    double moved;            /* leaf: how far the last step moved its function (a bound,
+                                the largest over the channels) */
 } hp_elem;
 
 /* A link joins a and b both ways; its m x m couplings live in rad_hierp.K at
@@ -61,6 +63,8 @@ typedef struct hp_link {
     double kma, kmb;  /* the same, the largest over the receiver's nodes (the oracle) */
     unsigned char vis;     /* 0 clear, 1 blockers but open, 2 partly hidden, 3 hidden */
     unsigned char unknown; /* faces but every value 0: refine while possible */
+    unsigned char constant; /* its couplings beyond the constants' dropped, their bound added
+                               to dG (solve.c: a mode the step did not contract) */
 } hp_link;
 
 struct rad_hierp {

@@ -372,6 +372,7 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     out->kmb = kmb;
     out->vis = vis;
     out->unknown = !(G > 0.0) && vis != 3;
+    out->constant = 0;
     return RAD_OK;
 }
 

@@ -7,7 +7,8 @@
  *    the emission's coefficients (E sqrt(A) on the constant); pull: in
  *    reverse order a parent takes the projection of its children's
  *    functions, sum_c P[c]^T b_c (exact: the parent's functions restricted to
- *    a child lie in the child's space).
+ *    a child lie in the child's space).  A mode the step does not contract
+ *    has its loop's couplings beyond the constants' dropped (drop_unstable).
  * 2. Rows: the same gather and push with B = 1 everywhere gives each leaf
  *    its row, the irradiance a uniform unit radiosity would bring (1
  *    everywhere, exactly, in a scene whose every point sees only front
@@ -249,11 +250,16 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
             limit(h, t, m);
         size_t f = (size_t)x->face + (size_t)c * n;
         double rho = h->rho[f];
-        double old = x->B[c][0];
+        double old[HP_M];
+        memcpy(old, x->B[c], sizeof old);
         for (int k = 0; k < m; k++)
             x->B[c][k] = rho * t[k];
         x->B[c][0] += h->E[f] * sa;
-        double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
+        double moved = 0.0;
+        for (int k = 0; k < m; k++)
+            moved += fabs(x->B[c][k] - old[k]) * h->qmax[k];
+        x->moved = c == 0 ? moved / sa : rad_dmax(x->moved, moved / sa);
+        double d = fabs(x->B[c][0] - old[0]) / sa, v = fabs(x->B[c][0]) / sa;
         *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
         *vmax = rad_dmax(*vmax, v);
     }
@@ -339,11 +345,74 @@ static void step(rad_hierp *h, double *change, double *vmax)
     *vmax = vm;
 }
 
+/* Link k's couplings beyond the constants' dropped: what they could bring,
+ * sqrt(A_a A_b) sum over the dropped (r, t) of qmax_r qmax_t |K_rt| per unit
+ * of the source's bound, joins its integration error dG, which the estimate,
+ * the oracle and the choice of the element to split all charge. */
+static void drop_couplings(rad_hierp *h, size_t k)
+{
+    hp_link *l = &h->ln[k];
+    int m = h->m;
+    double *K = h->K + k * (size_t)(m * m), d = 0.0;
+    for (int r = 0; r < m; r++)
+        for (int t = 0; t < m; t++)
+            if (r > 0 || t > 0) {
+                d += h->qmax[r] * h->qmax[t] * fabs(K[r * m + t]);
+                K[r * m + t] = 0.0;
+            }
+    l->dG += sqrt(h->el[l->a].area * h->el[l->b].area) * d;
+    l->constant = 1;
+}
+
+/* A mode the step does not contract (the couplings' quadrature and the rows'
+ * normalization can lift one above 1 / rho where the transport's own
+ * eigenvalues come close to 1, as in a narrow gap at high reflectance):
+ * the leaves the last step moved most (a tenth of the largest move or more)
+ * mark themselves and their ancestors, and the links that join two marked
+ * elements, the loop the mode runs through, keep only their constants'
+ * coupling.  With constants only, a link is a nonnegative form factor, and
+ * rows so made contract as p0's do.  When no such link is left, the links
+ * with one marked end go, then every link.  The number dropped. */
+static size_t drop_unstable(rad_hierp *h)
+{
+    unsigned char *mark = calloc(h->nel, 1);
+    if (!mark)
+        return 0;
+    double top = 0.0;
+    for (size_t e = 0; e < h->nel; e++)
+        if (h->el[e].first_child < 0)
+            top = rad_dmax(top, h->el[e].moved);
+    for (size_t e = 0; e < h->nel; e++)
+        mark[e] = h->el[e].first_child < 0 && h->el[e].moved >= 0.1 * top;
+    for (size_t e = h->nel; e-- > 0;) /* a parent comes before its children */
+        if (mark[e] && h->el[e].parent >= 0)
+            mark[h->el[e].parent] = 1;
+    size_t dropped = 0;
+    for (int pass = 0; pass < 3 && dropped == 0; pass++)
+        for (size_t k = 0; k < h->nln; k++) {
+            const hp_link *l = &h->ln[k];
+            int ends = mark[l->a] + mark[l->b];
+            if (!l->constant && (pass == 2 || ends >= 2 - pass)) {
+                drop_couplings(h, k);
+                dropped++;
+            }
+        }
+    free(mark);
+    return dropped;
+}
+
 rad_status hp_solve_links(rad_hierp *h, double tol)
 {
     double t0 = rad_sys_seconds();
     rad_status st = RAD_OK;
-    for (int it = 0;; it++) {
+    /* a step contracts the error by q or better (3 below), so over w steps
+       the change falls by e^-2 or more: a change that has not fallen at all
+       over w steps belongs to a mode that does not contract */
+    double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    int w = q < 1.0 ? (int)rad_dmin(4000.0, rad_dmax(20.0, ceil(2.0 / (1.0 - q)))) : 4000;
+    double *past = h->m > 1 ? malloc((size_t)w * sizeof *past) : NULL;
+    int since = 0;
+    for (int it = 0;; it++, since++) {
         if (it >= h->p.max_iterations) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
                                          "(last change %.3g of the largest radiosity)",
@@ -361,7 +430,17 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
         h->last_vmax = vmax;
         if (change <= tol * vmax)
             break;
+        if (past) {
+            if (since >= w && change >= past[since % w] && change > 1e-10 * vmax &&
+                drop_unstable(h) > 0) {
+                hp_rows(h);
+                since = -1;
+                continue;
+            }
+            past[since % w] = change;
+        }
     }
+    free(past);
     h->st.residual = h->last_change;
     h->st.time_solve_s += rad_sys_seconds() - t0;
     return st;
