@@ -39,8 +39,9 @@ typedef struct hier_elem {
                                 residuals, which
                                 count only below the element (its own average is
                                 exact); on a leaf, after solve.c's push, the sums
-                                over the leaf and its ancestors */
-    double T[3], Tg[3];      /* the transported conservation error (solve.c) ... */
+                                over the leaf and its ancestors, and then q holds
+                                q + sqrt(d), the local error T carries */
+    double T[3], Tg[3];      /* the transported local error (solve.c) ... */
     rad_vec3 TGg[3];         /* ... gathered with its gradient, as B is */
 } hier_elem;
 

@@ -27,9 +27,10 @@
  *
  * The error bound (solve.c).  With R the area-weighted mean reflected
  * radiosity (B - E, channels averaged), per leaf and channel: the error of
- * the links' G carried through every bounce, T = (I - rho K_h)^-1 q (up to
- * 1 / (1 - rho) times the local error q), plus the sources' unresolved
- * variation and the linear fits' residuals, damped by 1 / (1 - rho_max / 2).
+ * the links' G and the sources' unresolved variation carried through every
+ * bounce, T = (I - rho K_h)^-1 (q + sqrt(d)) (up to 1 / (1 - rho) times the
+ * local error), plus the linear fits' residuals, damped by
+ * 1 / (1 - rho_max / 2).
  * Reported per input triangle (the area-weighted mean of its leaves': the
  * error of a row of the answer, bound_face_max) and per leaf.  eps is the
  * target for every input triangle's bound: bound_face_max <= eps R.

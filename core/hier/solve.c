@@ -35,13 +35,17 @@
  *    the links at it and at its ancestors, its dr those at its ancestors only
  *    (its own average is exact); a leaf whose cap scaled its irradiance down
  *    adds to q what the cap took off (the link terms bound the error of the
- *    uncapped sum).  T = q + rho K T is solved by the same
- *    gather / push-pull (to bound_tol), and a leaf's bound per channel is
- *    T + (sqrt(d) + dr) / (1 - rho_max / 2): the sources' variations add as
- *    independent errors, the residuals (which near a shared edge have one
- *    sign for all its links) in full.  Over an input triangle the residuals average out
- *    (each fit's residual has zero mean over its receiver), so its bound is
- *    the area-weighted mean of T + sqrt(d) / (1 - rho_max / 2).
+ *    uncapped sum).  The sources' variations add as independent errors, so
+ *    a leaf's local error is q + sqrt(d); T = q + sqrt(d) + rho K T carries
+ *    it through every bounce, solved by the same gather / push-pull (to
+ *    bound_tol), in a sealed scene too: there an error only moves light
+ *    between receivers, but where two surfaces face each other across a
+ *    narrow gap the light it moves into the gap crosses it again and again,
+ *    as the transport does.  A leaf's bound per channel is
+ *    T + dr / (1 - rho_max / 2), the residuals (which near a shared edge
+ *    have one sign for all its links) in full.  Over an input triangle the
+ *    residuals average out (each fit's residual has zero mean over its
+ *    receiver), so its bound is the area-weighted mean of T.
  * 3. Solve: steps until the test passes; rad_hier_solve alternates solves and
  *    refinement rounds (refine.c), then solves to tol and computes the bound.
  * Shared among processes with split_gather (exchange.c), a step gathers only
@@ -470,18 +474,16 @@ double hier_weight(const rad_hier *h, const hier_elem *r, const hier_elem *s, in
     return fabs(s->B[c] - (r->B[c] - h->E[f + c * n]) / rho);
 }
 
-/* T is the transported q, or q itself in a sealed scene, where it is
- * damped like the zero-mean terms. */
+/* T is the transported local error (q + sqrt(d)). */
 double hier_leaf_bound(const rad_hier *h, const hier_elem *x, int c)
 {
     double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
-    return (h->p.sealed ? damp : 1.0) * x->T[c] + (sqrt(x->d[c]) + x->dr[c]) * damp + h->iter_err;
+    return x->T[c] + x->dr[c] * damp + h->iter_err;
 }
 
 double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
 {
-    double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
-    return (h->p.sealed ? damp : 1.0) * x->T[c] + sqrt(x->d[c]) * damp + h->iter_err;
+    return x->T[c] + h->iter_err;
 }
 
 /* The iteration stopped at a step change delta (absolute): a step contracts
@@ -627,22 +629,21 @@ rad_status hier_error_estimate(rad_hier *h)
         for (int c = 0; c < 3; c++)
             x->q[c] += fabs(x->B[c] - h->E[(size_t)x->face + c * n]) * (1.0 / x->cap - 1.0);
     }
-    /* T = q + rho K T, whose solution lies above q: start from q on the
-       leaves, or from the last estimate's T where that is larger (a leaf
-       made since has its parent's); sealed, T is q itself */
+    /* a leaf's local error is q + sqrt(d); T = q + rho K T, whose solution
+       lies above q: start from q on the leaves, or from the last estimate's
+       T where that is larger (a leaf made since has its parent's) */
     for (size_t e = 0; e < h->nel; e++) {
         hier_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
-        for (int c = 0; c < 3; c++)
-            x->T[c] = h->p.sealed ? x->q[c] : rad_dmax(x->q[c], x->T[c]);
+        for (int c = 0; c < 3; c++) {
+            x->q[c] += sqrt(x->d[c]);
+            x->T[c] = rad_dmax(x->q[c], x->T[c]);
+        }
     }
     rad_status st = RAD_OK;
     int it;
-    /* In a sealed scene the rows are normalized: an error of F only moves
-       light between receivers, and q is not carried through the bounces
-       (hier_leaf_bound divides it like the other zero-mean terms). */
-    for (it = h->p.sealed ? h->p.max_iterations + 1 : 0; it < h->p.max_iterations; it++) {
+    for (it = 0; it < h->p.max_iterations; it++) {
         rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
         for (size_t e = 0; e < h->nel; e++)
             for (int c = 0; c < 3; c++) {

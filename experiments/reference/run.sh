@@ -13,6 +13,9 @@
 #   lamp      scenes/lamp/lamp.obj: a small lamp in a dark open room
 #   lamp_closed  scenes/lamp/lamp_closed.obj: a small emitting cube in a dark
 #             closed room
+#   many_27_rho99  scenes/many_objects/many_27_seed2.obj with every
+#             reflectance 0.99: boxes 3 to 8 cm from the ceiling or the floor,
+#             narrow gaps (about 12 minutes)
 #
 # Each table (data/<name>.tsv) starts with '# command = ...', the command that
 # made it; a seed makes it reproducible bit for bit on any thread count, so a
@@ -29,6 +32,7 @@ SCALE=${REFERENCE_SCALE:-1}
 SAMPLES_CORNELL=${SAMPLES_CORNELL:-52428800}
 SAMPLES_OCCLUDER=${SAMPLES_OCCLUDER:-4194304}
 SAMPLES_MANY=${SAMPLES_MANY:-262144}
+SAMPLES_GAPS=${SAMPLES_GAPS:-65536}
 SAMPLES_LAMP=${SAMPLES_LAMP:-4194304}
 cd "$root"
 mkdir -p "$here/data"
@@ -58,6 +62,7 @@ reference occluder "$SAMPLES_OCCLUDER" scenes/occluder/occluder.obj --rho 0.5
 reference many_64 "$SAMPLES_MANY" scenes/many_objects/many_64.obj
 reference lamp "$SAMPLES_LAMP" scenes/lamp/lamp.obj
 reference lamp_closed "$SAMPLES_LAMP" scenes/lamp/lamp_closed.obj
+reference many_27_rho99 "$SAMPLES_GAPS" scenes/many_objects/many_27_seed2.obj --rho 0.99
 
 dat=$here/data/${prefix}summary.dat
 {
@@ -67,7 +72,7 @@ dat=$here/data/${prefix}summary.dat
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
   printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
-  for name in cornell occluder many_64 lamp lamp_closed; do
+  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99; do
     f=$here/data/$prefix$name.tsv
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
       "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \
