@@ -627,8 +627,26 @@ rad_status hp_estimate_error(rad_hierp *h)
             x->q[c] += fabs(x->B[c][0] / sa - h->E[(size_t)x->face + (size_t)c * n]) *
                        (row / h->row_ceiling - 1.0);
     }
-    /* T = q + rho F T, by the constants' gather / push-pull */
+    /* T = q + rho F T, by the constants' gather / push-pull, each leaf's
+       F scaled under the row ceiling by its row in that same gather (the
+       sum of G / A over its links and its ancestors'): the polynomial row
+       of the solve also carries its ancestors' slopes into its mean, and
+       scaling by it let a transport whose constant rows exceed 1 / rho
+       grow (many_64 at rho 0.99) */
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    double *rowT = malloc(h->nel * sizeof *rowT);
+    if (!rowT)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        double r = 0.0;
+        for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++)
+            r += h->ln[h->inc[i] >> 1].G / h->el[e].area;
+        rowT[e] = r;
+    }
+    for (size_t e = 0; e < h->nel; e++) /* a parent comes before its children */
+        if (h->el[e].parent >= 0)
+            rowT[e] += rowT[h->el[e].parent];
     for (int it = 0;; it++) {
         if (it >= h->p.max_iterations) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
@@ -654,8 +672,7 @@ rad_status hp_estimate_error(rad_hierp *h)
                     x->Tg[c] += h->el[x->parent].Tg[c];
             if (x->first_child >= 0)
                 continue;
-            double sa = sqrt(x->area), row = x->row[0] / sa;
-            double s = row > h->row_ceiling ? h->row_ceiling / row : 1.0;
+            double s = rowT[e] > h->row_ceiling ? h->row_ceiling / rowT[e] : 1.0;
             for (int c = 0; c < 3; c++) {
                 double t = x->q[c] + h->rho[(size_t)x->face + (size_t)c * n] * s * x->Tg[c];
                 change = rad_dmax(change, fabs(t - x->T[c]));
@@ -681,6 +698,7 @@ rad_status hp_estimate_error(rad_hierp *h)
         if (change <= h->p.bound_tol * tmax)
             break;
     }
+    free(rowT);
     /* per leaf, per input triangle, over the scene */
     double R = hp_reflected(h);
     double *face = calloc(2 * n, sizeof *face);
