@@ -422,13 +422,13 @@ TEST(lamp_in_a_dark_closed_room_against_the_monte_carlo_reference)
 
 /* 27 boxes in a lit room (gen/many_objects.py 27 2) with every reflectance
  * 0.99: three boxes stand 3 to 8 cm from the ceiling or the floor, narrow
- * gaps whose transport has eigenvalues close to 1.  There p1's and p2's
- * couplings lifted a mode of the step above 1 / rho (hierp/solve.c now
- * drops such a loop's couplings beyond the constants'), and p0's estimate,
- * which in a sealed scene was not carried through the bounces, said the
- * target was met with the worst face 90% off.  With the defaults every
- * basis must converge and its estimates bound its errors against the
- * Monte Carlo reference. */
+ * gaps whose transport has eigenvalues close to 1.  p1's and p2's couplings
+ * can lift a mode of the step above 1 / rho there (hierp/solve.c drops such
+ * a loop's couplings beyond the constants'), and the light a local error
+ * moves into a gap crosses it again and again (every estimate carries its
+ * local errors through the transport).  With the defaults every basis must
+ * converge and its estimates bound its errors against the Monte Carlo
+ * reference. */
 TEST(hier_narrow_gaps_at_reflectance_0_99_converge_within_their_estimates)
 {
     check_bases_at("scenes/many_objects/many_27_seed2.obj",

@@ -419,8 +419,9 @@ static void check_power(const rad_scene *scene, const rad_solution *s, const cha
 /* In a sealed scene each leaf's irradiance is divided by its row.  On 27
  * boxes (gen/many_objects.py 27 2) p1 at eps 0.04 makes leaves that see
  * little (rows of a few % of their area, the tails of an ancestor's linear
- * fit), whose division would extrapolate their sources' slopes into more
- * light than the sources hold and feed it back.  With the defaults the
+ * fit), whose division extrapolates their sources' slopes into more light
+ * than the sources hold and feeds it back: a mode the step does not
+ * contract, whose loop's higher couplings solve.c drops.  With the defaults the
  * solve must converge to rows that are finite, nonnegative and conserve
  * power: what the ceiling emits, the faces absorb, sum A (1 - rho) (B - E)
  * / rho over the faces, per channel. */
@@ -443,15 +444,14 @@ TEST(hierp_sealed_leaves_that_see_little_conserve_power)
 }
 
 /* 64 boxes in a lit room with every reflectance 0.99, p1 with the defaults:
- * the error transport T = q + rho F T scales each leaf's F under the row
- * ceiling by its row in that same constants' gather.  Scaled by the solve's
- * polynomial row instead (which also carries the ancestors' slopes into a
- * leaf's mean) it let constant rows above 1 / rho grow, and the transport
- * did not converge in 100 000 steps.  The run must end, with a finite
+ * the error transport T = q + rho F T must contract, so each leaf's F is
+ * held under the row ceiling by its row in that same constants' gather;
+ * the solve's polynomial row, which also carries the ancestors' slopes into
+ * a leaf's mean, can lie below it.  The run must end, with a finite
  * estimate, faces finite and nonnegative, and the power the ceiling emits
  * absorbed by the faces, sum A (1 - rho) (B - E) / rho, to 1%: the sealed
  * normalization divides by the receivers' rows, so it conserves power only
- * as far as the rows are right (measured: 0.29% short, converged or not). */
+ * as far as the rows are right. */
 TEST(hierp_error_transport_converges_at_reflectance_0_99)
 {
     rad_scene_params sp;

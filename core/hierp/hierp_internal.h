@@ -26,8 +26,6 @@ typedef struct hp_elem {
     double Bmax[3];          /* hp_poly_bound of B: set by hp_bound_B (refinement and
                                 error rounds, where B holds still) and by hp_split */
     double H[3][HP_M];       /* irradiance its own links gather (coefficients) */
-    double Smax[3];          /* sealed: a bound of the radiosity of the sources its links
-                                and its ancestors' gather from (solve.c's correction) */
     double dep[3], dep1[3];           /* the departure of the irradiance its links bring from
                                 its polynomial, times rho (pointwise, W/m^2); on a
                                 leaf, summed with its ancestors'; dep1 the same
@@ -43,8 +41,6 @@ typedef struct hp_elem {
     double q[3];             /* the errors its own links bring (W/m^2); on a leaf after
                                 the estimate, summed with its ancestors' */
     double T[3], Tg[3];      /* the transported error (mean value) and its gather */
-    double moved;            /* leaf: how far the last step moved its function (a bound,
-                                the largest over the channels) */
 } hp_elem;
 
 /* A link joins a and b both ways; its m x m couplings live in rad_hierp.K at
@@ -95,9 +91,9 @@ struct rad_hierp {
     int *inc_src;
     size_t inc_nel, inc_cap;
     /* the gather's copy of every element's B, m coefficients per channel
-       side by side and then, sealed, hp_poly_bound of each channel (3 m + 3
-       per element), so that a link's source is one short read instead of
-       scattered rows of a large element */
+       side by side (3 m per element), so that a link's source is one short
+       read instead of scattered rows of a large element; after a step, the
+       B it started from (solve.c's drop_unstable reads how far it moved) */
     double *Bs;
     size_t Bs_cap;
     int inc_valid;

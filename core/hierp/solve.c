@@ -13,13 +13,10 @@
  *    its row, the irradiance a uniform unit radiosity would bring (1
  *    everywhere, exactly, in a scene whose every point sees only front
  *    faces).  In such a sealed scene each leaf's irradiance is corrected to
- *    H + (u - row) s (u the unit function), s = H_0 / row_0 the mean
- *    radiosity the row sees, at most the largest value of the sources its
- *    links and its ancestors' gather from: a uniform radiosity then gathers
- *    exactly itself, so the hierarchy's approximations move light around
- *    without creating or losing any, which reflectance near 1 would amplify;
- *    and a leaf that sees little (its row a small tail of a fit) cannot
- *    extrapolate its sources' slopes into more than they hold.  Elsewhere a row whose mean exceeds the ceiling of
+ *    H + (u - row) H_0 / row_0 (u the unit function): a uniform radiosity
+ *    then gathers exactly itself, so the hierarchy's approximations move
+ *    light around without creating or losing any, which reflectance near 1
+ *    would amplify.  Elsewhere a row whose mean exceeds the ceiling of
  *    rad_hier_row_ceiling (between 1 and 1 / rho_max) is scaled back to it,
  *    so that the step contracts; what that takes off a leaf is charged to
  *    its error (3).
@@ -62,7 +59,7 @@ rad_status hp_incidence(rad_hierp *h)
         h->inc_cap = 2 * nl;
     }
     if (ne > h->Bs_cap) {
-        double *Bs = realloc(h->Bs, ne * (3 * HP_M + 3) * sizeof *Bs);
+        double *Bs = realloc(h->Bs, ne * 3 * HP_M * sizeof *Bs);
         if (!Bs)
             return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", ne);
         h->Bs = Bs;
@@ -112,7 +109,7 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
 {
     hp_elem *x = &h->el[e];
     const size_t mm = (size_t)m * (size_t)m;
-    double H[3][HP_M] = {{0.0}}, smax[3] = {0.0, 0.0, 0.0};
+    double H[3][HP_M] = {{0.0}};
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const double *K = h->K + (h->inc[i] >> 1) * mm;
         const int is_b = (int)(h->inc[i] & 1);
@@ -124,18 +121,13 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
                 H[0][r] += K[is_b ? r : r * m] * u;
             continue;
         }
-        const double *b = h->Bs + (size_t)s * (3 * (size_t)m + 3);
-        if (h->p.sealed)
-            for (int c = 0; c < 3; c++)
-                smax[c] = rad_dmax(smax[c], b[3 * m + c]);
+        const double *b = h->Bs + (size_t)s * 3 * (size_t)m;
         if (is_b)
             add_product(H, K, b, m, 1, m); /* K^T b_s */
         else
             add_product(H, K, b, m, m, 1); /* K b_s */
     }
     memcpy(x->H, H, sizeof H);
-    if (!unit)
-        memcpy(x->Smax, smax, sizeof smax);
 }
 
 /* Every element's H from its own links, in parallel over the elements, each
@@ -146,14 +138,10 @@ static void gather(rad_hierp *h, int unit)
     int m = h->m;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     if (!unit)
-        for (size_t e = 0; e < h->nel; e++) {
-            double *b = h->Bs + e * (3 * (size_t)m + 3);
-            for (int c = 0; c < 3; c++) {
-                memcpy(b + c * m, h->el[e].B[c], (size_t)m * sizeof *h->Bs);
-                b[3 * m + c] =
-                    h->p.sealed ? hp_poly_bound(h, h->el[e].B[c], h->el[e].area) : 0.0;
-            }
-        }
+        for (size_t e = 0; e < h->nel; e++)
+            for (int c = 0; c < 3; c++)
+                memcpy(h->Bs + (e * 3 + (size_t)c) * (size_t)m, h->el[e].B[c],
+                       (size_t)m * sizeof *h->Bs);
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
     for (long long e = 0; e < (long long)h->nel; e++) {
         switch (m) {
@@ -174,9 +162,6 @@ static inline void push_elem(const rad_hierp *h, hp_elem *x, int channels, const
     if (x->parent < 0)
         return;
     const hp_elem *p = &h->el[x->parent];
-    if (channels == 3 && h->p.sealed)
-        for (int c = 0; c < 3; c++)
-            x->Smax[c] = rad_dmax(x->Smax[c], p->Smax[c]);
     for (int c = 0; c < channels; c++)
         for (int r = 0; r < m; r++) {
             double v = 0.0;
@@ -235,11 +220,7 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
         double t[HP_M];
         memcpy(t, x->H[c], sizeof t);
         if (h->p.sealed && r0 > 0.0) {
-            /* the mean radiosity the row sees, an average over its
-               sources: a small row (an element that sees little, its
-               irradiance the tail of a fit) cannot take it above their
-               largest value */
-            double s = rad_dmin(t[0] / r0, x->Smax[c]);
+            double s = t[0] / r0;
             for (int k = 0; k < m; k++)
                 t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
         } else if (r0 > h->row_ceiling * sa) {
@@ -250,16 +231,11 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
             limit(h, t, m);
         size_t f = (size_t)x->face + (size_t)c * n;
         double rho = h->rho[f];
-        double old[HP_M];
-        memcpy(old, x->B[c], sizeof old);
+        double old = x->B[c][0];
         for (int k = 0; k < m; k++)
             x->B[c][k] = rho * t[k];
         x->B[c][0] += h->E[f] * sa;
-        double moved = 0.0;
-        for (int k = 0; k < m; k++)
-            moved += fabs(x->B[c][k] - old[k]) * h->qmax[k];
-        x->moved = c == 0 ? moved / sa : rad_dmax(x->moved, moved / sa);
-        double d = fabs(x->B[c][0] - old[0]) / sa, v = fabs(x->B[c][0]) / sa;
+        double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
         *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
         *vmax = rad_dmax(*vmax, v);
     }
@@ -364,26 +340,48 @@ static void drop_couplings(rad_hierp *h, size_t k)
     l->constant = 1;
 }
 
+/* How far the last step moved leaf e's function: a bound over the element
+ * and the channels of its B against the step's copy of the one before (Bs). */
+static double moved(const rad_hierp *h, size_t e)
+{
+    const hp_elem *x = &h->el[e];
+    const double *old = h->Bs + e * 3 * (size_t)h->m;
+    double v = 0.0;
+    for (int c = 0; c < 3; c++) {
+        double d[HP_M];
+        for (int k = 0; k < h->m; k++)
+            d[k] = x->B[c][k] - old[c * h->m + k];
+        v = rad_dmax(v, hp_poly_bound(h, d, x->area));
+    }
+    return v;
+}
+
 /* A mode the step does not contract (the couplings' quadrature and the rows'
  * normalization can lift one above 1 / rho where the transport's own
- * eigenvalues come close to 1, as in a narrow gap at high reflectance):
- * the leaves the last step moved most (a tenth of the largest move or more)
- * mark themselves and their ancestors, and the links that join two marked
- * elements, the loop the mode runs through, keep only their constants'
- * coupling.  With constants only, a link is a nonnegative form factor, and
+ * eigenvalues come close to 1, as in a narrow gap at high reflectance, or
+ * where a leaf that sees little, its row the tail of an ancestor's fit,
+ * extrapolates its sources' slopes): the leaves the last step moved most
+ * (a tenth of the largest move or more) mark themselves and their
+ * ancestors, and the links that join two marked elements, the loop the
+ * mode runs through, keep only their constants' coupling.  With constants only, a link is a nonnegative form factor, and
  * rows so made contract as p0's do.  When no such link is left, the links
  * with one marked end go, then every link.  The number dropped. */
 static size_t drop_unstable(rad_hierp *h)
 {
     unsigned char *mark = calloc(h->nel, 1);
-    if (!mark)
+    double *move = malloc(h->nel * sizeof *move);
+    if (!mark || !move) {
+        free(mark);
+        free(move);
         return 0;
+    }
     double top = 0.0;
+    for (size_t e = 0; e < h->nel; e++) {
+        move[e] = h->el[e].first_child < 0 ? moved(h, e) : 0.0;
+        top = rad_dmax(top, move[e]);
+    }
     for (size_t e = 0; e < h->nel; e++)
-        if (h->el[e].first_child < 0)
-            top = rad_dmax(top, h->el[e].moved);
-    for (size_t e = 0; e < h->nel; e++)
-        mark[e] = h->el[e].first_child < 0 && h->el[e].moved >= 0.1 * top;
+        mark[e] = h->el[e].first_child < 0 && move[e] >= 0.1 * top;
     for (size_t e = h->nel; e-- > 0;) /* a parent comes before its children */
         if (mark[e] && h->el[e].parent >= 0)
             mark[h->el[e].parent] = 1;
@@ -398,6 +396,7 @@ static size_t drop_unstable(rad_hierp *h)
             }
         }
     free(mark);
+    free(move);
     return dropped;
 }
 
@@ -411,6 +410,8 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
     double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
     int w = q < 1.0 ? (int)rad_dmin(4000.0, rad_dmax(20.0, ceil(2.0 / (1.0 - q)))) : 4000;
     double *past = h->m > 1 ? malloc((size_t)w * sizeof *past) : NULL;
+    if (h->m > 1 && !past)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
     int since = 0;
     for (int it = 0;; it++, since++) {
         if (it >= h->p.max_iterations) {
@@ -629,10 +630,10 @@ rad_status hp_estimate_error(rad_hierp *h)
     }
     /* T = q + rho F T, by the constants' gather / push-pull, each leaf's
        F scaled under the row ceiling by its row in that same gather (the
-       sum of G / A over its links and its ancestors'): the polynomial row
-       of the solve also carries its ancestors' slopes into its mean, and
-       scaling by it let a transport whose constant rows exceed 1 / rho
-       grow (many_64 at rho 0.99) */
+       sum of G / A over its links and its ancestors'), not by the solve's
+       polynomial row, which also carries its ancestors' slopes into its
+       mean and can lie below the constant row: only the transport's own
+       rows held under the ceiling make it contract */
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     double *rowT = malloc(h->nel * sizeof *rowT);
     if (!rowT)
