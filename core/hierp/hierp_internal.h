@@ -76,6 +76,8 @@ struct rad_hierp {
     double E_max, rho_max;
     double row_ceiling; /* rad_hier_row_ceiling(sealed, rho_max) */
     double *face_scale;  /* per input triangle, the oracle's threshold scale (refine.c) */
+    double *face_reach;  /* per input triangle, the share of a departure of its radiosity
+                            from its polynomial that the oracle charges (refine.c) */
     hp_elem *el;
     size_t nel, capel;
     hp_link *ln;
@@ -147,8 +149,9 @@ void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double e
                     double ma[3], double mb[3]);
 
 /* The oracle's errors of a link on a and on b (the largest channel): the
- * receiver's departure and the constants' integration error at the largest
- * source value, and the source's detail below the link. */
+ * receiver's mean departure times its triangle's face_reach and the
+ * constants' integration error, at the largest source value, and the
+ * source's detail below the link. */
 void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob);
 
 /* refine.c */

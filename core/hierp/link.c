@@ -24,12 +24,14 @@
  *    unoccluded G from the singular rules (ss:5 where they share a vertex or
  *    an edge, the exact contour integral where one touches the other),
  *    times the visible fraction of the point values, as rad_hier's links.
- * 4. The errors (hp_link): dG, half the two sides' disagreement (where
- *    elements touch: ss:5 against ss:4 or the contour integral's own error,
- *    and no less than the node values' miss of the singular rule); f_a, the largest departure of F_i from its projection on
- *    a's functions; k_a, the largest over i of A_b times the mean over j of
- *    the kernel's departure from its projection on b's functions; and the
- *    same seen from b.
+ * 4. The errors (hp_link): dG, half the two sides' disagreement and no less
+ *    than a quarter of the smaller of A_a f_a and A_b f_b (where elements
+ *    touch: ss:5 against ss:4 or the contour integral's own error, and no
+ *    less than the node values' miss of the singular rule); f_a, the
+ *    largest departure of F_i from its projection on a's functions, and
+ *    f_a1 its mean; k_a, the mean over i of A_b times the mean over j of
+ *    the kernel's departure from its projection on b's functions (k_ma
+ *    the largest over i); and the same seen from b.
  * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
  * each job into its own slot: the result does not depend on the thread count. */
 #include "hierp_internal.h"
@@ -247,7 +249,13 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
     double Ga = ea->area * ma, Gb = eb->area * mb, Go = 0.5 * (ea->area * mao + eb->area * mbo);
     double ra2 = ea->area / eb->area, wb = ra2 * ra2 * ra2 * ra2;
     double G = isfinite(wb) ? (Ga + wb * Gb) / (1.0 + wb) : Ga;
-    double dG = 0.5 * fabs(Ga - Gb);
+    /* dG: the two sides' disagreement, and no less than a quarter of the
+       better side's departure from its projection (times its area): a
+       shadow or a peak that both sides' rules miss alike, as between two
+       congruent elements facing each other across a gap, shows there (as
+       rad_hier's floor on the residual of its linear fit) */
+    double fa1, fb1, fa = departure(h, Fa, &fa1), fb = departure(h, Fb, &fb1);
+    double dG = rad_dmax(0.5 * fabs(Ga - Gb), 0.25 * rad_dmin(fa * ea->area, fb * eb->area));
     unsigned char vis = 0;
     if (blocked) {
         int all_open = 1, all_hidden = 1;
@@ -333,7 +341,6 @@ static rad_status estimate(const rad_hierp *h, int ia, int ib, const link_pre *p
         K[k] = rad_dmax(-cap, rad_dmin(cap, K[k]));
     }
     /* the errors */
-    double fa1, fb1, fa = departure(h, Fa, &fa1), fb = departure(h, Fb, &fb1);
     double ka = 0.0, kb = 0.0, kma = 0.0, kmb = 0.0;
     for (int i = 0; i < n; i++) {
         double row[HP_MAX_NODES], col[HP_MAX_NODES], ra, rb;

@@ -2,9 +2,11 @@
  *
  * eps targets the error of each input triangle's mean radiosity relative to
  * the mean reflected radiosity R, as rad_hier's ERROR oracle: a link's
- * errors on its receivers (hp_link_errors), each times the receiver's share
- * of its input triangle's area, are compared with link_share x eps R x the
- * triangle's scale.  A link above is replaced by four, between the children
+ * errors on its receivers (hp_link_oracle: the errors of hp_link_errors that
+ * reach a receiver's mean, and the receiver's mean departure from its
+ * polynomial as far as it reaches means, face_reach), each times the
+ * receiver's share of its input triangle's area, are compared with
+ * link_share x eps R x the triangle's scale.  A link above is replaced by four, between the children
  * of one element and the other: the element whose split removes more of the
  * errors (a: its own departure as a receiver, f_a, and the detail it hides
  * as a source, k_b dev_a; b alike), the larger one when the integration
@@ -45,6 +47,33 @@ static int choose(const rad_hierp *h, const hp_link *l)
     return hp_can_split(h, first) ? first : hp_can_split(h, second) ? second : -1;
 }
 
+/* face_reach: in a sealed scene a receiver's mean departure is a local
+ * error of its own (solve.c: each leaf is divided by its row), 1.  Elsewhere
+ * the departure of a triangle's radiosity from its polynomial leaves every
+ * mean on it as it is and reaches the means of the elements it lights
+ * through the kernel's departure over it (hp_link_errors: k times the
+ * source's departure), so the oracle charges it at the largest k of the
+ * links the triangle is the source of, never more than the departure
+ * itself. */
+static void face_reach(rad_hierp *h)
+{
+    size_t n = h->nroots;
+    for (size_t f = 0; f < n; f++)
+        h->face_reach[f] = h->p.sealed ? 1.0 : 0.0;
+    if (h->p.sealed)
+        return;
+    for (size_t k = 0; k < h->nln; k++) {
+        const hp_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        size_t fa = (size_t)h->el[l->a].face, fb = (size_t)h->el[l->b].face;
+        h->face_reach[fb] = rad_dmax(h->face_reach[fb], l->ka); /* b lights a */
+        h->face_reach[fa] = rad_dmax(h->face_reach[fa], l->kb);
+    }
+    for (size_t f = 0; f < n; f++)
+        h->face_reach[f] = rad_dmin(1.0, h->face_reach[f]);
+}
+
 rad_status hp_refine(rad_hierp *h, long long *refined)
 {
     double t0 = rad_sys_seconds();
@@ -57,6 +86,7 @@ rad_status hp_refine(rad_hierp *h, long long *refined)
         return st;
     hp_bound_B(h);
     hp_pull_dev(h);
+    face_reach(h);
     double target = h->p.eps * hp_reflected(h) * h->p.link_share;
     h->st.links_bound = 0;
     size_t begin = 0, end = h->E_max > 0.0 ? h->nln : 0;

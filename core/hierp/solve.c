@@ -503,8 +503,9 @@ void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob
     *oa = *ob = 0.0;
     for (int c = 0; c < 3; c++) {
         link_channel x = channel(h, l, c);
-        *oa = rad_dmax(*oa, x.ra * ((l->fa + l->dG / a->area) * x.wb + l->kma * b->detail[c]));
-        *ob = rad_dmax(*ob, x.rb * ((l->fb + l->dG / b->area) * x.wa + l->kmb * a->detail[c]));
+        double da = h->face_reach[a->face] * l->fa1, db = h->face_reach[b->face] * l->fb1;
+        *oa = rad_dmax(*oa, x.ra * ((da + l->dG / a->area) * x.wb + l->kma * b->detail[c]));
+        *ob = rad_dmax(*ob, x.rb * ((db + l->dG / b->area) * x.wa + l->kmb * a->detail[c]));
     }
 }
 

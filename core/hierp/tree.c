@@ -197,14 +197,15 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
     h->E = malloc(3 * ntris * sizeof *h->E);
     h->normal = malloc(ntris * sizeof *h->normal);
     h->face_scale = malloc(ntris * sizeof *h->face_scale);
-    if (!h->rho || !h->E || !h->normal || !h->face_scale) {
+    h->face_reach = malloc(ntris * sizeof *h->face_reach);
+    if (!h->rho || !h->E || !h->normal || !h->face_scale || !h->face_reach) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
         goto fail;
     }
     memcpy(h->rho, rho, 3 * ntris * sizeof *rho);
     memcpy(h->E, E, 3 * ntris * sizeof *E);
     for (size_t t = 0; t < ntris; t++)
-        h->face_scale[t] = 1.0;
+        h->face_scale[t] = h->face_reach[t] = 1.0;
     push_matrices(h);
     /* the coupling rule: exact for two order-p functions against a kernel of
        degree 2 over each element, weights summing to 1 */
@@ -307,6 +308,7 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->E);
     free(h->normal);
     free(h->face_scale);
+    free(h->face_reach);
     rad_hier_pairs_destroy(h->pairs);
     rad_hier_memo_destroy(h->memo);
     free(h->el);
