@@ -5,6 +5,7 @@
 #ifndef HIERP_INTERNAL_H
 #define HIERP_INTERNAL_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "rad_basis.h"
@@ -23,6 +24,8 @@ typedef struct hp_elem {
     int face, depth;
     int child;               /* which of its parent's children (0..3) */
     double B[3][HP_M];       /* radiosity coefficients per channel */
+    double Em[3][HP_M];      /* the emission's: E sqrt(A) on the constant, or the
+                                emission field's projection (rad_hierp_set_emission) */
     double Bmax[3];          /* hp_poly_bound of B: set by hp_bound_B (refinement and
                                 error rounds, where B holds still) and by hp_split */
     double H[3][HP_M];       /* irradiance its own links gather (coefficients) */
@@ -76,6 +79,8 @@ struct rad_hierp {
     double E_max, rho_max;
     double row_ceiling; /* rad_hier_row_ceiling(sealed, rho_max) */
     double *face_scale;  /* per input triangle, the oracle's threshold scale (refine.c) */
+    double (*field)(int face, rad_vec3 x, int channel, void *ctx); /* or NULL */
+    void *field_ctx;
     double *face_reach;  /* per input triangle, the share of a departure of its radiosity
                             from its polynomial that the oracle charges (refine.c) */
     hp_elem *el;
@@ -153,6 +158,14 @@ void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double e
  * constants' integration error, at the largest source value, and the
  * source's detail below the link. */
 void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob);
+
+/* An element's mean emission in channel c. */
+static inline double hp_emitted(const rad_hierp *h, const hp_elem *x, int c)
+{
+    return h->field ? x->Em[c][0] / sqrt(x->area) : h->E[(size_t)x->face + (size_t)c * h->nroots];
+}
+/* Project the emission field onto element e's functions (Em). */
+rad_status hp_project_emission(rad_hierp *h, int e);
 
 /* refine.c */
 rad_status hp_refine(rad_hierp *h, long long *refined);

@@ -57,6 +57,15 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
                             const rad_hier_params *params, int order, rad_hierp **out);
 void rad_hierp_destroy(rad_hierp *h);
 
+/* An emission field in place of the per-triangle constants E (for a
+ * manufactured solution): field(face, x, channel, ctx) at a point x of
+ * input triangle face; projected on each element's functions as it is
+ * made (a rule of degree 2 order + 6).  Call before rad_hierp_solve.
+ * RAD_EINPUT when an element's mean is negative or not finite. */
+rad_status rad_hierp_set_emission(rad_hierp *h,
+                                  double (*field)(int face, rad_vec3 x, int channel, void *ctx),
+                                  void *ctx);
+
 /* Solve, refine where the oracle says, repeat until nothing is refined (or
  * max_rounds), then the last solve to tol and the error estimate.
  * RAD_ENUMERIC when a solve does not converge in max_iterations steps or a

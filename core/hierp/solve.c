@@ -234,7 +234,11 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
         double old = x->B[c][0];
         for (int k = 0; k < m; k++)
             x->B[c][k] = rho * t[k];
-        x->B[c][0] += h->E[f] * sa;
+        if (h->field)
+            for (int k = 0; k < m; k++)
+                x->B[c][k] += x->Em[c][k];
+        else
+            x->B[c][0] += h->E[f] * sa;
         double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
         *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
         *vmax = rad_dmax(*vmax, v);
@@ -460,7 +464,7 @@ static double weight(const rad_hierp *h, const hp_elem *r, const hp_elem *s, int
     size_t f = (size_t)r->face + (size_t)c * h->nroots;
     double rho = h->rho[f];
     if (h->p.sealed && rho > 0.0)
-        v[0] -= (r->B[c][0] / sqrt(r->area) - h->E[f]) / rho * sqrt(s->area);
+        v[0] -= (r->B[c][0] / sqrt(r->area) - hp_emitted(h, r, c)) / rho * sqrt(s->area);
     return hp_poly_bound(h, v, s->area);
 }
 
@@ -573,14 +577,13 @@ void hp_pull_dev(rad_hierp *h)
 double hp_reflected(const rad_hierp *h)
 {
     double num = 0.0, den = 0.0;
-    size_t n = h->nroots;
     for (size_t e = 0; e < h->nel; e++) {
         const hp_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
         double sa = sqrt(x->area);
         for (int c = 0; c < 3; c++)
-            num += x->area * (x->B[c][0] / sa - h->E[(size_t)x->face + (size_t)c * n]);
+            num += x->area * (x->B[c][0] / sa - hp_emitted(h, x, c));
         den += 3.0 * x->area;
     }
     double R = den > 0.0 ? num / den : 0.0;
@@ -626,7 +629,7 @@ rad_status hp_estimate_error(rad_hierp *h)
         if (x->first_child >= 0 || h->p.sealed || !(row > h->row_ceiling))
             continue;
         for (int c = 0; c < 3; c++)
-            x->q[c] += fabs(x->B[c][0] / sa - h->E[(size_t)x->face + (size_t)c * n]) *
+            x->q[c] += fabs(x->B[c][0] / sa - hp_emitted(h, x, c)) *
                        (row / h->row_ceiling - 1.0);
     }
     /* T = q + rho F T, by the constants' gather / push-pull, each leaf's

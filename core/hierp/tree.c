@@ -142,12 +142,72 @@ rad_status hp_split(rad_hierp *h, int e)
                     v += h->P[c][l][k] * x->B[ch][k];
                 y->B[ch][l] = v;
             }
-        for (int ch = 0; ch < 3; ch++)
+        for (int ch = 0; ch < 3; ch++) {
             y->Bmax[ch] = hp_poly_bound(h, y->B[ch], y->area);
+            y->Em[ch][0] = h->E[(size_t)y->face + (size_t)ch * h->nroots] * sqrt(y->area);
+        }
+        if (h->field && (st = hp_project_emission(h, first + c)) != RAD_OK)
+            return st;
     }
     x->first_child = first;
     if (h->el[first].depth > h->st.max_depth)
         h->st.max_depth = h->el[first].depth;
+    return RAD_OK;
+}
+
+/* The field at a point of one input triangle, in one channel, as
+ * rad_basis_project takes it. */
+typedef struct field_at {
+    const rad_hierp *h;
+    int face, channel;
+} field_at;
+
+static double field_value(rad_vec3 x, void *ctx)
+{
+    const field_at *f = ctx;
+    return f->h->field(f->face, x, f->channel, f->h->field_ctx);
+}
+
+rad_status hp_project_emission(rad_hierp *h, int e)
+{
+    hp_elem *x = &h->el[e];
+    for (int c = 0; c < 3; c++) {
+        field_at at = {h, x->face, c};
+        double coef[RAD_BASIS_MAX_SIZE];
+        rad_status st = rad_basis_project(h->order, x->p, field_value, &at, 2 * h->order + 6, coef);
+        if (st != RAD_OK)
+            return st;
+        double mean = coef[0] / sqrt(x->area);
+        if (!(mean >= 0.0) || !isfinite(mean))
+            return RAD_ERROR(RAD_EINPUT, "hier: the emission field's mean on an element of "
+                                         "triangle %d is %g (channel %d): it must be finite "
+                                         "and >= 0", x->face, mean, c);
+        memset(x->Em[c], 0, sizeof x->Em[c]);
+        memcpy(x->Em[c], coef, (size_t)h->m * sizeof *coef);
+    }
+    return RAD_OK;
+}
+
+rad_status rad_hierp_set_emission(rad_hierp *h,
+                                  double (*field)(int face, rad_vec3 x, int channel, void *ctx),
+                                  void *ctx)
+{
+    if (!h || !field)
+        return RAD_ERROR(RAD_EINVAL, "hier: no handle or no emission field");
+    h->field = field;
+    h->field_ctx = ctx;
+    h->E_max = 0.0;
+    for (size_t e = 0; e < h->nel; e++) {
+        rad_status st = hp_project_emission(h, (int)e);
+        if (st != RAD_OK)
+            return st;
+        hp_elem *x = &h->el[e];
+        for (int c = 0; c < 3; c++) {
+            h->E_max = fmax(h->E_max, hp_emitted(h, x, c));
+            if (x->first_child < 0)
+                memcpy(x->B[c], x->Em[c], sizeof x->B[c]);
+        }
+    }
     return RAD_OK;
 }
 
@@ -257,7 +317,7 @@ rad_status rad_hierp_create(const double *xyz, size_t nverts, const int *tri, si
                                            "and emission be finite and >= 0 (channel %d)", t, c);
                 goto fail;
             }
-            e->B[c][0] = em * sqrt(e->area);
+            e->B[c][0] = e->Em[c][0] = em * sqrt(e->area);
             h->E_max = fmax(h->E_max, em);
             h->rho_max = fmax(h->rho_max, r);
         }

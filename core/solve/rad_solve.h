@@ -57,8 +57,8 @@ typedef struct rad_solve_params {
     int refine;                    /* split every triangle 1 -> 4 this many times (0..12) */
     int basis;                     /* polynomial order per element (rad_basis.h): 0 (default,
                                       constants), 1 or 2; dense only for now */
-    /* An emission field instead of the materials' constants (dense only; NULL
-     * by default): the emitted exitance of channel c at point x of input
+    /* An emission field instead of the materials' constants (dense, and hier
+     * with basis 1 or 2; NULL by default): the emitted exitance of channel c at point x of input
      * face f, projected on each element's basis (a symmetric rule of degree
      * 2 basis + 6).  For manufactured solutions and studies of smooth light. */
     double (*emission)(int face, rad_vec3 x, int channel, void *ctx);

@@ -142,8 +142,9 @@ static rad_status apply_plan(rad_solution *s)
         return RAD_ERROR(RAD_EINVAL, "solve: --basis p%d applies to --method dense and hier (the "
                                      "Monte Carlo method estimates per-face means)",
                          u->basis);
-    if (u->emission && u->method != RAD_SOLVE_DENSE)
-        return RAD_ERROR(RAD_EINVAL, "solve: an emission field applies to the dense method only");
+    if (u->emission && u->method != RAD_SOLVE_DENSE && !(u->method == RAD_SOLVE_HIER && u->basis > 0))
+        return RAD_ERROR(RAD_EINVAL, "solve: an emission field applies to the dense method and "
+                                     "to hier with p1 or p2 elements only");
     if (u->basis < 0 || u->basis > RAD_BASIS_MAX_ORDER)
         return RAD_ERROR(RAD_EINVAL, "solve: basis order %d is not 0, 1 or 2", u->basis);
     if (u->method == RAD_SOLVE_CLUSTER && u->basis != 0)
@@ -667,6 +668,19 @@ static void hier_figures(rad_solution *s)
     s->systems = 3;
 }
 
+/* The emission field at a point of one of the solver's triangles: the
+ * field of the input face it was cut from. */
+typedef struct hierp_field {
+    const rad_solve_params *u;
+    const int *parent;
+} hierp_field;
+
+static double hierp_field_value(int face, rad_vec3 x, int channel, void *ctx)
+{
+    const hierp_field *f = ctx;
+    return f->u->emission(f->parent ? f->parent[face] : face, x, channel, f->u->emission_ctx);
+}
+
 /* hier with polynomial elements (rad_hierp): the leaves' coefficients are
  * the solution's elements, shown as dense's are. */
 static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
@@ -675,8 +689,11 @@ static rad_status run_hierp(rad_solution *s, prepared *pr, const rad_vis *vis)
     rad_hierp *h = NULL;
     int *material = NULL;
     double *leaf = NULL, *E = NULL;
+    hierp_field field = {u, pr->parent};
     rad_status st = rad_hierp_create(pr->xyz, pr->nv, pr->tri, pr->nt, pr->prho, pr->pE, vis,
                                      &u->hier, u->basis, &h);
+    if (st == RAD_OK && u->emission)
+        st = rad_hierp_set_emission(h, hierp_field_value, &field);
     if (st == RAD_OK)
         st = rad_hierp_solve(h);
     if (st != RAD_OK)

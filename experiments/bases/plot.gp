@@ -52,4 +52,16 @@ set xlabel 'elements'
 set ylabel 'L2 error'
 plot 'data/manufactured.dat' using (strcol(1) eq 'p0' ? $3 : 1/0):5 with linespoints lw 2 title 'p0 (theory: order 1)', \
      '' using (strcol(1) eq 'p1' ? $3 : 1/0):5 with linespoints lw 2 title 'p1 (order 2)', \
-     '' using (strcol(1) eq 'p2' ? $3 : 1/0):5 with linespoints lw 2 title 'p2 (order 3)'
+     '' using (strcol(1) eq 'p2' ? $3 : 1/0):5 with linespoints lw 2 title 'p2 (order 3)', \
+     'data/manufactured_hier.dat' using (strcol(1) eq 'p1' ? $3 : 1/0):5 with points pt 6 ps 1.5 title 'hier p1 (eps swept)', \
+     '' using (strcol(1) eq 'p2' ? $3 : 1/0):5 with points pt 8 ps 1.5 title 'hier p2 (eps swept)'
+
+set output 'figures/manufactured_time.png'
+set title 'Manufactured solution (parallel plates): L2 error against time'
+set xlabel 'time (s, 2 cores)'
+set ylabel 'L2 error'
+plot 'data/manufactured.dat' using (strcol(1) eq 'p0' ? $6 : 1/0):5 with linespoints lw 2 title 'dense p0', \
+     '' using (strcol(1) eq 'p1' ? $6 : 1/0):5 with linespoints lw 2 title 'dense p1', \
+     '' using (strcol(1) eq 'p2' ? $6 : 1/0):5 with linespoints lw 2 title 'dense p2', \
+     'data/manufactured_hier.dat' using (strcol(1) eq 'p1' ? $6 : 1/0):5 with points pt 6 ps 1.5 title 'hier p1 (eps swept)', \
+     '' using (strcol(1) eq 'p2' ? $6 : 1/0):5 with points pt 8 ps 1.5 title 'hier p2 (eps swept)'
