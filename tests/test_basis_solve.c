@@ -165,13 +165,20 @@ TEST(basis_options_checked)
  * integrated independently of radkit): the Galerkin solution of order p
  * converges to B* like h^(p+1) in L2. */
 
+/* The manufactured case's rule and scene (NULL, a check failed, when
+ * either cannot be made). */
+static rad_scene *manufactured_load(manufactured_rule *m)
+{
+    CHECK(manufactured_rule_init(m));
+    rad_scene_params sp;
+    manufactured_scene_params(&sp);
+    return harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
+}
+
 TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
 {
     manufactured_rule m;
-    CHECK(manufactured_rule_init(&m));
-    rad_scene_params sp;
-    manufactured_scene_params(&sp);
-    rad_scene *scene = harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
+    rad_scene *scene = manufactured_load(&m);
     if (!scene)
         return;
     for (int order = 0; order <= 2; order++) {
@@ -205,10 +212,7 @@ TEST(basis_manufactured_solution_converges_at_the_theoretical_order)
 TEST(hierp_manufactured_emission_field)
 {
     manufactured_rule m;
-    CHECK(manufactured_rule_init(&m));
-    rad_scene_params sp;
-    manufactured_scene_params(&sp);
-    rad_scene *scene = harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
+    rad_scene *scene = manufactured_load(&m);
     if (!scene)
         return;
     for (int order = 1; order <= 2; order++) {
@@ -269,10 +273,7 @@ TEST(hierp_manufactured_emission_field)
 TEST(emission_field_refused_where_the_method_takes_none)
 {
     manufactured_rule m;
-    CHECK(manufactured_rule_init(&m));
-    rad_scene_params sp;
-    manufactured_scene_params(&sp);
-    rad_scene *scene = harness_scene_load("scenes/plates_parallel/plates.obj", &sp);
+    rad_scene *scene = manufactured_load(&m);
     if (!scene)
         return;
     const rad_solve_method methods[3] = {RAD_SOLVE_HIER, RAD_SOLVE_MC, RAD_SOLVE_CLUSTER};

@@ -19,48 +19,44 @@
 
 #include "manufactured_case.h"
 
-static int hier_sweep(const char *path, int neps, char **eps)
+/* One run: dense at refinement `refine`, or hier at eps `eps` (not NULL);
+ * its row printed.  0, or 1 when the solve fails. */
+static int run(const rad_scene *scene, manufactured_rule *m, int order, int refine,
+               const char *eps)
 {
-    manufactured_rule m;
-    if (!manufactured_rule_init(&m))
-        return 1;
-    rad_scene_params sp;
-    manufactured_scene_params(&sp);
-    rad_scene *scene = NULL;
-    if (rad_scene_load(path, &sp, &scene) != RAD_OK) {
-        fprintf(stderr, "manufactured: %s\n", rad_error_message());
-        return 2;
+    rad_solve_params p;
+    manufactured_solve_params(&p, order, eps ? 0 : refine, m);
+    if (eps) {
+        p.method = RAD_SOLVE_HIER;
+        p.hier.eps = atof(eps);
     }
-    printf("basis\teps\telements\tunknowns\tl2_error\ttime_s\n");
-    for (int order = 1; order <= 2; order++)
-        for (int i = 0; i < neps; i++) {
-            rad_solve_params p;
-            manufactured_solve_params(&p, order, 0, &m);
-            p.method = RAD_SOLVE_HIER;
-            p.hier.eps = atof(eps[i]);
-            rad_solution *s = NULL;
-            if (rad_solve_run(scene, &p, &s) != RAD_OK) {
-                fprintf(stderr, "manufactured: hier p%d eps %s: %s\n", order, eps[i],
-                        rad_error_message());
-                rad_scene_destroy(scene);
-                return 1;
-            }
-            printf("p%d\t%s\t%zu\t%zu\t%.6e\t%.4f\n", order, eps[i], s->elements,
-                   s->elements * (size_t)rad_basis_size(order), manufactured_l2_error(s),
-                   s->total_seconds);
-            fflush(stdout);
-            rad_solution_destroy(s);
-        }
-    rad_scene_destroy(scene);
+    rad_solution *s = NULL;
+    if (rad_solve_run(scene, &p, &s) != RAD_OK) {
+        if (eps)
+            fprintf(stderr, "manufactured: p%d eps %s: %s\n", order, eps, rad_error_message());
+        else
+            fprintf(stderr, "manufactured: p%d refine %d: %s\n", order, refine,
+                    rad_error_message());
+        return 1;
+    }
+    if (eps)
+        printf("p%d\t%s", order, eps);
+    else
+        printf("p%d\t%d", order, refine);
+    printf("\t%zu\t%zu\t%.6e\t%.4f\n", s->elements,
+           s->elements * (size_t)rad_basis_size(order), manufactured_l2_error(s),
+           s->total_seconds);
+    fflush(stdout);
+    rad_solution_destroy(s);
     return 0;
 }
 
 int main(int argc, char **argv)
 {
-    if (argc >= 4 && strcmp(argv[1], "--hier") == 0)
-        return hier_sweep(argv[2], argc - 3, argv + 3);
-    if (argc != 5) {
-        fprintf(stderr, "usage: manufactured SCENE MAX_REFINE_P0 MAX_REFINE_P1 MAX_REFINE_P2\n");
+    int hier = argc >= 4 && strcmp(argv[1], "--hier") == 0;
+    if (!hier && argc != 5) {
+        fprintf(stderr, "usage: manufactured SCENE MAX_REFINE_P0 MAX_REFINE_P1 MAX_REFINE_P2\n"
+                        "       manufactured --hier SCENE EPS...\n");
         return 2;
     }
     manufactured_rule m;
@@ -69,29 +65,17 @@ int main(int argc, char **argv)
     rad_scene_params sp;
     manufactured_scene_params(&sp);
     rad_scene *scene = NULL;
-    if (rad_scene_load(argv[1], &sp, &scene) != RAD_OK) {
+    if (rad_scene_load(argv[1 + hier], &sp, &scene) != RAD_OK) {
         fprintf(stderr, "manufactured: %s\n", rad_error_message());
         return 2;
     }
-    printf("basis\trefine\telements\tunknowns\tl2_error\ttime_s\n");
-    for (int order = 0; order <= 2; order++) {
-        int max_refine = atoi(argv[2 + order]);
-        for (int r = 0; r <= max_refine; r++) {
-            rad_solve_params p;
-            manufactured_solve_params(&p, order, r, &m);
-            rad_solution *s = NULL;
-            if (rad_solve_run(scene, &p, &s) != RAD_OK) {
-                fprintf(stderr, "manufactured: p%d refine %d: %s\n", order, r, rad_error_message());
-                rad_scene_destroy(scene);
-                return 1;
-            }
-            printf("p%d\t%d\t%zu\t%zu\t%.6e\t%.4f\n", order, r, s->elements,
-                   s->elements * (size_t)rad_basis_size(order), manufactured_l2_error(s),
-                   s->total_seconds);
-            fflush(stdout);
-            rad_solution_destroy(s);
-        }
+    printf("basis\t%s\telements\tunknowns\tl2_error\ttime_s\n", hier ? "eps" : "refine");
+    int failed = 0;
+    for (int order = hier ? 1 : 0; order <= 2 && !failed; order++) {
+        int count = hier ? argc - 3 : atoi(argv[2 + order]) + 1;
+        for (int i = 0; i < count && !failed; i++)
+            failed = run(scene, &m, order, i, hier ? argv[3 + i] : NULL);
     }
     rad_scene_destroy(scene);
-    return 0;
+    return failed;
 }
