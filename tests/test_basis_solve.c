@@ -268,6 +268,34 @@ TEST(hierp_manufactured_emission_field)
     rad_scene_destroy(scene);
 }
 
+static double negative_field(int face, rad_vec3 x, int channel, void *ctx)
+{
+    (void)face, (void)x, (void)channel, (void)ctx;
+    return -1.0;
+}
+
+/* A negative emission field is refused by hier as by dense, naming the
+ * field, not solved. */
+TEST(hierp_negative_emission_field_refused)
+{
+    manufactured_rule m;
+    rad_scene *scene = manufactured_load(&m);
+    if (!scene)
+        return;
+    for (int method = 0; method < 2; method++) {
+        rad_solve_params p;
+        manufactured_solve_params(&p, 1, 0, &m);
+        p.emission = negative_field;
+        p.method = method ? RAD_SOLVE_HIER : RAD_SOLVE_DENSE;
+        rad_solution *s = NULL;
+        rad_status st = rad_solve_run(scene, &p, &s);
+        CHECK_MSG(st == RAD_EINPUT && strstr(rad_error_message(), "emission field"),
+                  "%s: status %d, %s", method ? "hier" : "dense", (int)st, rad_error_message());
+        rad_solution_destroy(s);
+    }
+    rad_scene_destroy(scene);
+}
+
 /* An emission field where the method takes none (hier with constant
  * elements, rad_hier; Monte Carlo; clusters) is refused, naming why. */
 TEST(emission_field_refused_where_the_method_takes_none)

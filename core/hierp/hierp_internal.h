@@ -160,9 +160,9 @@ void hp_link_errors(const rad_hierp *h, const hp_link *l, double ea[3], double e
 void hp_link_oracle(const rad_hierp *h, const hp_link *l, double *oa, double *ob);
 
 /* An element's mean emission in channel c. */
-static inline double hp_emitted(const rad_hierp *h, const hp_elem *x, int c)
+static inline double hp_emitted(const hp_elem *x, int c)
 {
-    return h->field ? x->Em[c][0] / sqrt(x->area) : h->E[(size_t)x->face + (size_t)c * h->nroots];
+    return x->Em[c][0] / sqrt(x->area);
 }
 /* Project the emission field onto element e's functions (Em). */
 rad_status hp_project_emission(rad_hierp *h, int e);

@@ -64,8 +64,6 @@ static void face_reach(rad_hierp *h)
         return;
     for (size_t k = 0; k < h->nln; k++) {
         const hp_link *l = &h->ln[k];
-        if (l->a < 0)
-            continue;
         size_t fa = (size_t)h->el[l->a].face, fb = (size_t)h->el[l->b].face;
         h->face_reach[fb] = rad_dmax(h->face_reach[fb], l->ka); /* b lights a */
         h->face_reach[fa] = rad_dmax(h->face_reach[fa], l->kb);

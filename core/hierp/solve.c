@@ -233,12 +233,7 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
         double rho = h->rho[f];
         double old = x->B[c][0];
         for (int k = 0; k < m; k++)
-            x->B[c][k] = rho * t[k];
-        if (h->field)
-            for (int k = 0; k < m; k++)
-                x->B[c][k] += x->Em[c][k];
-        else
-            x->B[c][0] += h->E[f] * sa;
+            x->B[c][k] = rho * t[k] + x->Em[c][k];
         double d = fabs(x->B[c][0] - old) / sa, v = fabs(x->B[c][0]) / sa;
         *change = isfinite(d) ? rad_dmax(*change, d) : INFINITY;
         *vmax = rad_dmax(*vmax, v);
@@ -464,7 +459,7 @@ static double weight(const rad_hierp *h, const hp_elem *r, const hp_elem *s, int
     size_t f = (size_t)r->face + (size_t)c * h->nroots;
     double rho = h->rho[f];
     if (h->p.sealed && rho > 0.0)
-        v[0] -= (r->B[c][0] / sqrt(r->area) - hp_emitted(h, r, c)) / rho * sqrt(s->area);
+        v[0] -= (r->B[c][0] / sqrt(r->area) - hp_emitted(r, c)) / rho * sqrt(s->area);
     return hp_poly_bound(h, v, s->area);
 }
 
@@ -583,7 +578,7 @@ double hp_reflected(const rad_hierp *h)
             continue;
         double sa = sqrt(x->area);
         for (int c = 0; c < 3; c++)
-            num += x->area * (x->B[c][0] / sa - hp_emitted(h, x, c));
+            num += x->area * (x->B[c][0] / sa - hp_emitted(x, c));
         den += 3.0 * x->area;
     }
     double R = den > 0.0 ? num / den : 0.0;
@@ -629,7 +624,7 @@ rad_status hp_estimate_error(rad_hierp *h)
         if (x->first_child >= 0 || h->p.sealed || !(row > h->row_ceiling))
             continue;
         for (int c = 0; c < 3; c++)
-            x->q[c] += fabs(x->B[c][0] / sa - hp_emitted(h, x, c)) *
+            x->q[c] += fabs(x->B[c][0] / sa - hp_emitted(x, c)) *
                        (row / h->row_ceiling - 1.0);
     }
     /* T = q + rho F T, by the constants' gather / push-pull, each leaf's

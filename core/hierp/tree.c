@@ -144,7 +144,8 @@ rad_status hp_split(rad_hierp *h, int e)
             }
         for (int ch = 0; ch < 3; ch++) {
             y->Bmax[ch] = hp_poly_bound(h, y->B[ch], y->area);
-            y->Em[ch][0] = h->E[(size_t)y->face + (size_t)ch * h->nroots] * sqrt(y->area);
+            if (!h->field)
+                y->Em[ch][0] = h->E[(size_t)y->face + (size_t)ch * h->nroots] * sqrt(y->area);
         }
         if (h->field && (st = hp_project_emission(h, first + c)) != RAD_OK)
             return st;
@@ -203,7 +204,7 @@ rad_status rad_hierp_set_emission(rad_hierp *h,
             return st;
         hp_elem *x = &h->el[e];
         for (int c = 0; c < 3; c++) {
-            h->E_max = fmax(h->E_max, hp_emitted(h, x, c));
+            h->E_max = fmax(h->E_max, hp_emitted(x, c));
             if (x->first_child < 0)
                 memcpy(x->B[c], x->Em[c], sizeof x->B[c]);
         }

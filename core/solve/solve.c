@@ -669,7 +669,7 @@ static void hier_figures(rad_solution *s)
 }
 
 /* The emission field at a point of one of the solver's triangles: the
- * field of the input face it was cut from. */
+ * field of the input face that holds the triangle (parent). */
 typedef struct hierp_field {
     const rad_solve_params *u;
     const int *parent;
