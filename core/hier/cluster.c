@@ -659,6 +659,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cl);
     free(h->corder);
     free(h->cln);
+    free(h->cstrength);
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
@@ -700,24 +701,50 @@ static double intensity(const rad_hier *h, int id, int carry, int c, rad_vec3 u)
     return dir_eval(&x->src[c], u, &err);
 }
 
+/* What link k brings end s (0: a, 1: b), channel c: kv times the other
+ * end's intensity towards it. */
+static double strength_of(const rad_hier *h, size_t k, int s, int c, int carry)
+{
+    const hier_clink *l = &h->cln[k];
+    /* the other end, and its direction towards end s */
+    int o = s == 0 ? l->b : l->a;
+    rad_vec3 towards = s == 0 ? rad_vec3_scale(l->w, -1.0) : l->w;
+    return l->kv * intensity(h, o, carry, c, towards);
+}
+
 /* Gather every link (elements' ends directly, clusters' by direction) and
  * push what the clusters gathered down their tree (parents come before
- * their children). */
+ * their children).  The intensities, most of the work, are computed in
+ * parallel first; the sums then run in link order on one thread, so the
+ * result does not depend on the thread count. */
 static void gather_links(rad_hier *h, int carry)
 {
     pull(h, carry);
     for (size_t i = 0; i < h->ncl; i++)
         memset(h->cl[i].g, 0, sizeof h->cl[i].g);
     int iso = h->p.cluster_model == RAD_HIER_CLUSTER_ISO;
+    const double *pre = NULL;
+    if (rad_sys_grow((void **)&h->cstrength, &h->cstrength_cap, 0, 6 * h->ncln,
+                     sizeof *h->cstrength, 1024)) {
+        double *out = h->cstrength;
+        const rad_hier *hc = h;
+        int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
+        for (long long k = 0; k < (long long)hc->ncln; k++)
+            for (int s = 0; s < 2; s++)
+                for (int c = 0; c < 3; c++)
+                    out[6 * k + 3 * s + c] = strength_of(hc, (size_t)k, s, c, carry);
+        pre = out;
+    }
     for (size_t k = 0; k < h->ncln; k++) {
         const hier_clink *l = &h->cln[k];
         int ends[2] = {l->a, l->b};
         /* the direction from each end towards the other */
         rad_vec3 dir[2] = {l->w, rad_vec3_scale(l->w, -1.0)};
         for (int s = 0; s < 2; s++) {
-            int o = ends[1 - s];
             for (int c = 0; c < 3; c++) {
-                double strength = l->kv * intensity(h, o, carry, c, dir[1 - s]);
+                double strength = pre ? pre[6 * k + 3 * (size_t)s + (size_t)c]
+                                      : strength_of(h, k, s, c, carry);
                 if (ends[s] < 0) {
                     const hier_elem *e = &h->el[-1 - ends[s]];
                     double got[3] = {0, 0, 0};

@@ -155,6 +155,11 @@ struct rad_hier {
     int *corder;              /* input triangles in cluster order */
     hier_clink *cln;
     size_t ncln, capcln;
+    /* what each cluster link brings each of its ends (6 doubles a link:
+       end a's three channels, then end b's), computed in parallel before
+       the gather adds them up in link order (cluster.c) */
+    double *cstrength;
+    size_t cstrength_cap;
     /* the links or elements changed (refine.c): bumped so that exchange.c
        rebuilds its plan of the shared gather */
     unsigned long long version;
