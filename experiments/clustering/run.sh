@@ -14,7 +14,9 @@
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
 #    error_power of radkit compare, the error estimate, links, time; and
-#    many_64 with cluster (oriented) at EPS_FINE (about a minute).
+#    many_64 with cluster (oriented) at EPS_FINE (about a minute), and the
+#    room of 343 boxes (4 128 triangles, about 2.5 minutes) with cluster
+#    (oriented) at each of EPS_ROOM.
 # 3. Furnaces of FURNACE_BOXES boxes (below).
 # 4. The picture of a large scene: make demo-large's room of 512 boxes
 #    (figures/room_512.png, its figures in data/room_512.txt).
@@ -28,13 +30,14 @@ HIER_MAX=${HIER_MAX:-125}
 EPS=${EPS:-0.1}
 EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the target
+EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (oriented) only
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
 FURNACE_EPS=${FURNACE_EPS:-0.01}
 PARTS=${PARTS:-"scaling accuracy furnace picture"} # any of them, e.g. PARTS=furnace
 want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
-for r in cornell many_64; do
+for r in cornell many_64 many_343; do
   [ -s "experiments/reference/data/$r.tsv" ] || RADKIT=$RADKIT sh experiments/reference/run.sh
 done
 cd "$here"
@@ -101,13 +104,14 @@ acc=data/accuracy.dat
   echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare; estimate: the run's error_estimate"
   printf 'scene\tmethod\teps\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\ttime_s\n'
 } > "$acc"
-for scene in cornell/cornell many_objects/many_64; do
+for scene in cornell/cornell many_objects/many_64 many_objects/many_343; do
   name=$(basename "$scene")
   list=$EPS_ACC
   [ "$name" = many_64 ] && list="$EPS_ACC $EPS_FINE"
+  [ "$name" = many_343 ] && list=$EPS_ROOM
   for e in $list; do
     methods="hier cluster cluster-iso"
-    [ "$e" = "$EPS_FINE" ] && methods=cluster
+    [ "$e" = "$EPS_FINE" ] || [ "$name" = many_343 ] && methods=cluster
     for m in $methods; do
       echo "clustering: $name, $m, eps $e" >&2
       # shellcheck disable=SC2046

@@ -16,6 +16,9 @@
 #   many_27_rho99  scenes/many_objects/many_27_seed2.obj with every
 #             reflectance 0.99: boxes 3 to 8 cm from the ceiling or the floor,
 #             narrow gaps (about 12 minutes)
+#   many_343  scenes/many_objects/many_343.obj: 343 boxes in a lit room (4 128
+#             triangles), the clustering study's mid-size scene (about 6
+#             minutes)
 #
 # Each table (data/<name>.tsv) starts with '# command = ...', the command that
 # made it; a seed makes it reproducible bit for bit on any thread count, so a
@@ -34,6 +37,7 @@ SAMPLES_OCCLUDER=${SAMPLES_OCCLUDER:-4194304}
 SAMPLES_MANY=${SAMPLES_MANY:-262144}
 SAMPLES_GAPS=${SAMPLES_GAPS:-65536}
 SAMPLES_LAMP=${SAMPLES_LAMP:-4194304}
+SAMPLES_ROOM=${SAMPLES_ROOM:-131072}
 cd "$root"
 mkdir -p "$here/data"
 prefix=""
@@ -63,6 +67,7 @@ reference many_64 "$SAMPLES_MANY" scenes/many_objects/many_64.obj
 reference lamp "$SAMPLES_LAMP" scenes/lamp/lamp.obj
 reference lamp_closed "$SAMPLES_LAMP" scenes/lamp/lamp_closed.obj
 reference many_27_rho99 "$SAMPLES_GAPS" scenes/many_objects/many_27_seed2.obj --rho 0.99
+reference many_343 "$SAMPLES_ROOM" scenes/many_objects/many_343.obj
 
 dat=$here/data/${prefix}summary.dat
 {
@@ -72,7 +77,7 @@ dat=$here/data/${prefix}summary.dat
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
   printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
-  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99; do
+  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99 many_343; do
     f=$here/data/$prefix$name.tsv
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
       "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \
