@@ -193,6 +193,7 @@ TEST(cornell_against_the_monte_carlo_reference)
         {"hier-eps0.01", {"--method", "hier", "--eps", "0.01", NULL}, 0.01, 0.05},
         {"cluster", {"--method", "cluster", NULL}, 0.008, 0.1},
         {"cluster-eps0.01", {"--method", "cluster", "--eps", "0.01", NULL}, 0.01, 0.05},
+        {"cluster-tighten0", {"--method", "cluster", "--max-tighten", "0", NULL}, 0.03, 0.3},
         {"dense-refine2", {"--refine", "2", NULL}, 0.016, 0.2},
     };
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
@@ -232,6 +233,43 @@ TEST(cornell_against_the_monte_carlo_reference)
         remove(table);
     }
     rmdir(dir);
+}
+
+/* --max-tighten sets what accuracy costs: without the oracle's tightening
+ * (K 0) the Cornell box at the defaults takes a small share of the links of
+ * the default K 3 and is correspondingly less accurate against the Monte
+ * Carlo reference (the run above checks that its estimate still bounds its
+ * error); the links must fall at least fourfold and the L1 error rise. */
+TEST(cornell_max_tighten_trades_links_for_accuracy)
+{
+    char dir[] = "/tmp/radkit-tighten-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    const char *k[2] = {"0", "3"};
+    double links[2] = {0.0, 0.0}, l1[2] = {0.0, 0.0};
+    for (int i = 0; i < 2; i++) {
+        char table[256], buf[64];
+        snprintf(table, sizeof table, "%s/k%s.tsv", dir, k[i]);
+        const char *args[] = {harness_path("scenes/cornell/cornell.obj"), "--method", "cluster",
+                              "--max-tighten", k[i], "--out", table, "--quiet", NULL};
+        char *out = NULL, *err = NULL;
+        CHECK(harness_radkit_run("solve", args, &out, &err) == 0);
+        free(out);
+        free(err);
+        char *text = harness_read_file(table);
+        links[i] = text && harness_header(text, "links", buf, sizeof buf) ? atof(buf) : -1.0;
+        CHECK(text && harness_header(text, "max_tighten", buf, sizeof buf) && atoi(buf) == atoi(k[i]));
+        free(text);
+        l1[i] = compare_figure(table, "error_l1");
+        printf("# Cornell cluster --max-tighten %s: %.0f links, L1 %.3e\n", k[i], links[i], l1[i]);
+        remove(table);
+    }
+    rmdir(dir);
+    CHECK_MSG(links[0] > 0.0 && 4.0 * links[0] <= links[1], "links %.0f (K 0) against %.0f (K 3)",
+              links[0], links[1]);
+    CHECK_MSG(l1[0] > l1[1] && l1[1] >= 0.0, "L1 %.3g (K 0) against %.3g (K 3)", l1[0], l1[1]);
 }
 
 /* Where the boxes stand on the Cornell box's floor its radiosity jumps

@@ -48,6 +48,10 @@ TEST(hier_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--eps", "-1", NULL}, "--eps");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--eps", "x", NULL}, "--eps");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--min-area", "-1", NULL}, "--min-area");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "-1", NULL}, "--max-tighten");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "31", NULL}, "--max-tighten");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--max-tighten", "1.5", NULL}, "--max-tighten");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--max-tighten", "2", NULL}, "--method hier or cluster");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--eps", "1e-3", NULL}, "--method hier");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--solver", "lu", NULL}, "--solver");
 }

@@ -17,6 +17,7 @@
 static const char help_head[] =
     "usage: radkit solve SCENE [--method dense|hier|cluster|mc] [--rule RULE] [--tol T]\n"
     "                    [--solver S] [--oracle bf|error] [--eps E] [--min-area A]\n"
+    "                    [--max-tighten K]\n"
     "                    [--cluster-model oriented|iso] [--edges]\n"
     "                    [--samples N] [--seed S]\n"
     "                    [--refine K] [--basis p0|p1|p2] [--threads N] [--out faces.tsv]\n"
@@ -79,6 +80,14 @@ static const char help_head[] =
     "                   triangles are already near it; where it binds the\n"
     "                   table says links_bound > 0, and the error estimate\n"
     "                   can stay above --eps)\n"
+    "  --max-tighten K  hier, cluster: when no link is left above its threshold\n"
+    "                   but an input triangle's bound still exceeds --eps, the\n"
+    "                   oracle quarters that triangle's thresholds and refines\n"
+    "                   again, at most K times (a whole number 0-30; default 3, a\n"
+    "                   64-fold tightening).  K sets what accuracy costs: see\n"
+    "                   papers/clustering.md for links, time and error against K.\n"
+    "                   The error estimate bounds the error whatever K; a smaller\n"
+    "                   K leaves it further above --eps\n"
     "  --samples N      mc: paths per input triangle, >= 2 (default 4096; rounded\n"
     "                   up to a multiple of the 32 batches the standard error is\n"
     "                   estimated from)\n"
@@ -214,6 +223,7 @@ int solve_option_table(solve_options *o, cli_option *table)
         {"-h", NULL, &o->help, NULL},
         {"--eps", &o->eps, NULL, NULL},
         {"--min-area", &o->min_area, NULL, NULL},
+        {"--max-tighten", &o->max_tighten, NULL, NULL},
         {"--oracle", &o->oracle, NULL, NULL},
         {"--cluster-model", &o->cluster_model, NULL, NULL},
         {"--edges", NULL, &o->edges, NULL},

@@ -40,6 +40,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--max-iter", o->max_iter, "dhc"}, {"--refine", o->refine, "d"},
         {"--vis-strata", o->strata, "d"},   {"--eps", o->eps, "hc"},
         {"--min-area", o->min_area, "hc"},  {"--oracle", o->oracle, "h"},
+        {"--max-tighten", o->max_tighten, "hc"},
         {"--samples", o->samples, "m"},     {"--seed", o->seed, "m"},
         {"--basis", o->basis, "dh"},        {"--cluster-model", o->cluster_model, "c"},
     };
@@ -118,6 +119,12 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
             return RAD_ERROR(RAD_EINVAL, "solve: --min-area must be a number >= 0, got '%s'",
                              o->min_area);
         hp->min_area = v;
+    }
+    if (o->max_tighten) {
+        unsigned long long v;
+        if ((st = parse_count("--max-tighten", o->max_tighten, 0, 30, &v)) != RAD_OK)
+            return st;
+        hp->max_tighten = (int)v;
     }
     if (o->solver_tol &&
         (st = solve_parse_double("--solver-tol", o->solver_tol, 0.0, &hp->tol)) != RAD_OK)

@@ -4,19 +4,22 @@ set logscale xy
 set grid
 set key top left font ",10"
 sel(m) = sprintf("< awk -F'\\t' '$1==\"%s\"' data/scaling.dat", m)
+loose = "< awk -F'\\t' '$1==\"cluster-preview\"' data/scaling_loose.dat"
 do for [fmt in "png pdf"] {
   if (fmt eq "png") { set terminal pngcairo size 1200,500 enhanced font ",11" }
   else { set terminal pdfcairo size 11in,4.3in enhanced font ",10" }
   set output "figures/scaling.".fmt
-  set multiplot layout 1,2 title "Rooms of N boxes (scenes/gen/many\\_objects.py), eps 0.1"
+  set multiplot layout 1,2 title "Rooms of N boxes (scenes/gen/many\\_objects.py), eps 0.1; preview: eps 1, --max-tighten 0"
   set xlabel "input triangles"
   set ylabel "links (pairs coupled)"
   plot sel("hier") using 3:4 with linespoints pt 7 title "hier", \
        sel("cluster") using 3:4 with linespoints pt 5 title "cluster, oriented", \
-       sel("cluster-iso") using 3:4 with linespoints pt 9 title "cluster, iso"
+       sel("cluster-iso") using 3:4 with linespoints pt 9 title "cluster, iso", \
+       loose using 3:4 with linespoints pt 11 title "cluster, preview"
   set ylabel "wall time (s), 2 cores"
   plot sel("hier") using 3:7 with linespoints pt 7 title "hier", \
        sel("cluster") using 3:7 with linespoints pt 5 title "cluster, oriented", \
-       sel("cluster-iso") using 3:7 with linespoints pt 9 title "cluster, iso"
+       sel("cluster-iso") using 3:7 with linespoints pt 9 title "cluster, iso", \
+       loose using 3:7 with linespoints pt 11 title "cluster, preview"
   unset multiplot
 }

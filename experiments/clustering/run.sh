@@ -10,6 +10,11 @@
 #    eps EPS: links (pairs coupled, cluster links among them), leaves, wall
 #    time, peak memory and the run's error estimate; then the log-log slope
 #    of links and of time against triangles per method.
+#    A second, cheaper table at a preview setting (eps LOOSE_EPS,
+#    --max-tighten LOOSE_TIGHTEN) runs cluster on LOOSE_SIZES boxes, up to
+#    3 000 (36 012 triangles, the top of issue 17's slope range), with the
+#    room of 343 boxes's errors against its Monte Carlo reference (part
+#    "loose", data/scaling_loose.dat and its slopes in data/slopes.dat).
 # 2. Accuracy against the Monte Carlo references of experiments/reference:
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
@@ -17,8 +22,11 @@
 #    many_64 with cluster (oriented) at EPS_FINE (about a minute), and the
 #    room of 343 boxes (4 128 triangles, about 2.5 minutes) with cluster
 #    (oriented) at each of EPS_ROOM.
-# 3. Furnaces of FURNACE_BOXES boxes (below).
-# 4. The picture of a large scene: make demo-large's room of 512 boxes
+# 3. What the tightening buys: the room of 343 boxes with cluster at eps
+#    EPS_TIGHTEN and --max-tighten K for each K of TIGHTEN (links, time,
+#    the errors against the Monte Carlo reference and the estimate).
+# 4. Furnaces of FURNACE_BOXES boxes (below).
+# 5. The picture of a large scene: make demo-large's room of 512 boxes
 #    (figures/room_512.png, its figures in data/room_512.txt).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -31,10 +39,15 @@ EPS=${EPS:-0.1}
 EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the issue's target
 EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (oriented) only
+TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
+EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
+LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
+LOOSE_EPS=${LOOSE_EPS:-1}
+LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
 FURNACE_EPS=${FURNACE_EPS:-0.01}
-PARTS=${PARTS:-"scaling accuracy furnace picture"} # any of them, e.g. PARTS=furnace
+PARTS=${PARTS:-"scaling loose accuracy tighten furnace picture"} # any of them, e.g. PARTS=furnace
 want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
 for r in cornell many_64 many_343; do
@@ -47,6 +60,22 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/radkit-clustering.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cp "$root/scenes/many_objects/many_objects.mtl" "$tmp/"
 hdr() { sed -n "s/^# $2 = //p" "$1" | head -1; }
+
+# slopes: least squares of log(links) and log(time) against log(faces)
+slopes() {
+awk -F'\t' '!/^#/ && $1 != "method" {
+  m = $1; x = log($3); n[m]++; sx[m] += x; sxx[m] += x * x
+  y = log($4); sy[m] += y; sxy[m] += x * y
+  t = log($7); st[m] += t; sxt[m] += x * t
+} END {
+  printf "method\tpoints\tlinks_slope\ttime_slope\n"
+  for (m in n) {
+    d = n[m] * sxx[m] - sx[m] * sx[m]
+    if (n[m] < 2 || d <= 0) continue
+    printf "%s\t%d\t%.3f\t%.3f\n", m, n[m], (n[m] * sxy[m] - sx[m] * sy[m]) / d, (n[m] * sxt[m] - sx[m] * st[m]) / d
+  }
+}' "$@"
+}
 
 # method_args METHOD: the solve options of a method label
 method_args() {
@@ -81,20 +110,37 @@ for n in $SIZES; do
     rm -f "$tmp/t.tsv"
   done
 done
-# slopes: least squares of log(links) and log(time) against log(faces)
-awk -F'\t' '!/^#/ && $1 != "method" {
-  m = $1; x = log($3); n[m]++; sx[m] += x; sxx[m] += x * x
-  y = log($4); sy[m] += y; sxy[m] += x * y
-  t = log($7); st[m] += t; sxt[m] += x * t
-} END {
-  printf "method\tpoints\tlinks_slope\ttime_slope\n"
-  for (m in n) {
-    d = n[m] * sxx[m] - sx[m] * sx[m]
-    if (n[m] < 2 || d <= 0) continue
-    printf "%s\t%d\t%.3f\t%.3f\n", m, n[m], (n[m] * sxy[m] - sx[m] * sy[m]) / d, (n[m] * sxt[m] - sx[m] * st[m]) / d
-  }
-}' "$dat" > data/slopes.dat
-
+slopes "$dat" > data/slopes.dat
+[ -s data/scaling_loose.dat ] && slopes data/scaling_loose.dat | sed 1d >> data/slopes.dat
+fi
+if want loose; then
+dat=data/scaling_loose.dat
+{
+  echo "# experiment = clustering at a preview setting: rooms of N boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+  echo "# links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes; error, worst, power: radkit compare against experiments/reference/data/many_343.tsv (343 boxes only)"
+  printf 'method\tboxes\tfaces\tlinks\tlinks_cluster\telements\ttime_s\tmemory_bytes\testimate\terror\tworst\tpower\n'
+} > "$dat"
+for n in $LOOSE_SIZES; do
+  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
+  echo "clustering: preview setting, $n boxes" >&2
+  "$RADKIT" solve "$tmp/boxes_$n.obj" --method cluster --eps "$LOOSE_EPS" \
+    --max-tighten "$LOOSE_TIGHTEN" --quiet --out "$tmp/t.tsv" 2>/dev/null || true
+  [ -s "$tmp/t.tsv" ] || continue
+  err="-\t-\t-"
+  if [ "$n" = 343 ]; then
+    (cd "$root" && "$RADKIT" compare scenes/many_objects/many_343.obj "$tmp/t.tsv" \
+      experiments/reference/data/many_343.tsv) > "$tmp/c.txt"
+    err="$(hdr $tmp/c.txt error_l1)\t$(hdr $tmp/c.txt error_worst)\t$(hdr $tmp/c.txt error_power)"
+  fi
+  printf "cluster-preview\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t$err\n" "$n" "$(hdr $tmp/t.tsv faces)" \
+    "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv elements)" \
+    "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" \
+    "$(hdr $tmp/t.tsv error_estimate)" >> "$dat"
+  rm -f "$tmp/t.tsv"
+done
+sed -i '/^cluster-preview/d' data/slopes.dat 2>/dev/null || true
+slopes "$dat" | sed 1d >> data/slopes.dat
 fi
 if want accuracy; then
 acc=data/accuracy.dat
@@ -130,7 +176,30 @@ for scene in cornell/cornell many_objects/many_64 many_objects/many_343; do
 done
 fi
 
-# 3. Furnaces: a room of FURNACE_BOXES boxes where every surface emits 1 and
+if want tighten; then
+tig=data/tighten.dat
+{
+  echo "# experiment = clustering: what the oracle's tightening buys on many_343 (cluster, eps $EPS_TIGHTEN, --max-tighten K)"
+  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+  echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare against experiments/reference/data/many_343.tsv; estimate: the run's error_estimate (worst face), estimate_l1 its area-weighted mean"
+  printf 'max_tighten\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\testimate_l1\ttime_s\n'
+} > "$tig"
+for k in $TIGHTEN; do
+  echo "clustering: many_343, cluster, eps $EPS_TIGHTEN, --max-tighten $k" >&2
+  (cd "$root" && "$RADKIT" solve scenes/many_objects/many_343.obj --method cluster \
+    --eps "$EPS_TIGHTEN" --max-tighten "$k" --quiet --out "$tmp/t.tsv" 2>/dev/null) || true
+  [ -s "$tmp/t.tsv" ] || continue
+  (cd "$root" && "$RADKIT" compare scenes/many_objects/many_343.obj "$tmp/t.tsv" \
+    experiments/reference/data/many_343.tsv) > "$tmp/c.txt"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$k" "$(hdr $tmp/t.tsv links)" \
+    "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/c.txt error_l1)" "$(hdr $tmp/c.txt error_worst)" \
+    "$(hdr $tmp/c.txt error_power)" "$(hdr $tmp/t.tsv error_estimate)" \
+    "$(hdr $tmp/t.tsv error_estimate_l1)" "$(hdr $tmp/t.tsv time_total_s)" >> "$tig"
+  rm -f "$tmp/t.tsv"
+done
+fi
+
+# 4. Furnaces: a room of FURNACE_BOXES boxes where every surface emits 1 and
 #    reflects FURNACE_RHO (B = 1 / (1 - rho) everywhere), cluster at eps
 #    FURNACE_EPS: the largest and the area-weighted mean relative error of
 #    the faces, links and time.
@@ -170,4 +239,4 @@ if command -v gnuplot > /dev/null; then gnuplot plot.gp; fi
 # gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
 # changes only what it measured.
 find figures -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
-echo "clustering: data/scaling.dat, data/slopes.dat, data/accuracy.dat, data/furnace.dat, data/room_512.txt, figures/scaling.png, figures/room_512.png" >&2
+echo "clustering: data/scaling.dat, data/scaling_loose.dat, data/slopes.dat, data/accuracy.dat, data/tighten.dat, data/furnace.dat, data/room_512.txt, figures/scaling.png, figures/room_512.png" >&2
