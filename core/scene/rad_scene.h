@@ -174,7 +174,11 @@ rad_status rad_scene_effect_mode_parse(const char *what, const char *text, rad_e
 
 typedef struct rad_effects_params {
     rad_effect_mode occlusion, colour, facing_away, singular, reflectance, clustering, contact;
-    int cluster_min_faces;    /* clustering from this many input triangles on */
+    double cluster_min_pairs; /* clustering from this many pairs of input triangles that
+                                 face each other on (hier's initial links), where faces
+                                 can block each other; above pair_scan_max_faces (not
+                                 counted) always */
+    double cluster_min_pairs_clear; /* the same where nothing can block (occlusion off) */
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
