@@ -3,7 +3,7 @@
 #   make            build build/radkit (the program) and build/libradkit.a
 #   make test       install missing Debian packages, build, run every test
 #   make demo       the main job: the Cornell box (dense, hier, against Monte Carlo), the 1D problem
-#   make demo-large what clustering is for: a room of 512 boxes (minutes; BOXES=, EPS=)
+#   make demo-large what clustering is for: a room of 1000 boxes (a minute; BOXES=, EPS=, TIGHTEN=)
 #   make experiments / make bench    the long studies and the benchmark table
 #   make fuzz       5000 mutated scenes and options (FUZZ_CASES, FUZZ_SEED); make test runs 200
 #   make install    PREFIX=/usr/local DESTDIR=: program, libradkit.so and .a, headers, radkit.pc, radkit.1

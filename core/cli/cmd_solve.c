@@ -189,11 +189,13 @@ static void warn_target(const rad_solution *s)
             s->used.hier.eps);
     if (hs->links_bound > 0)
         fprintf(stderr, ": %lld links could not be refined further (--min-area or the depth "
-                        "limit binds)\n", hs->links_bound);
+                        "limit binds), and the oracle tightened its thresholds at most %.0f-fold "
+                        "(--max-tighten %d)\n", hs->links_bound,
+                pow(4.0, s->used.hier.max_tighten), s->used.hier.max_tighten);
     else
-        fprintf(stderr, " after the oracle tightened its thresholds %.0f-fold (the estimate is "
-                        "conservative: see error_estimate_l1)\n",
-                pow(4.0, s->used.hier.max_tighten));
+        fprintf(stderr, " after the oracle tightened its thresholds %.0f-fold (--max-tighten %d; "
+                        "the estimate is conservative: see error_estimate_l1)\n",
+                pow(4.0, s->used.hier.max_tighten), s->used.hier.max_tighten);
 }
 
 int solve_option_table(solve_options *o, cli_option *table)
