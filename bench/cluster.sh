@@ -5,15 +5,20 @@
 #    (eps 0.1) for hier without clusters and for cluster (oriented, iso),
 #    and the log-log slopes of links and time (targets from 3.6k to 36k
 #    triangles: links n^1.15, time n^1.3; 120k triangles in 2 min and 6 GB);
+#  - the same for cluster at a preview setting (eps 1, --max-tighten 0) on
+#    343, 1 000 and 3 000 boxes (4 128 to 36 012 triangles), with its error
+#    on the room of 343 boxes;
+#  - what --max-tighten buys on the room of 343 boxes at eps 0.1;
 #  - error against the Monte Carlo references (Cornell: L1 <= 1.5% at eps
 #    0.01, checked in make test; many_64: L1 <= 2% and power within 1% at
 #    eps 0.01);
 #  - the effects plan's clustering for hier on the 1 280-triangle sphere;
 #  - furnaces of 125 and 1 000 boxes at eps 0.01 (target at 1 000 boxes:
 #    max error 5%, area-mean 1%).
-# The sizes the experiment runs (SIZES, default up to 343 boxes = 4 128
-# triangles) are below the targets' 3.6k to 1.2M: the table holds
-# what these sizes measure, not the targets'.  Writes bench/cluster.tsv and prints
+# The sizes the experiment runs at eps 0.1 (SIZES, default up to 343 boxes
+# = 4 128 triangles) and at the preview setting (up to 36 012 triangles)
+# are below the targets' 120k to 1.2M: the table holds what these sizes
+# measure, not the targets'.  Writes bench/cluster.tsv and prints
 # it.  REUSE=1 takes the data of the last run of the experiment.
 set -eu
 RADKIT=${1:?usage: bench/cluster.sh path/to/radkit}
@@ -25,8 +30,12 @@ data="$ROOT/experiments/clustering/data"
   echo "# cluster bench: $("$RADKIT" --version), $(sh "$ROOT/scripts/machine.sh"); from experiments/clustering"
   echo "# rooms of N boxes (scenes/gen/many_objects.py), eps 0.1: links (pairs), wall time, peak memory"
   grep -v '^#' "$data/scaling.dat"
+  echo "# the same at a preview setting: cluster, eps 1, --max-tighten 0 (error, worst, power against many_343's reference, 343 boxes only)"
+  grep -v '^#' "$data/scaling_loose.dat"
   echo "# log-log slopes against input triangles (targets: links <= 1.15, time <= 1.3, from 3.6k to 36k triangles)"
   cat "$data/slopes.dat"
+  echo "# what the oracle's tightening buys: many_343, cluster, eps 0.1, --max-tighten K, against its Monte Carlo reference"
+  grep -v '^#' "$data/tighten.dat"
   echo "# the effects plan's clustering for --method hier on the 1 280-triangle sphere (closed, no occlusion): wall time and links without and with"
   printf 'clustering\ttime_s\tlinks\n'
   for c in off on; do

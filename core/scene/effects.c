@@ -271,8 +271,8 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     if (plan->pairs_facing_away >= 0) {
         double facing = (double)(plan->pairs_total - plan->pairs_facing_away);
         int many = facing >= from;
-        snprintf(why, sizeof why, "%.3g pairs of input triangles face each other: %s (clustering "
-                 "pays from about %.3g such pairs %s)", facing,
+        snprintf(why, sizeof why, "%.3g pairs of input triangles face each other: %s (on from "
+                 "%.3g such pairs %s; see papers/clustering.md)", facing,
                  many ? "links start from a cluster hierarchy instead of linking them all first"
                       : "hierarchical radiosity links them all first",
                  from, clear ? "where nothing can block" : "where faces can block each other");
