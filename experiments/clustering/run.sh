@@ -81,6 +81,25 @@ awk -F'\t' '!/^#/ && $1 != "method" {
 }' "$@"
 }
 
+# table_head FILE EXPERIMENT NOTE COLUMNS: a data table's header lines (the
+# columns tab-separated in COLUMNS)
+table_head() {
+  {
+    echo "# experiment = $2"
+    echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+    echo "# $3"
+    printf '%s\n' "$4"
+  } > "$1"
+}
+
+# scaling_row LABEL BOXES: the scaling tables' columns of the run in $tmp/t.tsv
+scaling_row() {
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s' "$1" "$2" "$(hdr $tmp/t.tsv faces)" \
+    "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv elements)" \
+    "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" \
+    "$(hdr $tmp/t.tsv error_estimate)"
+}
+
 # method_args METHOD: the solve options of a method label
 method_args() {
   case "$1" in
@@ -92,12 +111,10 @@ method_args() {
 
 if want scaling; then
 dat=data/scaling.dat
-{
-  echo "# experiment = clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS"
-  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
-  echo "# links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes"
-  printf 'method\tboxes\tfaces\tlinks\tlinks_cluster\telements\ttime_s\tmemory_bytes\testimate\n'
-} > "$dat"
+cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+table_head "$dat" "clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS" \
+  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
+  "$cols"
 for n in $SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
   for m in hier cluster cluster-iso; do
@@ -107,10 +124,7 @@ for n in $SIZES; do
     "$RADKIT" solve "$tmp/boxes_$n.obj" $(method_args "$m") --eps "$EPS" --quiet \
       --out "$tmp/t.tsv" 2>/dev/null || true
     [ -s "$tmp/t.tsv" ] || continue
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$m" "$n" "$(hdr $tmp/t.tsv faces)" \
-      "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv elements)" \
-      "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" \
-      "$(hdr $tmp/t.tsv error_estimate)" >> "$dat"
+    { scaling_row "$m" "$n"; echo; } >> "$dat"
     rm -f "$tmp/t.tsv"
   done
 done
@@ -119,12 +133,10 @@ slopes "$dat" > data/slopes.dat
 fi
 if want loose; then
 dat=data/scaling_loose.dat
-{
-  echo "# experiment = clustering at a preview setting: rooms of N boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN"
-  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
-  echo "# links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes; error, worst, power: radkit compare against experiments/reference/data/many_343.tsv (343 boxes only)"
-  printf 'method\tboxes\tfaces\tlinks\tlinks_cluster\telements\ttime_s\tmemory_bytes\testimate\terror\tworst\tpower\n'
-} > "$dat"
+cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate	error	worst	power"
+table_head "$dat" "clustering at a preview setting: rooms of N boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN" \
+  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes; error, worst, power: radkit compare against experiments/reference/data/many_343.tsv (343 boxes only)" \
+  "$cols"
 for n in $LOOSE_SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
   echo "clustering: preview setting, $n boxes" >&2
@@ -137,10 +149,7 @@ for n in $LOOSE_SIZES; do
       experiments/reference/data/many_343.tsv) > "$tmp/c.txt"
     err="$(hdr $tmp/c.txt error_l1)\t$(hdr $tmp/c.txt error_worst)\t$(hdr $tmp/c.txt error_power)"
   fi
-  printf "cluster-preview\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t$err\n" "$n" "$(hdr $tmp/t.tsv faces)" \
-    "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/t.tsv elements)" \
-    "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" \
-    "$(hdr $tmp/t.tsv error_estimate)" >> "$dat"
+  { scaling_row cluster-preview "$n"; printf "\t$err\n"; } >> "$dat"
   rm -f "$tmp/t.tsv"
 done
 sed -i '/^cluster-preview/d' data/slopes.dat 2>/dev/null || true
@@ -186,12 +195,9 @@ fi
 
 if want tighten; then
 tig=data/tighten.dat
-{
-  echo "# experiment = clustering: what the oracle's tightening buys on many_343 (cluster, eps $EPS_TIGHTEN, --max-tighten K)"
-  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
-  echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare against experiments/reference/data/many_343.tsv; estimate: the run's error_estimate (worst face), estimate_l1 its area-weighted mean"
-  printf 'max_tighten\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\testimate_l1\ttime_s\n'
-} > "$tig"
+table_head "$tig" "clustering: what the oracle's tightening buys on many_343 (cluster, eps $EPS_TIGHTEN, --max-tighten K)" \
+  "error, worst, power: error_l1, error_worst, error_power of radkit compare against experiments/reference/data/many_343.tsv; estimate: the run's error_estimate (worst face), estimate_l1 its area-weighted mean" \
+  "max_tighten	links	links_cluster	error	worst	power	estimate	estimate_l1	time_s"
 for k in $TIGHTEN; do
   echo "clustering: many_343, cluster, eps $EPS_TIGHTEN, --max-tighten $k" >&2
   (cd "$root" && "$RADKIT" solve scenes/many_objects/many_343.obj --method cluster \
