@@ -159,7 +159,7 @@ fuzz: deps $(RADKIT) $(UNIT)
 demo: deps $(RADKIT)
 	@sh scripts/demo.sh $(RADKIT)
 
-# What clustering is for: a room of hundreds of boxes (minutes; BOXES=, EPS=).
+# What clustering is for: a room of 1000 boxes (a minute; BOXES=, EPS=, TIGHTEN=).
 demo-large: deps $(RADKIT)
 	@sh scripts/demo_large.sh $(RADKIT)
 

@@ -239,11 +239,12 @@ TEST(cluster_effects_plan_decides_for_hier)
 {
     /* by the pairs facing each other: where nothing can block (the spheres
        seen from inside: 190, 3 160, 51 040 and 818 560 pairs) from 2e4, among
-       occluders (64 boxes in a room: 74 948 pairs) from 2.5e5 */
+       occluders (rooms of 64 and 343 boxes: 74 948 and 2 064 192 pairs) from
+       2.5e5 */
     struct { const char *scene; const char *want; } info[] = {
         {"scenes/sphere/sphere_0.obj", "off"}, {"scenes/sphere/sphere_1.obj", "off"},
         {"scenes/sphere/sphere_2.obj", "on"},  {"scenes/sphere/sphere_3.obj", "on"},
-        {"scenes/many_objects/many_64.obj", "off"}};
+        {"scenes/many_objects/many_64.obj", "off"}, {"scenes/many_objects/many_343.obj", "on"}};
     for (size_t k = 0; k < sizeof info / sizeof info[0]; k++) {
         char *out = NULL, *err = NULL, buf[512];
         CHECK(harness_radkit_run("info", (const char *[]){harness_path(info[k].scene), NULL},

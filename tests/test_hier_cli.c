@@ -52,6 +52,13 @@ TEST(hier_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "31", NULL}, "--max-tighten");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--max-tighten", "1.5", NULL}, "--max-tighten");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--max-tighten", "2", NULL}, "--method hier or cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--oracle", "bf", "--max-tighten", "1", NULL}, "--oracle error");
+    /* the largest K is taken (the cube's bound meets eps before any tightening) */
+    char *out = NULL, *err = NULL, buf[64];
+    CHECK(harness_radkit_run("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "30", "--quiet", NULL}, &out, &err) == 0);
+    CHECK(out && harness_header(out, "max_tighten", buf, sizeof buf) && atoi(buf) == 30);
+    free(out);
+    free(err);
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--eps", "1e-3", NULL}, "--method hier");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--solver", "lu", NULL}, "--solver");
 }

@@ -80,14 +80,14 @@ static const char help_head[] =
     "                   triangles are already near it; where it binds the\n"
     "                   table says links_bound > 0, and the error estimate\n"
     "                   can stay above --eps)\n"
-    "  --max-tighten K  hier, cluster: when no link is left above its threshold\n"
-    "                   but an input triangle's bound still exceeds --eps, the\n"
-    "                   oracle quarters that triangle's thresholds and refines\n"
-    "                   again, at most K times (a whole number 0-30; default 3, a\n"
-    "                   64-fold tightening).  K sets what accuracy costs: see\n"
-    "                   papers/clustering.md for links, time and error against K.\n"
-    "                   The error estimate bounds the error whatever K; a smaller\n"
-    "                   K leaves it further above --eps\n"
+    "  --max-tighten K  hier, cluster, --oracle error: when no link is left above\n"
+    "                   its threshold but an input triangle's bound still exceeds\n"
+    "                   --eps, the oracle quarters that triangle's thresholds and\n"
+    "                   refines again, at most K times (a whole number 0-30;\n"
+    "                   default 3, a 64-fold tightening).  K sets what accuracy\n"
+    "                   costs: see papers/clustering.md for links, time and error\n"
+    "                   against K.  The error estimate bounds the error whatever\n"
+    "                   K; a smaller K leaves it further above --eps\n"
     "  --samples N      mc: paths per input triangle, >= 2 (default 4096; rounded\n"
     "                   up to a multiple of the 32 batches the standard error is\n"
     "                   estimated from)\n"
@@ -187,15 +187,20 @@ static void warn_target(const rad_solution *s)
     fprintf(stderr, "radkit: warning: the error estimate %.3g (worst input triangle, relative to "
                     "the mean reflected radiosity) exceeds --eps %g", hs->bound_face_max,
             s->used.hier.eps);
+    int k = s->used.hier.max_tighten;
+    char tightened[96];
+    if (k > 0)
+        snprintf(tightened, sizeof tightened, "the oracle tightened its thresholds at most "
+                 "%.0f-fold (--max-tighten %d)", pow(4.0, k), k);
+    else
+        snprintf(tightened, sizeof tightened, "the oracle did not tighten its thresholds "
+                 "(--max-tighten 0)");
     if (hs->links_bound > 0)
         fprintf(stderr, ": %lld links could not be refined further (--min-area or the depth "
-                        "limit binds), and the oracle tightened its thresholds at most %.0f-fold "
-                        "(--max-tighten %d)\n", hs->links_bound,
-                pow(4.0, s->used.hier.max_tighten), s->used.hier.max_tighten);
+                        "limit binds), and %s\n", hs->links_bound, tightened);
     else
-        fprintf(stderr, " after the oracle tightened its thresholds %.0f-fold (--max-tighten %d; "
-                        "the estimate is conservative: see error_estimate_l1)\n",
-                pow(4.0, s->used.hier.max_tighten), s->used.hier.max_tighten);
+        fprintf(stderr, "; %s, and the estimate is conservative: see error_estimate_l1\n",
+                tightened);
 }
 
 int solve_option_table(solve_options *o, cli_option *table)

@@ -37,9 +37,9 @@ const char cli_scene_options_help[] =
     "                     touching pairs by the regular rules; reflectance off:\n"
     "                     the default tolerances even near rho 1; clustering\n"
     "                     (hier; auto: from 250000 pairs of triangles facing\n"
-    "                     each other, 20000 where nothing can block) on: link\n"
-    "                     through a cluster hierarchy, off: link every pair\n"
-    "                     first;\n"
+    "                     each other, 20000 where nothing can block, always\n"
+    "                     above 20000 triangles) on: link through a cluster\n"
+    "                     hierarchy, off: link every pair first;\n"
     "                     contact (hier) on: cut each triangle along the lines\n"
     "                     where others stand on it, off: mesh it whole\n";
 

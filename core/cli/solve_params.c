@@ -124,6 +124,8 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
         unsigned long long v;
         if ((st = parse_count("--max-tighten", o->max_tighten, 0, 30, &v)) != RAD_OK)
             return st;
+        if (hp->oracle != RAD_HIER_ORACLE_ERROR) /* BF compares no bound with eps */
+            return RAD_ERROR(RAD_EINVAL, "solve: --max-tighten applies to --oracle error only");
         hp->max_tighten = (int)v;
     }
     if (o->solver_tol &&

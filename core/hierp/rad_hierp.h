@@ -30,9 +30,10 @@
  * tol, bound_tol, round_tol, max_iterations, max_rounds, threads,
  * max_elements, max_links and progress apply as documented there; degree is
  * raised to at least 2 order + 2 (the couplings of two order-p functions
- * against a smooth kernel); the BF oracle, use_rule, source_slope and
- * max_tighten are rad_hier's P0 devices and are refused or ignored as
- * rad_hierp_create says.  The statistics are rad_hier_stats. */
+ * against a smooth kernel); max_tighten bounds the tightening of the
+ * oracle's thresholds as it does for P0 (refine.c); the BF oracle,
+ * use_rule and source_slope are rad_hier's P0 devices and are refused or
+ * ignored as rad_hierp_create says.  The statistics are rad_hier_stats. */
 #ifndef RAD_HIERP_H
 #define RAD_HIERP_H
 

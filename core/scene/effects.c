@@ -35,8 +35,8 @@
  *     thousand facing pairs (the sphere of 320 triangles, 51k pairs, 2.6
  *     times faster at eps 0.1; 1 280 triangles, 4.7 times).  Among
  *     occluders the cluster links' errors refine most pairs down to
- *     elements at the default eps, and the two cost the same within about
- *     20% up to the 2.1M facing pairs of 343 boxes, while at a coarse
+ *     elements at the default eps, and the two cost the same within the
+ *     machine's noise (up to about 25%) up to the 2.1M facing pairs of 343 boxes, while at a coarse
  *     setting (eps 1, --max-tighten 0) clusters are 3.3 times faster from
  *     the 277k facing pairs of 125 boxes and 9 times at 343 boxes, with a
  *     tenth of the memory (papers/clustering.md).  So clustering is on
