@@ -452,6 +452,43 @@ TEST(scene_effects_plan_decisions)
     CHECK(rad_scene_effect_mode_parse("x", "maybe", &mode) == RAD_EINVAL);
 }
 
+/* Clustering for hier is decided by the pairs facing each other (pairs_total
+ * minus pairs_facing_away, checked against a brute force below) against a
+ * threshold that depends on whether anything can block: the Cornell box
+ * (occluded, 38 triangles) is on once cluster_min_pairs is lowered to its
+ * own count of facing pairs and off one pair above; the cube (nothing
+ * blocks) follows cluster_min_pairs_clear instead; above the scan limit,
+ * where pairs are not counted, it is on whatever the thresholds. */
+TEST(scene_effects_clustering_by_facing_pairs)
+{
+    rad_effects_plan plan;
+    rad_effects_params ep;
+    rad_scene_effects_params_default(&ep);
+    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
+    double facing = (double)(plan.pairs_total - plan.pairs_facing_away);
+    CHECK(plan.occlusion.on == 1 && facing > 0.0 && plan.clustering.on == 0);
+    ep.cluster_min_pairs = facing;
+    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
+    CHECK_MSG(plan.clustering.on == 1 && strstr(plan.clustering.reason, "face each other"),
+              "%s", plan.clustering.reason);
+    ep.cluster_min_pairs = facing + 1.0;
+    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
+    CHECK(plan.clustering.on == 0);
+    ep.cluster_min_pairs_clear = facing + 1.0; /* the cube has 60 facing pairs */
+    ep.cluster_min_pairs = 1.0;
+    CHECK(plan_for("scenes/furnace_cube/cube.obj", &ep, &plan) == RAD_OK);
+    CHECK(plan.occlusion.on == 0 && plan.clustering.on == 0);
+    ep.cluster_min_pairs_clear = 60.0;
+    CHECK(plan_for("scenes/furnace_cube/cube.obj", &ep, &plan) == RAD_OK);
+    CHECK(plan.clustering.on == 1);
+    rad_scene_effects_params_default(&ep);
+    ep.pair_scan_max_faces = 10;
+    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
+    CHECK_MSG(plan.pairs_facing_away == -1 && plan.clustering.on == 1 &&
+                  strstr(plan.clustering.reason, "counted"),
+              "%s", plan.clustering.reason);
+}
+
 /* Facing-away pairs counted against a brute-force reference: a pair is zero
  * when all of one triangle's corners are on or behind the other's plane. */
 TEST(scene_effects_facing_away_count_independent)
