@@ -31,15 +31,12 @@
  *     links start from the n - 1 sibling pairs of a cluster hierarchy
  *     instead.  That pays where those first links are many against what
  *     refinement keeps.  Where nothing can block (a convex enclosure) a
- *     cluster link's rays always agree and clusters pay from a few ten
- *     thousand facing pairs (the sphere of 320 triangles, 51k pairs, 2.6
- *     times faster at eps 0.1; 1 280 triangles, 4.7 times).  Among
- *     occluders the cluster links' errors refine most pairs down to
- *     elements at the default eps, and the two cost the same within the
- *     machine's noise (up to about 25%) up to the 2.1M facing pairs of 343 boxes, while at a coarse
- *     setting (eps 1, --max-tighten 0) clusters are 3.3 times faster from
- *     the 277k facing pairs of 125 boxes and 9 times at 343 boxes, with a
- *     tenth of the memory (papers/clustering.md).  So clustering is on
+ *     cluster link's rays always agree and its terms stay small, so the
+ *     layer pays from a few ten thousand facing pairs.  Among occluders the
+ *     cluster links' errors refine most pairs down to elements at tight
+ *     eps, so the layer costs about what hier does there and saves hier's
+ *     first links at coarse eps (papers/clustering.md, "when the layer
+ *     pays", has the measurements).  So clustering is on
  *     from cluster_min_pairs facing pairs (2.5e5) where faces can block
  *     each other, from cluster_min_pairs_clear (2e4) where nothing can, and
  *     always above the scan limit (pairs not counted).  The solve pipeline
