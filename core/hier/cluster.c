@@ -336,6 +336,7 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
         if (keep[k])
             h->cln[w++] = out[k];
     h->ncln = w;
+    h->cln_version++;
     h->st.rays += rays;
     free(keep);
     return RAD_OK;
@@ -549,6 +550,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
         if (h->cln[k].a != INT_MIN)
             h->cln[w++] = h->cln[k];
     h->ncln = w;
+    h->cln_version++;
     return st;
 }
 
@@ -588,7 +590,8 @@ rad_status hier_cluster_create(rad_hier *h)
     h->ncl = rad_cluster_node_count(tree);
     h->cl = calloc(h->ncl, sizeof *h->cl);
     h->corder = malloc(n * sizeof *h->corder);
-    if (!h->cl || !h->corder) {
+    h->cemit = malloc(6 * n * sizeof *h->cemit);
+    if (!h->cl || !h->corder || !h->cemit) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
@@ -660,6 +663,9 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->corder);
     free(h->cln);
     free(h->cstrength);
+    free(h->cemit);
+    free(h->cinc_start);
+    free(h->cinc);
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
@@ -676,87 +682,167 @@ static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
             (carry == CLUSTER_T ? x->Tg : x->Bg)[c] += v[c];
 }
 
-/* The intensity of end id (channel c, what is carried) towards unit
- * direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model). */
-static double intensity(const rad_hier *h, int id, int carry, int c, rad_vec3 u)
+/* What element e carries, channel c: B, T or 1. */
+static double carried(const hier_elem *e, int carry, int c)
+{
+    return carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+}
+
+/* The intensity of end id (what is carried, each channel into p[c]) towards
+ * unit direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model).
+ * The channels share each triangle's projected area, so it is computed once. */
+static void intensity(const rad_hier *h, int id, int carry, rad_vec3 u, double p[3])
 {
     if (id < 0) {
         const hier_elem *e = &h->el[-1 - id];
-        double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-        return e->area * v * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
+        double a = e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
+        for (int c = 0; c < 3; c++)
+            p[c] = a * carried(e, carry, c);
+        return;
     }
     const hier_clus *x = &h->cl[id];
-    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
-        return 0.25 * x->src[c].C;
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+        for (int c = 0; c < 3; c++)
+            p[c] = 0.25 * x->src[c].C;
+        return;
+    }
     if (x->count <= CLUSTER_SMALL) {
-        double p = 0.0;
-        for (int i = x->first; i < x->first + x->count; i++) {
-            const hier_elem *e = &h->el[h->corder[i]];
-            double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-            p += e->area * v * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
+        p[0] = p[1] = p[2] = 0.0;
+        const double *m = h->cemit + 6 * (size_t)x->first;
+        for (int i = 0; i < x->count; i++, m += 6) {
+            double a = rad_dmax(0.0, m[0] * u.x + m[1] * u.y + m[2] * u.z);
+            for (int c = 0; c < 3; c++)
+                p[c] += a * m[3 + c];
         }
-        return p;
+        return;
     }
     double err;
-    return dir_eval(&x->src[c], u, &err);
+    for (int c = 0; c < 3; c++)
+        p[c] = dir_eval(&x->src[c], u, &err);
 }
 
-/* What link k brings end s (0: a, 1: b), channel c: kv times the other
- * end's intensity towards it. */
-static double strength_of(const rad_hier *h, size_t k, int s, int c, int carry)
+/* What link k brings end s (0: a, 1: b), each channel into v[c]: kv times
+ * the other end's intensity towards it. */
+static void strength_of(const rad_hier *h, size_t k, int s, int carry, double v[3])
 {
     const hier_clink *l = &h->cln[k];
     /* the other end, and its direction towards end s */
     int o = s == 0 ? l->b : l->a;
     rad_vec3 towards = s == 0 ? rad_vec3_scale(l->w, -1.0) : l->w;
-    return l->kv * intensity(h, o, carry, c, towards);
+    intensity(h, o, carry, towards, v);
+    for (int c = 0; c < 3; c++)
+        v[c] *= l->kv;
+}
+
+/* Each receiving end's cluster-link ends (h->cinc), in link order; 0 when
+ * out of memory or too many links to number (the gather then runs serially). */
+static int cluster_incidence(rad_hier *h)
+{
+    size_t nr = h->ncl + h->nel;
+    if (h->cinc_start && h->cinc_version == h->cln_version && h->cinc_nel == h->nel)
+        return 1;
+    if (h->ncln > UINT_MAX / 2 ||
+        !rad_sys_grow((void **)&h->cinc_start, &h->cinc_start_cap, 0, nr + 1,
+                      sizeof *h->cinc_start, 1024) ||
+        !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
+        return 0;
+    size_t *start = h->cinc_start;
+    memset(start, 0, (nr + 1) * sizeof *start);
+    for (size_t k = 0; k < h->ncln; k++) {
+        const int ends[2] = {h->cln[k].a, h->cln[k].b};
+        for (int s = 0; s < 2; s++)
+            start[(ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s])) + 1]++;
+    }
+    for (size_t r = 0; r < nr; r++)
+        start[r + 1] += start[r];
+    for (size_t k = 0; k < h->ncln; k++) { /* start[r] runs ahead, then is restored */
+        const int ends[2] = {h->cln[k].a, h->cln[k].b};
+        for (int s = 0; s < 2; s++) {
+            size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
+            h->cinc[start[r]++] = (unsigned)(2 * k + (size_t)s);
+        }
+    }
+    for (size_t r = nr; r > 0; r--)
+        start[r] = start[r - 1];
+    start[0] = 0;
+    h->cinc_version = h->cln_version;
+    h->cinc_nel = h->nel;
+    return 1;
+}
+
+/* End s of link k receives v (its three channels, strength_of's). */
+static void receive(rad_hier *h, size_t k, int s, int carry, const double v[3])
+{
+    const hier_clink *l = &h->cln[k];
+    int end = s == 0 ? l->a : l->b;
+    /* the direction from the end towards the other */
+    rad_vec3 dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
+    if (end < 0) {
+        const hier_elem *e = &h->el[-1 - end];
+        double cosine = rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir));
+        double got[3] = {v[0] * cosine, v[1] * cosine, v[2] * cosine};
+        add_to_element(h, -1 - end, carry, got);
+        return;
+    }
+    for (int c = 0; c < 3; c++) {
+        if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
+            h->cl[end].g[c].C += 0.25 * v[c];
+        else
+            dir_add(&h->cl[end].g[c], v[c], dir);
+    }
 }
 
 /* Gather every link (elements' ends directly, clusters' by direction) and
  * push what the clusters gathered down their tree (parents come before
- * their children).  The intensities, most of the work, are computed in
- * parallel first; the sums then run in link order on one thread, so the
- * result does not depend on the thread count. */
+ * their children).  The intensities are computed in parallel first; then
+ * each receiving end adds up its own links' in link order, in parallel over
+ * the ends, so the result does not depend on the thread count. */
 static void gather_links(rad_hier *h, int carry)
 {
     pull(h, carry);
-    for (size_t i = 0; i < h->ncl; i++)
-        memset(h->cl[i].g, 0, sizeof h->cl[i].g);
-    int iso = h->p.cluster_model == RAD_HIER_CLUSTER_ISO;
-    const double *pre = NULL;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    for (size_t i = 0; i < h->nroots; i++) {
+        const hier_elem *e = &h->el[h->corder[i]];
+        rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
+        double *m = h->cemit + 6 * i;
+        m[0] = an.x;
+        m[1] = an.y;
+        m[2] = an.z;
+        for (int c = 0; c < 3; c++)
+            m[3 + c] = carried(e, carry, c);
+    }
+    double *pre = NULL;
     if (rad_sys_grow((void **)&h->cstrength, &h->cstrength_cap, 0, 6 * h->ncln,
                      sizeof *h->cstrength, 1024)) {
-        double *out = h->cstrength;
+        pre = h->cstrength;
         const rad_hier *hc = h;
-        int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
         for (long long k = 0; k < (long long)hc->ncln; k++)
             for (int s = 0; s < 2; s++)
-                for (int c = 0; c < 3; c++)
-                    out[6 * k + 3 * s + c] = strength_of(hc, (size_t)k, s, c, carry);
-        pre = out;
+                strength_of(hc, (size_t)k, s, carry, pre + 6 * k + 3 * s);
     }
-    for (size_t k = 0; k < h->ncln; k++) {
-        const hier_clink *l = &h->cln[k];
-        int ends[2] = {l->a, l->b};
-        /* the direction from each end towards the other */
-        rad_vec3 dir[2] = {l->w, rad_vec3_scale(l->w, -1.0)};
-        for (int s = 0; s < 2; s++) {
-            for (int c = 0; c < 3; c++) {
-                double strength = pre ? pre[6 * k + 3 * (size_t)s + (size_t)c]
-                                      : strength_of(h, k, s, c, carry);
-                if (ends[s] < 0) {
-                    const hier_elem *e = &h->el[-1 - ends[s]];
-                    double got[3] = {0, 0, 0};
-                    got[c] = strength * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir[s]));
-                    add_to_element(h, -1 - ends[s], carry, got);
-                } else if (iso) {
-                    h->cl[ends[s]].g[c].C += 0.25 * strength;
-                } else {
-                    dir_add(&h->cl[ends[s]].g[c], strength, dir[s]);
-                }
-            }
+    if (pre && cluster_incidence(h)) {
+        const size_t *start = h->cinc_start;
+        const unsigned *inc = h->cinc;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
+        for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
+            if (r < (long long)h->ncl)
+                memset(h->cl[r].g, 0, sizeof h->cl[r].g);
+            for (size_t i = start[r]; i < start[r + 1]; i++)
+                receive(h, inc[i] / 2, (int)(inc[i] % 2), carry, pre + 3 * (size_t)inc[i]);
         }
+    } else {
+        for (size_t i = 0; i < h->ncl; i++)
+            memset(h->cl[i].g, 0, sizeof h->cl[i].g);
+        for (size_t k = 0; k < h->ncln; k++)
+            for (int s = 0; s < 2; s++) {
+                double v[3];
+                if (pre)
+                    memcpy(v, pre + 6 * k + 3 * (size_t)s, sizeof v);
+                else
+                    strength_of(h, k, s, carry, v);
+                receive(h, k, s, carry, v);
+            }
     }
     for (size_t i = 0; i < h->ncl; i++) {
         const hier_clus *x = &h->cl[i];

@@ -160,6 +160,18 @@ struct rad_hier {
        the gather adds them up in link order (cluster.c) */
     double *cstrength;
     size_t cstrength_cap;
+    /* what each input triangle emits, in cluster order (6 doubles each: area
+       x unit normal, then the three channels carried), filled at each gather
+       so that a small cluster's intensity reads one contiguous run */
+    double *cemit;
+    /* each receiving end's cluster-link ends (2 k + s: link k's end s), in
+       link order: clusters 0 .. ncl - 1, then the elements (cluster.c's
+       parallel gather); built for cinc_version == cln_version and
+       cinc_nel == nel */
+    size_t *cinc_start;
+    unsigned *cinc;
+    size_t cinc_start_cap, cinc_cap, cinc_nel;
+    unsigned long long cln_version, cinc_version;
     /* the links or elements changed (refine.c): bumped so that exchange.c
        rebuilds its plan of the shared gather */
     unsigned long long version;
