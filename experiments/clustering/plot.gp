@@ -4,7 +4,7 @@ set logscale xy
 set grid
 set key top left font ",10"
 sel(m) = sprintf("< awk -F'\\t' '$1==\"%s\"' data/scaling.dat", m)
-loose = "< awk -F'\\t' '$1==\"cluster-preview\"' data/scaling_loose.dat"
+loose = "< awk -F'\\t' '$1==\"cluster-preview\"' data/scaling_loose.dat data/target.dat"
 do for [fmt in "png pdf"] {
   if (fmt eq "png") { set terminal pngcairo size 1200,500 enhanced font ",11" }
   else { set terminal pdfcairo size 11in,4.3in enhanced font ",10" }
@@ -15,11 +15,12 @@ do for [fmt in "png pdf"] {
   plot sel("hier") using 3:4 with linespoints pt 7 title "hier", \
        sel("cluster") using 3:4 with linespoints pt 5 title "cluster, oriented", \
        sel("cluster-iso") using 3:4 with linespoints pt 9 title "cluster, iso", \
-       loose using 3:4 with linespoints pt 11 title "cluster, preview"
+       loose using 3:4 with linespoints pt 11 title "cluster, preview (to 120k)"
   set ylabel "wall time (s), 2 cores"
   plot sel("hier") using 3:7 with linespoints pt 7 title "hier", \
        sel("cluster") using 3:7 with linespoints pt 5 title "cluster, oriented", \
        sel("cluster-iso") using 3:7 with linespoints pt 9 title "cluster, iso", \
-       loose using 3:7 with linespoints pt 11 title "cluster, preview"
+       loose using 3:7 with linespoints pt 11 title "cluster, preview (to 120k)", \
+       "< printf '120012\\t120\\n'" using 1:2 with points pt 6 ps 2 lc rgb "red" title "target: 120k triangles in 120 s"
   unset multiplot
 }

@@ -28,6 +28,16 @@
 #    EPS_TIGHTEN and --max-tighten K for each K of TIGHTEN (links, time,
 #    the errors against the Monte Carlo reference and the estimate).
 # 4. Furnaces of FURNACE_BOXES boxes (below).
+# 6. The target size: cluster at the preview setting on TARGET_BOXES boxes
+#    (10 000: 120 012 triangles, issue 17's "120k triangles in under 2
+#    minutes and 6 GB"), part "target", data/target.dat (about 5 minutes,
+#    4.5 GB).
+# 7. When the layer pays (the effects plan's choice for --method hier):
+#    hier without and with clusters on the spheres of 320 and 1 280
+#    triangles and rooms of PAYS_BOXES boxes at eps 0.1 (the defaults) and,
+#    for PAYS_LOOSE_BOXES, at the preview setting: wall time, peak memory,
+#    links and the pairs hier links first (part "pays", data/pays.dat,
+#    about 6 minutes).
 # 5. The picture of a large scene: make demo-large's room of 1 000 boxes
 #    (figures/room_1000.png, its figures and its error against the Monte
 #    Carlo reference in data/room_1000.txt).
@@ -48,10 +58,13 @@ EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
 LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
+TARGET_BOXES=${TARGET_BOXES:-10000}
+PAYS_BOXES=${PAYS_BOXES:-"125 216 343"}
+PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
 FURNACE_EPS=${FURNACE_EPS:-0.01}
-PARTS=${PARTS:-"scaling loose accuracy tighten furnace picture"} # any of them, e.g. PARTS=furnace
+PARTS=${PARTS:-"scaling loose target pays accuracy tighten furnace picture"} # any of them, e.g. PARTS=furnace
 want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
 for r in cornell many_64 many_343 many_1000; do
@@ -155,6 +168,49 @@ done
 sed -i '/^cluster-preview/d' data/slopes.dat 2>/dev/null || true
 slopes "$dat" | sed 1d >> data/slopes.dat
 fi
+if want target; then
+dat=data/target.dat
+table_head "$dat" "clustering at the target size: a room of $TARGET_BOXES boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN (issue 17: 120k triangles in under 120 s and 6 GB)" \
+  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
+  "method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+python3 "$root/scenes/gen/many_objects.py" "$TARGET_BOXES" > "$tmp/boxes_target.obj"
+echo "clustering: preview setting, $TARGET_BOXES boxes" >&2
+"$RADKIT" solve "$tmp/boxes_target.obj" --method cluster --eps "$LOOSE_EPS" \
+  --max-tighten "$LOOSE_TIGHTEN" --quiet --out "$tmp/t.tsv" 2>/dev/null || true
+[ -s "$tmp/t.tsv" ] && { scaling_row cluster-preview "$TARGET_BOXES"; echo; } >> "$dat"
+rm -f "$tmp/t.tsv"
+fi
+if want pays; then
+dat=data/pays.dat
+table_head "$dat" "clustering: when the layer pays, --method hier with --clustering off and on" \
+  "pairs: the facing pairs of input triangles hier links first (radkit info); setting: default (eps 0.1) or preview (eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN); time: time_total_s; memory: memory_peak_bytes" \
+  "scene	faces	pairs	setting	clustering	links	time_s	memory_bytes"
+pays_row() { # SCENE_FILE NAME SETTING CLUSTERING [solve options]
+  f=$1 name=$2 setting=$3 c=$4
+  shift 4
+  echo "clustering: when it pays, $name, $setting, clustering $c" >&2
+  "$RADKIT" solve "$f" --method hier --clustering "$c" "$@" --quiet --out "$tmp/t.tsv" 2>/dev/null || true
+  [ -s "$tmp/t.tsv" ] || return 0
+  "$RADKIT" info "$f" > "$tmp/info.txt" 2>/dev/null || true
+  facing=$(($(hdr $tmp/info.txt pairs_total) - $(hdr $tmp/info.txt pairs_facing_away)))
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr $tmp/t.tsv faces)" "$facing" "$setting" "$c" \
+    "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" >> "$dat"
+  rm -f "$tmp/t.tsv"
+}
+for s in 2 3; do
+  for c in off on; do pays_row "$root/scenes/sphere/sphere_$s.obj" "sphere_$s" default "$c"; done
+done
+for n in $PAYS_BOXES; do
+  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
+  for c in off on; do pays_row "$tmp/boxes_$n.obj" "boxes_$n" default "$c"; done
+done
+for n in $PAYS_LOOSE_BOXES; do
+  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
+  for c in off on; do
+    pays_row "$tmp/boxes_$n.obj" "boxes_$n" preview "$c" --eps "$LOOSE_EPS" --max-tighten "$LOOSE_TIGHTEN"
+  done
+done
+fi
 if want accuracy; then
 acc=data/accuracy.dat
 {
@@ -253,4 +309,4 @@ if command -v gnuplot > /dev/null; then gnuplot plot.gp; fi
 # gnuplot's PDFs carry their creation time: a fixed one, so that a re-run
 # changes only what it measured.
 find figures -name '*.pdf' -exec perl -pi -e 's/(CreationDate \(D:)\d{14}/${1}20000101000000/' {} +
-echo "clustering: data/scaling.dat, data/scaling_loose.dat, data/slopes.dat, data/accuracy.dat, data/tighten.dat, data/furnace.dat, data/room_1000.txt, figures/scaling.png, figures/room_1000.png" >&2
+echo "clustering: data/scaling.dat, data/scaling_loose.dat, data/target.dat, data/pays.dat, data/slopes.dat, data/accuracy.dat, data/tighten.dat, data/furnace.dat, data/room_1000.txt, figures/scaling.png, figures/room_1000.png" >&2
