@@ -461,6 +461,52 @@ TEST(lamp_in_a_dark_closed_room_against_the_monte_carlo_reference)
                 "0.03", 0.005, 0.015);
 }
 
+/* A floor lit through a regular 8 x 8 lattice of black cubes
+ * (scenes/lattice/lattice.obj): every pair of floor and emitter elements is
+ * seen between dozens of cubes, so hier's links take their visibility from
+ * rays to one point in each of 16 cells of the other element.  Placed alike
+ * in every cell (they were: the middle of a cell edge, some on the
+ * element's boundary) those ends lined up with the lattice and one floor
+ * triangle came out 9.2% dark; jittered per pair, both floor triangles are
+ * within 3% of the Monte Carlo reference (0.16% standard error), with and
+ * without clusters, at the defaults, and the run's estimate bounds the
+ * worst face. */
+TEST(lattice_shadow_against_the_monte_carlo_reference)
+{
+    const char *scene = "scenes/lattice/lattice.obj";
+    const char *reference = "experiments/reference/data/lattice.tsv";
+    enum { FACES = 772 };
+    static double ref[3 * FACES], se[3 * FACES], B[3 * FACES];
+    char *text = harness_read_file(harness_path(reference));
+    CHECK(text && harness_face_table_se(text, ref, se, FACES) == FACES);
+    free(text);
+    const char *table = harness_temp_path("lattice.tsv");
+    const char *methods[] = {"hier", "cluster"};
+    for (size_t m = 0; m < 2; m++) {
+        char *out = NULL, *err = NULL, buf[64];
+        CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scene), "--method",
+                                                           methods[m], "--out", table, "--quiet",
+                                                           NULL},
+                                 &out, &err) == 0);
+        free(out);
+        free(err);
+        text = harness_read_file(table);
+        CHECK(text && harness_face_table(text, B, FACES) == FACES);
+        double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
+        free(text);
+        for (int f = 0; f < 2; f++) { /* the floor: faces 0 and 1, the only reflector */
+            double rel = fabs(B[3 * f] - ref[3 * f]) / ref[3 * f];
+            printf("# lattice %s: floor face %d B %.6f, reference %.6f (se %.1e): %.2f%%\n",
+                   methods[m], f, B[3 * f], ref[3 * f], se[3 * f], 100.0 * rel);
+            CHECK_MSG(rel <= 0.03, "%s: floor face %d off by %.3g", methods[m], f, rel);
+        }
+        double worst = scene_figure(scene, reference, table, "error_worst");
+        CHECK_MSG(worst >= 0.0 && est >= worst, "%s: estimate %.3g below the worst face %.3g",
+                  methods[m], est, worst);
+        remove(table);
+    }
+}
+
 /* 27 boxes in a lit room (gen/many_objects.py 27 2) with every reflectance
  * 0.99: three boxes stand 3 to 8 cm from the ceiling or the floor, narrow
  * gaps whose transport has eigenvalues close to 1.  p1's and p2's couplings

@@ -30,8 +30,11 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "rad_sys.h"
 
 enum { LINK_MAX_BLOCKERS = 256, LINK_RAY_STRATA = 4 };
 
@@ -100,19 +103,34 @@ static int side_values(const rad_hier *h, const hier_elem *e, const hier_elem *t
 /* The point values of side e towards t where clipping would cost too much
  * (too many blockers, pieces or clipping work: a pair seen between many
  * objects): at each node x, the open closed form times the kernel-weighted
- * share of open rays from x to the centres of t's LINK_RAY_STRATA^2 equal
- * cells.  A fixed cost, whatever the scene holds; a shadow narrower than a
- * cell is missed, as by any sampled visibility, and the link's error terms
- * see only what its points see. */
+ * share of open rays from x to one point in each of t's LINK_RAY_STRATA^2
+ * equal cells, jittered within its cell by a hash of the pair's corners (the
+ * same pair gives the same points on any thread or process).  Points at one
+ * place in every cell would line up with a regular scene (a grid of boxes
+ * shadows them alike from link to link, a bias that does not average out)
+ * and, at the cells' corners or edges, would end on t's boundary, where the
+ * faces that meet t there can catch the ray.  A fixed cost, whatever the
+ * scene holds; a shadow narrower than a cell is missed, as by any sampled
+ * visibility, and the link's error terms see only what its points see. */
 static void side_values_rays(const rad_hier *h, const hier_elem *e, const hier_elem *t,
                              double *F, double *Fo, work_count *wc)
 {
     enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA };
     rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
+    uint64_t key = 0;
+    for (int v = 0; v < 3; v++) {
+        double c[6] = {e->p[v].x, e->p[v].y, e->p[v].z, t->p[v].x, t->p[v].y, t->p[v].z};
+        for (int m = 0; m < 6; m++) {
+            uint64_t bits;
+            memcpy(&bits, &c[m], sizeof bits);
+            key = key * 0x100000001b3ull ^ bits;
+        }
+    }
     double q[CELLS][3];
     for (int j = 0; j < CELLS; j++) {
         double s, u;
-        rad_geom_triangle_stratum(LINK_RAY_STRATA, j, 0.5, 0.5, &s, &u);
+        rad_geom_triangle_stratum(LINK_RAY_STRATA, j, rad_sys_hash_unit(key + 2 * (uint64_t)j),
+                                  rad_sys_hash_unit(key + 2 * (uint64_t)j + 1), &s, &u);
         rad_vec3 y = rad_geom_triangle_point(t->p[0], t->p[1], t->p[2], s, u);
         q[j][0] = y.x;
         q[j][1] = y.y;

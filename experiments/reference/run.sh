@@ -19,6 +19,8 @@
 #   many_343  scenes/many_objects/many_343.obj: 343 boxes in a lit room (4 128
 #             triangles), the clustering study's mid-size scene (about 6
 #             minutes)
+#   lattice   scenes/lattice/lattice.obj: a floor lit through an 8 x 8 lattice
+#             of black cubes (SAMPLES_LATTICE paths per face, about 35 s)
 #   many_1000 scenes/many_objects/many_1000.obj: 1 000 boxes in a lit room
 #             (12 012 triangles), the clustering study's large scene with a
 #             reference (SAMPLES_LARGE paths per face, about 5 minutes)
@@ -42,6 +44,7 @@ SAMPLES_GAPS=${SAMPLES_GAPS:-65536}
 SAMPLES_LAMP=${SAMPLES_LAMP:-4194304}
 SAMPLES_ROOM=${SAMPLES_ROOM:-131072}
 SAMPLES_LARGE=${SAMPLES_LARGE:-32768}
+SAMPLES_LATTICE=${SAMPLES_LATTICE:-400000}
 cd "$root"
 mkdir -p "$here/data"
 prefix=""
@@ -73,6 +76,7 @@ reference lamp_closed "$SAMPLES_LAMP" scenes/lamp/lamp_closed.obj
 reference many_27_rho99 "$SAMPLES_GAPS" scenes/many_objects/many_27_seed2.obj --rho 0.99
 reference many_343 "$SAMPLES_ROOM" scenes/many_objects/many_343.obj
 reference many_1000 "$SAMPLES_LARGE" scenes/many_objects/many_1000.obj
+reference lattice "$SAMPLES_LATTICE" scenes/lattice/lattice.obj
 
 dat=$here/data/${prefix}summary.dat
 {
@@ -82,7 +86,7 @@ dat=$here/data/${prefix}summary.dat
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
   printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
-  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99 many_343 many_1000; do
+  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99 many_343 many_1000 lattice; do
     f=$here/data/$prefix$name.tsv
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
       "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \

@@ -397,6 +397,31 @@ def plates():
               ["emitter E = 1 W/m^2, all black (rho = 0)"])
 
 
+def lattice():
+    """A floor lit through a regular lattice of small black cubes."""
+    obj = Obj()
+    obj.polygon(orient([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], normal=[0, 0, 1]), "floor")
+    obj.polygon(orient([[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], normal=[0, 0, -1]), "light")
+    n, cell = 8, 1.0 / 8
+    half = cell / 4
+    for i in range(n):
+        for j in range(n):
+            c = [(i + 0.5) * cell, (j + 0.5) * cell, 0.5]
+            for quad in box_faces([x - half for x in c], [x + half for x in c]):
+                obj.polygon(orient(quad, away=c), "cube")
+    d = os.path.join(ROOT, "lattice")
+    obj.write(os.path.join(d, "lattice.obj"), "lattice.mtl",
+              ["A unit floor (reflectance 0.5) lit by a unit emitter 1 m above it (E = 1 W/m^2,",
+               "black) through an 8 x 8 lattice of black cubes of side 1/16 m half-way between:",
+               "every floor-emitter pair is seen between dozens of cubes, so the hierarchical",
+               "solvers' links take visibility from rays, and the lattice's regularity shows any",
+               "bias of regularly placed ray ends.  Written by scenes/gen/make_scenes.py."])
+    write_mtl(os.path.join(d, "lattice.mtl"), [("floor", [0.5] * 3, [0] * 3),
+                                               ("light", [0] * 3, [1] * 3),
+                                               ("cube", [0] * 3, [0] * 3)],
+              ["a grey floor, a black emitter and black cubes"])
+
+
 def lamp():
     """A small lamp in a dark open room: direct light dominates."""
     obj = Obj()
@@ -546,6 +571,7 @@ def main():
     plates()
     lamp()
     lamp_closed()
+    lattice()
     formats()
     bad()
     # many_objects: the committed small instance (the generator takes any N).
