@@ -14,7 +14,9 @@
 #    --max-tighten LOOSE_TIGHTEN) runs cluster on LOOSE_SIZES boxes, up to
 #    3 000 (36 012 triangles, the top of issue 17's slope range), with the
 #    room of 343 boxes's errors against its Monte Carlo reference (part
-#    "loose", data/scaling_loose.dat and its slopes in data/slopes.dat).
+#    "loose", data/scaling_loose.dat and its slopes in data/slopes.dat;
+#    each size run LOOSE_REPEAT times, the fastest kept: this machine's
+#    times move by up to a fifth from run to run).
 # 2. Accuracy against the Monte Carlo references of experiments/reference:
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
@@ -58,6 +60,7 @@ EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
 LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
+LOOSE_REPEAT=${LOOSE_REPEAT:-3} # the preview's runs per size: the fastest is kept
 TARGET_BOXES=${TARGET_BOXES:-10000}
 PAYS_BOXES=${PAYS_BOXES:-"125 216 343"}
 PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
@@ -152,9 +155,22 @@ table_head "$dat" "clustering at a preview setting: rooms of N boxes, cluster (o
   "$cols"
 for n in $LOOSE_SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
-  echo "clustering: preview setting, $n boxes" >&2
-  "$RADKIT" solve "$tmp/boxes_$n.obj" --method cluster --eps "$LOOSE_EPS" \
-    --max-tighten "$LOOSE_TIGHTEN" --quiet --out "$tmp/t.tsv" 2>/dev/null || true
+  # the fastest of LOOSE_REPEAT runs (the answer is the same each time;
+  # other work on the machine slows a run down, never speeds it up)
+  best=
+  r=0
+  while [ "$r" -lt "$LOOSE_REPEAT" ]; do
+    r=$((r + 1))
+    echo "clustering: preview setting, $n boxes, run $r of $LOOSE_REPEAT" >&2
+    "$RADKIT" solve "$tmp/boxes_$n.obj" --method cluster --eps "$LOOSE_EPS" \
+      --max-tighten "$LOOSE_TIGHTEN" --quiet --out "$tmp/r.tsv" 2>/dev/null || true
+    [ -s "$tmp/r.tsv" ] || continue
+    t=$(hdr $tmp/r.tsv time_total_s)
+    if [ -z "$best" ] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+      best=$t
+      mv "$tmp/r.tsv" "$tmp/t.tsv"
+    fi
+  done
   [ -s "$tmp/t.tsv" ] || continue
   err="-\t-\t-"
   if [ "$n" = 343 ]; then
