@@ -464,12 +464,11 @@ TEST(lamp_in_a_dark_closed_room_against_the_monte_carlo_reference)
 /* A floor lit through a regular 8 x 8 lattice of black cubes
  * (scenes/lattice/lattice.obj): every pair of floor and emitter elements is
  * seen between dozens of cubes, so hier's links take their visibility from
- * rays to one point in each of 16 cells of the other element.  Placed alike
- * in every cell (they were: the middle of a cell edge, some on the
- * element's boundary) those ends lined up with the lattice and one floor
- * triangle came out 9.2% dark; jittered per pair, both floor triangles are
- * within 3% of the Monte Carlo reference (0.16% standard error), with and
- * without clusters, at the defaults, and the run's estimate bounds the
+ * rays to one point in each of 16 cells of the other element.  Ends placed
+ * alike in every cell would line up with the lattice and darken one floor
+ * triangle by several percent; jittered per pair, both floor triangles must
+ * be within 3% of the Monte Carlo reference (0.16% standard error), with and
+ * without clusters, at the defaults, and the run's estimate must bound the
  * worst face. */
 TEST(lattice_shadow_against_the_monte_carlo_reference)
 {

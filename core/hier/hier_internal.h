@@ -157,7 +157,7 @@ struct rad_hier {
     size_t ncln, capcln;
     /* what each cluster link brings each of its ends (6 doubles a link:
        end a's three channels, then end b's), computed in parallel before
-       the gather adds them up in link order (cluster.c) */
+       each receiving end adds up its own (cluster.c) */
     double *cstrength;
     size_t cstrength_cap;
     /* what each input triangle emits, in cluster order (6 doubles each: area

@@ -208,7 +208,9 @@ pays_row() { # SCENE_FILE NAME SETTING CLUSTERING [solve options]
   "$RADKIT" solve "$f" --method hier --clustering "$c" "$@" --quiet --out "$tmp/t.tsv" 2>/dev/null || true
   [ -s "$tmp/t.tsv" ] || return 0
   "$RADKIT" info "$f" > "$tmp/info.txt" 2>/dev/null || true
-  facing=$(($(hdr $tmp/info.txt pairs_total) - $(hdr $tmp/info.txt pairs_facing_away)))
+  total=$(hdr $tmp/info.txt pairs_total) away=$(hdr $tmp/info.txt pairs_facing_away)
+  facing=-
+  [ -n "$total" ] && [ -n "$away" ] && facing=$((total - away))
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr $tmp/t.tsv faces)" "$facing" "$setting" "$c" \
     "$(hdr $tmp/t.tsv links)" "$(hdr $tmp/t.tsv time_total_s)" "$(hdr $tmp/t.tsv memory_peak_bytes)" >> "$dat"
   rm -f "$tmp/t.tsv"
