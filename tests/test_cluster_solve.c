@@ -229,6 +229,62 @@ TEST(cluster_links_start_linear_in_triangles)
               per[2]);
 }
 
+/* The room's walls are larger than whole groups of boxes: the cluster layer
+ * splits a wall, not only the boxes' clusters, where it is the larger end,
+ * so a wall is linked piece by piece to clusters of boxes instead of to
+ * each of their triangles, whose shafts would cross the whole room between
+ * ever more boxes.  At a coarse setting (eps 1, no tightening) the point
+ * evaluations of all estimates per input triangle then stay about the same
+ * from 64 to 216 boxes, where linking walls to triangles made them grow
+ * with the boxes in the way. */
+static double evals_per_triangle(int k)
+{
+    double *xyz = NULL;
+    int *tri = NULL;
+    int n = room_of_boxes(k, &xyz, &tri), nv = 8 * (k * k * k + 1);
+    double *rho = malloc(3 * (size_t)n * sizeof *rho), *E = calloc(3 * (size_t)n, sizeof *E);
+    for (int i = 0; i < 3 * n; i++)
+        rho[i] = 0.5;
+    for (int c = 0; c < 3; c++) /* the room's first two triangles emit */
+        E[(size_t)c * n] = E[(size_t)c * n + 1] = 1.0;
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, &vp, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 1.0;
+    p.max_tighten = 0;
+    p.min_area = 100.0 / (k * k * k); /* about a box face's area (solve/ sets one too) */
+    rad_hier *h = NULL;
+    double per = 0.0;
+    CHECK_MSG(rad_hier_create(xyz, (size_t)nv, tri, (size_t)n, rho, E, vis, &p, &h) == RAD_OK,
+              "%s", rad_error_message());
+    if (h && rad_hier_solve(h) == RAD_OK) {
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        per = (double)st.kernel_evals / n;
+        printf("# room with %d boxes, eps 1: %zu links (%zu cluster), %lld evaluations, %.0f per "
+               "triangle\n",
+               k * k * k, st.links, st.links_cluster, st.kernel_evals, per);
+    }
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+    free(xyz);
+    free(tri);
+    free(rho);
+    free(E);
+    return per;
+}
+
+TEST(cluster_walls_link_to_clusters_not_to_each_triangle)
+{
+    double small = evals_per_triangle(4), large = evals_per_triangle(6);
+    CHECK_MSG(small > 0.0 && large < 1.25 * small, "evaluations per triangle %.0f -> %.0f", small,
+              large);
+}
+
 /* The effects plan decides clustering for hier from the pairs of input
  * triangles that face each other and whether anything can block them
  * (effects.c); on, the 1280-triangle sphere's hier links 2 559 clusters

@@ -47,13 +47,12 @@
  * ORIENTED, whose intensity follows the triangles' own B).
  *
  * The oracle refines a link whose term, times the receiver's reflectance,
- * exceeds link_share x eps R x the smallest threshold scale below it.  Only
- * clusters are split here (elements are left to the element links, which
- * refine them from exact point values): the source of the receiver whose
- * term is the larger share of its threshold, or the larger where the
- * kernel's variation dominates; two elements become an element link
- * (link.c).  Where the spheres meet there is no bound: such a link is
- * refined at once, at creation.
+ * exceeds link_share x eps R x the smallest threshold scale below it: the
+ * source of the receiver whose term is the larger share of its threshold,
+ * or the larger where the kernel's variation dominates, is split (an
+ * element only against a larger group of triangles, split_link); two
+ * elements become an element link (link.c).  Where the spheres meet there
+ * is no bound: such a link is refined at once, at creation.
  *
  * In the solve the clusters pull their moments from the roots, and what the
  * cluster links bring is added to what the receiving elements gather, a
@@ -362,23 +361,49 @@ static rad_status queue_pair(job_list *cj, job_list *sj, int a, int b)
     return a < 0 && b < 0 ? push_job(sj, -1 - a, -1 - b) : push_job(cj, a, b);
 }
 
-/* Replace link k by the links of one cluster end's two children to the
- * other end.  Only clusters are split here: elements are left to the
- * element links' oracle, which refines them from exact point values.  The
- * cluster split is the source of the receiver whose term is the larger
- * share of its threshold (split_b: b) -- a point's form factor towards a
- * source shrinks with the source, not with the receiver -- or, where the
- * spheres meet or the kernel's variation dominates (split_b < 0), the
- * larger; the other when that one is an element. */
+/* The radius of end id's bounding sphere. */
+static double end_radius(const rad_hier *h, int id)
+{
+    end_view v;
+    view(h, id, &v);
+    return v.radius;
+}
+
+/* Replace link k by the links of one end's parts to the other end: a
+ * cluster's two children, or an element's four (its quadtree split).  The
+ * end split is the source of the receiver whose term is the larger share of
+ * its threshold (split_b: b) -- a point's form factor towards a source
+ * shrinks with the source, not with the receiver -- or, where the spheres
+ * meet or the kernel's variation dominates (split_b < 0), the larger.  An
+ * element is split only where it is the larger end, may be split, and the
+ * other is a cluster of more than CLUSTER_SMALL triangles: a wall beside
+ * many small objects is linked to their clusters piece by piece, not to
+ * each of their triangles through a shaft crossing all the others.
+ * Otherwise the other end, a cluster, is split, and elements are left to
+ * the element links' oracle, which refines them from exact point values
+ * (splitting them against single small clusters too makes many links whose
+ * sphere bounds the tightened oracle then refines). */
 static rad_status split_link(rad_hier *h, size_t k, int split_b, job_list *cj, job_list *sj)
 {
     hier_clink l = h->cln[k];
     h->cln[k].a = INT_MIN;
-    const hier_clus *x = l.a >= 0 ? &h->cl[l.a] : NULL, *y = l.b >= 0 ? &h->cl[l.b] : NULL;
-    int split_a = split_b < 0 ? x && (!y || x->radius >= y->radius) : !split_b;
-    if (!(split_a ? x : y)) /* an element: the other end is a cluster */
-        split_a = !split_a;
-    const hier_clus *s = split_a ? x : y;
+    double ra = end_radius(h, l.a), rb = end_radius(h, l.b);
+    int split_a = split_b < 0 ? ra >= rb : !split_b;
+    int end = split_a ? l.a : l.b, other = split_a ? l.b : l.a;
+    if (end < 0 && !(other >= 0 && h->cl[other].count > CLUSTER_SMALL &&
+                     (split_a ? ra > rb : rb > ra) && hier_can_split(h, -1 - end))) {
+        split_a = !split_a; /* the other end, then, which is a cluster */
+        end = split_a ? l.a : l.b;
+    }
+    if (end < 0) {
+        rad_status st = hier_split(h, -1 - end);
+        int first = h->el[-1 - end].first_child;
+        for (int c = 0; c < 4 && st == RAD_OK; c++)
+            st = split_a ? queue_pair(cj, sj, -1 - (first + c), l.b)
+                         : queue_pair(cj, sj, l.a, -1 - (first + c));
+        return st;
+    }
+    const hier_clus *s = &h->cl[end];
     for (int c = 0; c < 2; c++) {
         int child = end_of(h, s->child[c]);
         rad_status st = split_a ? queue_pair(cj, sj, child, l.b) : queue_pair(cj, sj, l.a, child);
