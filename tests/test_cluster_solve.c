@@ -178,6 +178,44 @@ static int room_of_boxes(int k, double **xyz, int **tri)
     return nt;
 }
 
+/* A room of k^3 boxes (room_of_boxes), every reflectance 0.5, with its
+ * visibility and a cluster hierarchy of parameters p; emit: every triangle
+ * emits 1, else the room's first two. */
+typedef struct room {
+    double *xyz, *rho, *E;
+    int *tri, n;
+    rad_vis *vis;
+    rad_hier *h;
+} room;
+
+static void room_open(room *r, int k, int emit, const rad_hier_params *p)
+{
+    memset(r, 0, sizeof *r);
+    r->n = room_of_boxes(k, &r->xyz, &r->tri);
+    size_t n = (size_t)r->n, nv = 8 * (size_t)(k * k * k + 1);
+    r->rho = malloc(3 * n * sizeof *r->rho);
+    r->E = calloc(3 * n, sizeof *r->E);
+    for (size_t i = 0; i < 3 * n; i++) {
+        r->rho[i] = 0.5;
+        r->E[i] = emit || i % n < 2 ? 1.0 : 0.0;
+    }
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(r->xyz, nv, r->tri, n, &vp, &r->vis) == RAD_OK);
+    CHECK_MSG(rad_hier_create(r->xyz, nv, r->tri, n, r->rho, r->E, r->vis, p, &r->h) == RAD_OK,
+              "%s", rad_error_message());
+}
+
+static void room_close(room *r)
+{
+    rad_hier_destroy(r->h);
+    rad_vis_destroy(r->vis);
+    free(r->xyz);
+    free(r->tri);
+    free(r->rho);
+    free(r->E);
+}
+
 /* Linking starts from the sibling clusters and splits only where bounding
  * spheres meet: the links made at creation grow about linearly with the
  * triangles (8 to 216 boxes: 108 to 2604 triangles), where hier's initial
@@ -186,42 +224,23 @@ TEST(cluster_links_start_linear_in_triangles)
 {
     double per[3] = {0, 0, 0};
     int sizes[3] = {2, 4, 6};
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
     for (int s = 0; s < 3; s++) {
-        double *xyz = NULL;
-        int *tri = NULL;
-        int n = room_of_boxes(sizes[s], &xyz, &tri);
-        int nv = 8 * (sizes[s] * sizes[s] * sizes[s] + 1);
-        double *rho = malloc(3 * (size_t)n * sizeof *rho), *E = malloc(3 * (size_t)n * sizeof *E);
-        for (int i = 0; i < 3 * n; i++) {
-            rho[i] = 0.5;
-            E[i] = 1.0;
-        }
-        rad_vis *vis = NULL;
-        rad_vis_params vp;
-        rad_vis_params_default(&vp);
-        CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, &vp, &vis) == RAD_OK);
-        rad_hier_params p;
-        rad_hier_params_default(&p);
-        p.cluster = 1;
-        rad_hier *h = NULL;
-        CHECK_MSG(rad_hier_create(xyz, (size_t)nv, tri, (size_t)n, rho, E, vis, &p, &h) == RAD_OK,
-                  "%s", rad_error_message());
-        if (h) {
+        room r;
+        room_open(&r, sizes[s], 1, &p);
+        if (r.h) {
             rad_hier_stats st;
-            rad_hier_get_stats(h, &st);
-            per[s] = (double)st.links / n;
+            rad_hier_get_stats(r.h, &st);
+            per[s] = (double)st.links / r.n;
             printf("# room with %d boxes: %d triangles, %zu clusters, %zu links at creation (%zu "
                    "cluster), %.1f per triangle (all pairs: %d)\n",
-                   sizes[s] * sizes[s] * sizes[s], n, st.clusters, st.links, st.links_cluster,
-                   per[s], n * (n - 1) / 2);
-            CHECK(st.clusters == 2 * (size_t)n - 1);
+                   sizes[s] * sizes[s] * sizes[s], r.n, st.clusters, st.links, st.links_cluster,
+                   per[s], r.n * (r.n - 1) / 2);
+            CHECK(st.clusters == 2 * (size_t)r.n - 1);
         }
-        rad_hier_destroy(h);
-        rad_vis_destroy(vis);
-        free(xyz);
-        free(tri);
-        free(rho);
-        free(E);
+        room_close(&r);
     }
     /* 24 times the triangles: links per triangle may grow by a log, not by
        the factor 24 that pairs would */
@@ -239,42 +258,24 @@ TEST(cluster_links_start_linear_in_triangles)
  * with the boxes in the way. */
 static double evals_per_triangle(int k)
 {
-    double *xyz = NULL;
-    int *tri = NULL;
-    int n = room_of_boxes(k, &xyz, &tri), nv = 8 * (k * k * k + 1);
-    double *rho = malloc(3 * (size_t)n * sizeof *rho), *E = calloc(3 * (size_t)n, sizeof *E);
-    for (int i = 0; i < 3 * n; i++)
-        rho[i] = 0.5;
-    for (int c = 0; c < 3; c++) /* the room's first two triangles emit */
-        E[(size_t)c * n] = E[(size_t)c * n + 1] = 1.0;
-    rad_vis *vis = NULL;
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    CHECK(rad_vis_create(xyz, (size_t)nv, tri, (size_t)n, &vp, &vis) == RAD_OK);
     rad_hier_params p;
     rad_hier_params_default(&p);
     p.cluster = 1;
     p.eps = 1.0;
     p.max_tighten = 0;
     p.min_area = 100.0 / (k * k * k); /* about a box face's area (solve/ sets one too) */
-    rad_hier *h = NULL;
+    room r;
+    room_open(&r, k, 0, &p);
     double per = 0.0;
-    CHECK_MSG(rad_hier_create(xyz, (size_t)nv, tri, (size_t)n, rho, E, vis, &p, &h) == RAD_OK,
-              "%s", rad_error_message());
-    if (h && rad_hier_solve(h) == RAD_OK) {
+    if (r.h && rad_hier_solve(r.h) == RAD_OK) {
         rad_hier_stats st;
-        rad_hier_get_stats(h, &st);
-        per = (double)st.kernel_evals / n;
+        rad_hier_get_stats(r.h, &st);
+        per = (double)st.kernel_evals / r.n;
         printf("# room with %d boxes, eps 1: %zu links (%zu cluster), %lld evaluations, %.0f per "
                "triangle\n",
                k * k * k, st.links, st.links_cluster, st.kernel_evals, per);
     }
-    rad_hier_destroy(h);
-    rad_vis_destroy(vis);
-    free(xyz);
-    free(tri);
-    free(rho);
-    free(E);
+    room_close(&r);
     return per;
 }
 
