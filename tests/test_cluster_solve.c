@@ -254,8 +254,8 @@ TEST(cluster_links_start_linear_in_triangles)
  * each of their triangles, whose shafts would cross the whole room between
  * ever more boxes.  At a coarse setting (eps 1, no tightening) the point
  * evaluations of all estimates per input triangle then stay about the same
- * from 64 to 216 boxes, where linking walls to triangles made them grow
- * with the boxes in the way. */
+ * from 64 to 216 boxes; linking a wall to every triangle would make them
+ * grow with the boxes in the way. */
 static double evals_per_triangle(int k)
 {
     rad_hier_params p;

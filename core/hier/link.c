@@ -117,15 +117,7 @@ static void side_values_rays(const rad_hier *h, const hier_elem *e, const hier_e
 {
     enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA };
     rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
-    uint64_t key = 0;
-    for (int v = 0; v < 3; v++) {
-        double c[6] = {e->p[v].x, e->p[v].y, e->p[v].z, t->p[v].x, t->p[v].y, t->p[v].z};
-        for (int m = 0; m < 6; m++) {
-            uint64_t bits;
-            memcpy(&bits, &c[m], sizeof bits);
-            key = key * 0x100000001b3ull ^ bits;
-        }
-    }
+    uint64_t key = rad_vis_pair_key(e->p, t->p);
     double q[CELLS][3];
     for (int j = 0; j < CELLS; j++) {
         double s, u;

@@ -34,6 +34,7 @@
 #define RAD_VIS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "rad_error.h"
 #include "rad_geom.h"
@@ -151,6 +152,11 @@ int rad_vis_sample_count(const rad_vis *vis);
  * the hull's, only its vertices against one plane at a time).  A flat hull
  * (coplanar pair) always answers 1. */
 int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j);
+
+/* The sampling key of the pair of triangles a, b: their corners' bits
+ * hashed, so the same pair gives the same jittered samples on any thread or
+ * process (the visible integral's sampled fallback, hier's ray fallback). */
+uint64_t rad_vis_pair_key(const rad_vec3 a[3], const rad_vec3 b[3]);
 
 /* Visible fraction of the pair (i, j): the share of the strata_per_edge^4
  * sample segments (every sample of i to every sample of j) that no triangle

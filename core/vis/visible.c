@@ -862,6 +862,20 @@ int rad_vis_split_values(const rad_vis *vis, const rad_vec3 o[3], int face_o, co
     return 1;
 }
 
+uint64_t rad_vis_pair_key(const rad_vec3 a[3], const rad_vec3 b[3])
+{
+    uint64_t key = 0;
+    for (int v = 0; v < 3; v++) {
+        double c[6] = {a[v].x, a[v].y, a[v].z, b[v].x, b[v].y, b[v].z};
+        for (int q = 0; q < 6; q++) {
+            uint64_t bits;
+            memcpy(&bits, &c[q], sizeof bits);
+            key = key * 0x100000001b3ull ^ bits;
+        }
+    }
+    return key;
+}
+
 /* ---- the outer integral ------------------------------------------------- */
 
 typedef struct outer_ctx {
@@ -999,16 +1013,7 @@ static rad_status sampled(const rad_vis *vis, const rad_vec3 a[3], int face_a, c
     vis_context_init(&vc, face_a < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_a,
                      face_b < 0 ? RTC_INVALID_GEOMETRY_ID : (unsigned)face_b);
     unsigned long long rays = 0;
-    /* the points' keys: the pair's corners hashed, so the same pair gives the same points */
-    uint64_t key = 0;
-    for (int v = 0; v < 3; v++) {
-        double c[6] = {a[v].x, a[v].y, a[v].z, b[v].x, b[v].y, b[v].z};
-        for (int q = 0; q < 6; q++) {
-            uint64_t bits;
-            memcpy(&bits, &c[q], sizeof bits);
-            key = key * 0x100000001b3ull ^ bits;
-        }
-    }
+    uint64_t key = rad_vis_pair_key(a, b);
     for (int i = 0; i < m; i++) {
         double s, t;
         rad_geom_triangle_stratum(k, i, rad_sys_hash_unit(key + 4 * (uint64_t)i),
