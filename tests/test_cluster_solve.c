@@ -296,12 +296,14 @@ TEST(cluster_effects_plan_decides_for_hier)
 {
     /* by the pairs facing each other: where nothing can block (the spheres
        seen from inside: 190, 3 160, 51 040 and 818 560 pairs) from 2e4, among
-       occluders (rooms of 64 and 343 boxes: 74 948 and 2 064 192 pairs) from
-       2.5e5 */
+       occluders (rooms of 64, 343 and 1 000 boxes: 74 948, 2 064 192 and
+       17.5 million pairs) from 5e6 with the default tightening (info
+       assumes it) */
     struct { const char *scene; const char *want; } info[] = {
         {"scenes/sphere/sphere_0.obj", "off"}, {"scenes/sphere/sphere_1.obj", "off"},
         {"scenes/sphere/sphere_2.obj", "on"},  {"scenes/sphere/sphere_3.obj", "on"},
-        {"scenes/many_objects/many_64.obj", "off"}, {"scenes/many_objects/many_343.obj", "on"}};
+        {"scenes/many_objects/many_64.obj", "off"}, {"scenes/many_objects/many_343.obj", "off"},
+        {"scenes/many_objects/many_1000.obj", "on"}};
     for (size_t k = 0; k < sizeof info / sizeof info[0]; k++) {
         char *out = NULL, *err = NULL, buf[512];
         CHECK(harness_radkit_run("info", (const char *[]){harness_path(info[k].scene), NULL},
@@ -312,8 +314,18 @@ TEST(cluster_effects_plan_decides_for_hier)
         free(out);
         free(err);
     }
-    /* auto on: the sphere furnace (rho 0.9, E 1: B = 10) through clusters */
+    /* without the tightening, among occluders from 2.5e5: the room of 343
+       boxes at the preview setting */
     char *out = NULL, *err = NULL, buf[512];
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path(
+                             "scenes/many_objects/many_343.obj"), "--method", "hier", "--eps",
+                             "1", "--max-tighten", "0", "--quiet", NULL}, &out, &err) == 0);
+    CHECK_MSG(out && harness_header(out, "effect_clustering", buf, sizeof buf) &&
+                  strcmp(buf, "on") == 0,
+              "many_343, --max-tighten 0: effect_clustering '%s'", out ? buf : "");
+    free(out);
+    free(err);
+    /* auto on: the sphere furnace (rho 0.9, E 1: B = 10) through clusters */
     CHECK(harness_radkit_run("solve", (const char *[]){harness_path("scenes/sphere/sphere_3.obj"),
                              "--method", "hier", "--rho", "0.9", "--emission", "1", "--quiet",
                              NULL}, &out, &err) == 0);

@@ -179,6 +179,11 @@ typedef struct rad_effects_params {
                                  can block each other; above pair_scan_max_faces (not
                                  counted) always */
     double cluster_min_pairs_clear; /* the same where nothing can block (occlusion off) */
+    double cluster_min_pairs_tightened; /* cluster_min_pairs where the hierarchy tightens its
+                                           thresholds (tightening) */
+    int tightening;           /* 1: the hierarchy's oracle tightens the thresholds of faces
+                                 that miss eps (rad_hier max_tighten > 0, the default); the
+                                 solve pipeline sets it from the method's parameters */
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a
@@ -193,7 +198,8 @@ typedef struct rad_effects_params {
 } rad_effects_params;
 
 /* Everything automatic; clustering from 2.5e5 facing pairs among
- * occluders, 2e4 where nothing can block, always above the pair scan; pair scan up to
+ * occluders (5e6 with tightening, which is on), 2e4 where nothing can
+ * block, always above the pair scan; pair scan up to
  * 20000 faces; grey within 1e-12;
  * plane tolerance 1e-12;
  * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6;

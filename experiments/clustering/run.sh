@@ -39,7 +39,7 @@
 #    triangles and rooms of PAYS_BOXES boxes at eps 0.1 (the defaults) and,
 #    for PAYS_LOOSE_BOXES, at the preview setting: wall time, peak memory,
 #    links and the pairs hier links first (part "pays", data/pays.dat,
-#    about 6 minutes).
+#    about 12 minutes).
 # 5. The picture of a large scene: make demo-large's room of 1 000 boxes
 #    (figures/room_1000.png, its figures and its error against the Monte
 #    Carlo reference in data/room_1000.txt).
@@ -62,7 +62,7 @@ LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
 LOOSE_REPEAT=${LOOSE_REPEAT:-3} # the preview's runs per size: the fastest is kept
 TARGET_BOXES=${TARGET_BOXES:-10000}
-PAYS_BOXES=${PAYS_BOXES:-"125 216 343"}
+PAYS_BOXES=${PAYS_BOXES:-"125 216 343 512"}
 PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
