@@ -286,6 +286,57 @@ TEST(cluster_walls_link_to_clusters_not_to_each_triangle)
               large);
 }
 
+/* A room of 27 boxes lit by two of its triangles at eps 0.3: the leaves'
+ * radiosity and bounds, three channels each ([0] B, [1] bounds), with
+ * the blue reflectance of one box triangle raised by blue_step. */
+static size_t room_leaves(double blue_step, double *out[2])
+{
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 0.3;
+    room r;
+    room_open(&r, 3, 0, &p);
+    rad_hier_destroy(r.h); /* made again with the changed reflectance */
+    r.h = NULL;
+    r.rho[2 * (size_t)r.n + 20] += blue_step;
+    size_t n = 0;
+    out[0] = out[1] = NULL;
+    if (rad_hier_create(r.xyz, 8 * 28, r.tri, (size_t)r.n, r.rho, r.E, r.vis, &p, &r.h) ==
+            RAD_OK &&
+        rad_hier_solve(r.h) == RAD_OK) {
+        n = rad_hier_leaf_count(r.h);
+        out[0] = malloc(3 * n * sizeof **out);
+        out[1] = malloc(3 * n * sizeof **out);
+        rad_hier_leaves(r.h, NULL, NULL, NULL, out[0]);
+        rad_hier_leaf_bounds(r.h, out[1]);
+    }
+    room_close(&r);
+    return n;
+}
+
+/* Where every reflectance and emission is grey the cluster gather carries
+ * one channel for the three: the answer and its bound must be those of
+ * three channels carried, which a blue reflectance 1e-12 off grey forces
+ * (the same links; values within 1e-9). */
+TEST(cluster_grey_scene_carries_one_channel_for_three)
+{
+    double *grey[2], *colour[2];
+    size_t n = room_leaves(0.0, grey), m = room_leaves(1e-12, colour);
+    CHECK_MSG(n > 0 && n == m, "leaves %zu and %zu", n, m);
+    double worst = 0.0, top = 0.0;
+    for (size_t i = 0; n == m && i < 3 * n; i++)
+        for (int k = 0; k < 2; k++) {
+            worst = fmax(worst, fabs(grey[k][i] - colour[k][i]));
+            top = fmax(top, fabs(colour[k][i]));
+        }
+    CHECK_MSG(top > 0.0 && worst <= 1e-9 * top, "largest difference %.3g of %.3g", worst, top);
+    for (int k = 0; k < 2; k++) {
+        free(grey[k]);
+        free(colour[k]);
+    }
+}
+
 /* The effects plan decides clustering for hier from the pairs of input
  * triangles that face each other and whether anything can block them
  * (effects.c); on, the 1280-triangle sphere's hier links 2 559 clusters

@@ -658,6 +658,11 @@ rad_status hier_cluster_create(rad_hier *h)
                                      : rad_dmax(h->cl[x->child[0]].rho[c],
                                                 h->cl[x->child[1]].rho[c]);
     }
+    h->cchannels = 1;
+    for (size_t t = 0; t < n; t++)
+        for (int c = 1; c < 3; c++)
+            if (h->rho[t + (size_t)c * n] != h->rho[t] || h->E[t + (size_t)c * n] != h->E[t])
+                h->cchannels = 3;
     {
         job_list cj = {NULL, 0, 0}, sj = {NULL, 0, 0};
         for (size_t i = 0; i < h->ncl && st == RAD_OK; i++)
@@ -687,24 +692,32 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cl);
     free(h->corder);
     free(h->cln);
-    free(h->cstrength);
     free(h->cemit);
+    free(h->celem);
     free(h->cinc_start);
     free(h->cinc);
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* Add v (3 channels) to what element e gathered: B (Bg), T (Tg) or the row
- * (Bg[0]). */
+/* The channels a gather carries: the rows one, B and T h->cchannels. */
+static int channels(const rad_hier *h, int carry)
+{
+    return carry == CLUSTER_ONE ? 1 : h->cchannels;
+}
+
+/* Add v to what element e gathered: B (Bg), T (Tg) or the row (Bg[0]); with
+ * one channel carried, v[0] is each channel's. */
 static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
 {
     hier_elem *x = &h->el[e];
-    if (carry == CLUSTER_ONE)
+    if (carry == CLUSTER_ONE) {
         x->Bg[0] += v[0];
-    else
-        for (int c = 0; c < 3; c++)
-            (carry == CLUSTER_T ? x->Tg : x->Bg)[c] += v[c];
+        return;
+    }
+    double *g = carry == CLUSTER_T ? x->Tg : x->Bg;
+    for (int c = 0; c < 3; c++)
+        g[c] += v[h->cchannels == 1 ? 0 : c];
 }
 
 /* What element e carries, channel c: B, T or 1. */
@@ -713,21 +726,54 @@ static double carried(const hier_elem *e, int carry, int c)
     return carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
 }
 
-/* The intensity of end id (what is carried, each channel into p[c]) towards
- * unit direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model).
- * The channels share each triangle's projected area, so it is computed once. */
+/* The sources' compact rows of what is carried: cemit for the input
+ * triangles in cluster order, celem for the elements; 0 when out of memory. */
+static int fill_emitters(rad_hier *h, int carry)
+{
+    if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
+        return 0;
+    for (size_t i = 0; i < h->nroots; i++) {
+        const hier_elem *e = &h->el[h->corder[i]];
+        rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
+        double *m = h->cemit + 6 * i;
+        m[0] = an.x;
+        m[1] = an.y;
+        m[2] = an.z;
+        for (int c = 0; c < 3; c++)
+            m[3 + c] = carried(e, carry, c);
+    }
+    for (size_t i = 0; i < h->nel; i++) {
+        const hier_elem *e = &h->el[i];
+        rad_vec3 n = h->normal[e->face];
+        double *m = h->celem + 8 * i;
+        m[0] = n.x;
+        m[1] = n.y;
+        m[2] = n.z;
+        m[3] = e->area;
+        for (int c = 0; c < 3; c++)
+            m[4 + c] = carried(e, carry, c);
+        m[7] = 0.0;
+    }
+    return 1;
+}
+
+/* The intensity of end id (what is carried, each channel carried into p[c])
+ * towards unit direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the
+ * model), from the rows fill_emitters wrote.  The channels share each
+ * triangle's projected area, so it is computed once. */
 static void intensity(const rad_hier *h, int id, int carry, rad_vec3 u, double p[3])
 {
+    int nch = channels(h, carry);
     if (id < 0) {
-        const hier_elem *e = &h->el[-1 - id];
-        double a = e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], u));
-        for (int c = 0; c < 3; c++)
-            p[c] = a * carried(e, carry, c);
+        const double *m = h->celem + 8 * (size_t)(-1 - id);
+        double a = m[3] * rad_dmax(0.0, rad_vec3_dot(rad_vec3_make(m[0], m[1], m[2]), u));
+        for (int c = 0; c < nch; c++)
+            p[c] = a * m[4 + c];
         return;
     }
     const hier_clus *x = &h->cl[id];
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < nch; c++)
             p[c] = 0.25 * x->src[c].C;
         return;
     }
@@ -736,38 +782,24 @@ static void intensity(const rad_hier *h, int id, int carry, rad_vec3 u, double p
         const double *m = h->cemit + 6 * (size_t)x->first;
         for (int i = 0; i < x->count; i++, m += 6) {
             double a = rad_dmax(0.0, m[0] * u.x + m[1] * u.y + m[2] * u.z);
-            for (int c = 0; c < 3; c++)
+            for (int c = 0; c < nch; c++)
                 p[c] += a * m[3 + c];
         }
         return;
     }
     double err;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < nch; c++)
         p[c] = dir_eval(&x->src[c], u, &err);
 }
 
-/* What link k brings end s (0: a, 1: b), each channel into v[c]: kv times
- * the other end's intensity towards it. */
-static void strength_of(const rad_hier *h, size_t k, int s, int carry, double v[3])
-{
-    const hier_clink *l = &h->cln[k];
-    /* the other end, and its direction towards end s */
-    int o = s == 0 ? l->b : l->a;
-    rad_vec3 towards = s == 0 ? rad_vec3_scale(l->w, -1.0) : l->w;
-    intensity(h, o, carry, towards, v);
-    for (int c = 0; c < 3; c++)
-        v[c] *= l->kv;
-}
-
 /* Each receiving end's cluster-link ends (h->cinc), in link order; 0 when
- * out of memory or too many links to number (the gather then runs serially). */
+ * out of memory. */
 static int cluster_incidence(rad_hier *h)
 {
     size_t nr = h->ncl + h->nel;
     if (h->cinc_start && h->cinc_version == h->cln_version && h->cinc_nel == h->nel)
         return 1;
-    if (h->ncln > UINT_MAX / 2 ||
-        !rad_sys_grow((void **)&h->cinc_start, &h->cinc_start_cap, 0, nr + 1,
+    if (!rad_sys_grow((void **)&h->cinc_start, &h->cinc_start_cap, 0, nr + 1,
                       sizeof *h->cinc_start, 1024) ||
         !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
         return 0;
@@ -781,10 +813,12 @@ static int cluster_incidence(rad_hier *h)
     for (size_t r = 0; r < nr; r++)
         start[r + 1] += start[r];
     for (size_t k = 0; k < h->ncln; k++) { /* start[r] runs ahead, then is restored */
-        const int ends[2] = {h->cln[k].a, h->cln[k].b};
+        const hier_clink *l = &h->cln[k];
+        const int ends[2] = {l->a, l->b};
         for (int s = 0; s < 2; s++) {
             size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
-            h->cinc[start[r]++] = (unsigned)(2 * k + (size_t)s);
+            h->cinc[start[r]++] = (hier_cinc){s == 0 ? l->w : rad_vec3_scale(l->w, -1.0), l->kv,
+                                              ends[1 - s]};
         }
     }
     for (size_t r = nr; r > 0; r--)
@@ -795,21 +829,19 @@ static int cluster_incidence(rad_hier *h)
     return 1;
 }
 
-/* End s of link k receives v (its three channels, strength_of's). */
-static void receive(rad_hier *h, size_t k, int s, int carry, const double v[3])
+/* Receiving end `end` takes v (the channels carried) from direction dir. */
+static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double v[3])
 {
-    const hier_clink *l = &h->cln[k];
-    int end = s == 0 ? l->a : l->b;
-    /* the direction from the end towards the other */
-    rad_vec3 dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
+    int nch = channels(h, carry);
     if (end < 0) {
         const hier_elem *e = &h->el[-1 - end];
-        double cosine = rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir));
-        double got[3] = {v[0] * cosine, v[1] * cosine, v[2] * cosine};
+        double cosine = rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir)), got[3];
+        for (int c = 0; c < nch; c++)
+            got[c] = v[c] * cosine;
         add_to_element(h, -1 - end, carry, got);
         return;
     }
-    for (int c = 0; c < 3; c++) {
+    for (int c = 0; c < nch; c++) {
         if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
             h->cl[end].g[c].C += 0.25 * v[c];
         else
@@ -819,64 +851,41 @@ static void receive(rad_hier *h, size_t k, int s, int carry, const double v[3])
 
 /* Gather every link (elements' ends directly, clusters' by direction) and
  * push what the clusters gathered down their tree (parents come before
- * their children).  The intensities are computed in parallel first; then
- * each receiving end adds up its own links' in link order, in parallel over
- * the ends, so the result does not depend on the thread count. */
-static void gather_links(rad_hier *h, int carry)
+ * their children).  Each receiving end adds up its own links' ends in link
+ * order, in parallel over the ends, so the result does not depend on the
+ * thread count. */
+static rad_status gather_links(rad_hier *h, int carry)
 {
     pull(h, carry);
+    if (!fill_emitters(h, carry) || !cluster_incidence(h))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
+                         h->ncln);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-    for (size_t i = 0; i < h->nroots; i++) {
-        const hier_elem *e = &h->el[h->corder[i]];
-        rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
-        double *m = h->cemit + 6 * i;
-        m[0] = an.x;
-        m[1] = an.y;
-        m[2] = an.z;
-        for (int c = 0; c < 3; c++)
-            m[3 + c] = carried(e, carry, c);
-    }
-    double *pre = NULL;
-    if (rad_sys_grow((void **)&h->cstrength, &h->cstrength_cap, 0, 6 * h->ncln,
-                     sizeof *h->cstrength, 1024)) {
-        pre = h->cstrength;
-        const rad_hier *hc = h;
+    int nch = channels(h, carry);
+    const size_t *start = h->cinc_start;
+    const hier_cinc *inc = h->cinc;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
-        for (long long k = 0; k < (long long)hc->ncln; k++)
-            for (int s = 0; s < 2; s++)
-                strength_of(hc, (size_t)k, s, carry, pre + 6 * k + 3 * s);
-    }
-    if (pre && cluster_incidence(h)) {
-        const size_t *start = h->cinc_start;
-        const unsigned *inc = h->cinc;
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
-        for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
-            if (r < (long long)h->ncl)
-                memset(h->cl[r].g, 0, sizeof h->cl[r].g);
-            for (size_t i = start[r]; i < start[r + 1]; i++)
-                receive(h, inc[i] / 2, (int)(inc[i] % 2), carry, pre + 3 * (size_t)inc[i]);
+    for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
+        int end = r < (long long)h->ncl ? (int)r : -1 - (int)(r - (long long)h->ncl);
+        if (end >= 0)
+            memset(h->cl[end].g, 0, sizeof h->cl[end].g);
+        for (size_t i = start[r]; i < start[r + 1]; i++) {
+            double v[3];
+            intensity(h, inc[i].other, carry, rad_vec3_scale(inc[i].dir, -1.0), v);
+            for (int c = 0; c < nch; c++)
+                v[c] *= inc[i].kv;
+            receive(h, end, carry, inc[i].dir, v);
         }
-    } else {
-        for (size_t i = 0; i < h->ncl; i++)
-            memset(h->cl[i].g, 0, sizeof h->cl[i].g);
-        for (size_t k = 0; k < h->ncln; k++)
-            for (int s = 0; s < 2; s++) {
-                double v[3];
-                if (pre)
-                    memcpy(v, pre + 6 * k + 3 * (size_t)s, sizeof v);
-                else
-                    strength_of(h, k, s, carry, v);
-                receive(h, k, s, carry, v);
-            }
     }
     for (size_t i = 0; i < h->ncl; i++) {
         const hier_clus *x = &h->cl[i];
         if (x->root >= 0)
             continue;
         for (int k = 0; k < 2; k++)
-            for (int c = 0; c < 3; c++)
+            for (int c = 0; c < nch; c++)
                 dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
     }
+    return RAD_OK;
 }
 
 /* What a leaf cluster's triangle (normal n) receives of what it gathered,
@@ -887,29 +896,36 @@ static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, double 
     return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval(g, n, err);
 }
 
-void hier_cluster_gather(rad_hier *h, int carry)
+rad_status hier_cluster_gather(rad_hier *h, int carry)
 {
     if (!h->ncl)
-        return;
-    gather_links(h, carry);
+        return RAD_OK;
+    rad_status st = gather_links(h, carry);
+    if (st != RAD_OK)
+        return st;
+    int nch = channels(h, carry);
     for (size_t i = 0; i < h->ncl; i++) {
         const hier_clus *x = &h->cl[i];
         if (x->root < 0)
             continue;
         double v[3], err;
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < nch; c++)
             v[c] = received(h, &x->g[c], h->normal[x->root], &err);
         add_to_element(h, x->root, carry, v);
     }
+    return RAD_OK;
 }
 
-void hier_cluster_local(rad_hier *h)
+rad_status hier_cluster_local(rad_hier *h)
 {
     if (!h->ncl)
-        return;
+        return RAD_OK;
     size_t n = h->nroots;
     /* what the directions' bracket leaves open, at each root */
-    gather_links(h, CLUSTER_B);
+    rad_status st = gather_links(h, CLUSTER_B);
+    if (st != RAD_OK)
+        return st;
+    int nch = channels(h, CLUSTER_B);
     for (size_t i = 0; i < h->ncl; i++) {
         const hier_clus *x = &h->cl[i];
         if (x->root < 0)
@@ -917,7 +933,7 @@ void hier_cluster_local(rad_hier *h)
         hier_elem *e = &h->el[x->root];
         for (int c = 0; c < 3; c++) {
             double err;
-            received(h, &x->g[c], h->normal[x->root], &err);
+            received(h, &x->g[c < nch ? c : 0], h->normal[x->root], &err);
             e->q[c] += h->rho[(size_t)x->root + (size_t)c * n] * err;
         }
     }
@@ -988,4 +1004,5 @@ void hier_cluster_local(rad_hier *h)
                 y->bmax[c] = rad_dmax(y->bmax[c], x->bmax[c]);
             }
     }
+    return RAD_OK;
 }

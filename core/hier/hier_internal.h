@@ -128,6 +128,16 @@ typedef struct hier_clink {
                               error: split the larger end, not the source */
 } hier_clink;
 
+/* A cluster link's end as its receiver gathers it: the other end, the
+ * link's kv and the unit direction from the receiver's centre towards the
+ * other's (cluster.c).  A receiver's ends lie together, so a gather step
+ * reads them in order and each source's compact row once per end. */
+typedef struct hier_cinc {
+    rad_vec3 dir;
+    double kv;
+    int other;
+} hier_cinc;
+
 struct rad_hier {
     rad_hier_params p;
     const rad_vis *vis;
@@ -155,21 +165,24 @@ struct rad_hier {
     int *corder;              /* input triangles in cluster order */
     hier_clink *cln;
     size_t ncln, capcln;
-    /* what each cluster link brings each of its ends (6 doubles a link:
-       end a's three channels, then end b's), computed in parallel before
-       each receiving end adds up its own (cluster.c) */
-    double *cstrength;
-    size_t cstrength_cap;
+    /* the channels the cluster gather carries: 1 where every face's
+       reflectance and emission are the same in the three channels (they then
+       stay equal bit for bit, and channel 0 serves all three), else 3 */
+    int cchannels;
     /* what each input triangle emits, in cluster order (6 doubles each: area
        x unit normal, then the three channels carried), filled at each gather
        so that a small cluster's intensity reads one contiguous run */
     double *cemit;
-    /* each receiving end's cluster-link ends (2 k + s: link k's end s), in
-       link order: clusters 0 .. ncl - 1, then the elements (cluster.c's
-       parallel gather); built for cinc_version == cln_version and
-       cinc_nel == nel */
+    /* what each element emits (8 doubles each: unit normal, area, the three
+       channels carried, one unused), filled at each gather so that a link's
+       element end is one cache line */
+    double *celem;
+    size_t celem_cap;
+    /* each receiving end's cluster-link ends, in link order: clusters
+       0 .. ncl - 1, then the elements (cluster.c's parallel gather); built
+       for cinc_version == cln_version and cinc_nel == nel */
     size_t *cinc_start;
-    unsigned *cinc;
+    struct hier_cinc *cinc;
     size_t cinc_start_cap, cinc_cap, cinc_nel;
     unsigned long long cln_version, cinc_version;
     /* the links or elements changed (refine.c): bumped so that exchange.c
@@ -228,9 +241,9 @@ rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
  * error, CLUSTER_ONE 1 (the rows, into Bg[0]); clusters pull theirs from
  * the roots, and push what they gather down to them. */
 enum { CLUSTER_B, CLUSTER_T, CLUSTER_ONE };
-void hier_cluster_gather(rad_hier *h, int carry);
+rad_status hier_cluster_gather(rad_hier *h, int carry);
 /* Add the cluster links' local error bounds to the elements' q and d. */
-void hier_cluster_local(rad_hier *h);
+rad_status hier_cluster_local(rad_hier *h);
 
 /* ---- refine.c ---- */
 /* Quarter the threshold scale of the input triangles whose bound exceeds
@@ -270,7 +283,7 @@ void hier_share_destroy(rad_hier *h);
 /* Every leaf's cap: its row sum (the form factors of the links over it, the
  * linear push included) scaled back to 1 where it exceeds 1.  Call after the
  * links change. */
-void hier_row_caps(rad_hier *h);
+rad_status hier_row_caps(rad_hier *h);
 /* Steps until the step change is at most tol relative to the largest B. */
 rad_status hier_solve_links(rad_hier *h, double tol);
 /* The local error bounds per leaf (q, d summed over the links at the leaf and

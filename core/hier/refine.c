@@ -185,8 +185,11 @@ done:
                 h->ln[w++] = h->ln[k];
         h->nln = w;
     }
-    if (count > 0)
-        hier_row_caps(h);
+    if (count > 0) {
+        rad_status caps = hier_row_caps(h);
+        if (st == RAD_OK)
+            st = caps;
+    }
     h->version++; /* the shared gather's plan is rebuilt (exchange.c) */
     h->st.refinements += count;
     h->st.time_refine_s += rad_sys_seconds() - t0;

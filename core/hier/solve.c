@@ -168,7 +168,7 @@ double rad_hier_row_ceiling(int sealed, double rho_max)
     return sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(rho_max, 0.5));
 }
 
-void hier_row_caps(rad_hier *h)
+rad_status hier_row_caps(rad_hier *h)
 {
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
     for (size_t e = 0; e < h->nel; e++) {
@@ -185,9 +185,12 @@ void hier_row_caps(rad_hier *h)
         b->Bg[0] += l->G / b->area;
         b->Gg[0] = rad_vec3_add(b->Gg[0], l->gb);
     }
-    hier_cluster_gather(h, CLUSTER_ONE);
+    rad_status st = hier_cluster_gather(h, CLUSTER_ONE);
+    if (st != RAD_OK)
+        return st;
     for (size_t t = 0; t < h->nroots; t++)
         push_rows(h, (int)t, 0.0, zero_v);
+    return RAD_OK;
 }
 
 static void pull_gradient(rad_hier *h, int e);
@@ -385,7 +388,8 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         for (long long e = 0; e < (long long)h->nel; e++)
             gather_elem(h, (size_t)e, carry);
     }
-    hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T);
+    if ((st = hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T)) != RAD_OK)
+        return st;
     double ch = *change, vm = *vmax;
 #pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
     for (long long t = (long long)lo; t < (long long)hi; t++)
@@ -616,7 +620,9 @@ rad_status hier_error_estimate(rad_hier *h)
             b->dr[c] += rb * l->rb * wa;
         }
     }
-    hier_cluster_local(h);
+    rad_status st = hier_cluster_local(h);
+    if (st != RAD_OK)
+        return st;
     double zero[3] = {0, 0, 0};
     for (size_t t = 0; t < n; t++)
         push_local(h, (int)t, zero, zero, zero);
@@ -641,7 +647,6 @@ rad_status hier_error_estimate(rad_hier *h)
             x->T[c] = rad_dmax(x->q[c], x->T[c]);
         }
     }
-    rad_status st = RAD_OK;
     int it;
     for (it = 0; it < h->p.max_iterations; it++) {
         rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);

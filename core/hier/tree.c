@@ -283,7 +283,8 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
     if (p.cluster) {
         if ((st = hier_cluster_create(h)) != RAD_OK)
             goto fail;
-        hier_row_caps(h);
+        if ((st = hier_row_caps(h)) != RAD_OK)
+            goto fail;
         h->st.time_link_s = rad_sys_seconds() - t0;
         *out = h;
         return RAD_OK;
@@ -311,7 +312,8 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         if (st != RAD_OK)
             goto fail;
     }
-    hier_row_caps(h);
+    if ((st = hier_row_caps(h)) != RAD_OK)
+        goto fail;
     h->st.time_link_s = rad_sys_seconds() - t0;
     *out = h;
     return RAD_OK;
