@@ -206,6 +206,46 @@ TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
     rad_mesh_contacts_free(&m);
 }
 
+/* A small box (footprint 0.04 wide) near a corner of the floor: the plain
+ * triangulation would join its footprint's corners to the floor's far
+ * corners by slivers as long as the floor.  Every piece longer than the
+ * refinement's span (a sixteenth of its triangle, four times the longest
+ * segment: 0.177 here, the segments 0.04 long) has its smallest angle above 20.7 degrees (squared
+ * sine at least 0.125), and the pieces still cover the floor and the
+ * footprint exactly, a few dozen of them. */
+TEST(contact_cut_leaves_no_long_slivers)
+{
+    soup s = {0};
+    double fp[4][2];
+    floor2(&s);
+    box_at(&s, 1.7, 0.25, 10.0, 0.02, 0.0, fp);
+    rad_mesh_contacts m;
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
+          RAD_OK);
+    CHECK(m.faces_split == 1);
+    check_pieces(&s, &m);
+    size_t floor_pieces = m.nt - 10;
+    CHECK_NEAR(footprint_area(&m, floor_pieces, fp), 0.0016, 1e-12, 0.0);
+    CHECK_MSG(floor_pieces > 10 && floor_pieces < 200, "%zu pieces", floor_pieces);
+    double span = sqrt(8.0) / 16.0;
+    for (size_t p = 0; p < floor_pieces; p++) {
+        rad_vec3 v[3];
+        double e2[3];
+        for (int k = 0; k < 3; k++)
+            v[k] = at(m.xyz, m.tri[3 * p + k]);
+        for (int k = 0; k < 3; k++)
+            e2[k] = rad_vec3_dot(rad_vec3_sub(v[(k + 1) % 3], v[k]),
+                                 rad_vec3_sub(v[(k + 1) % 3], v[k]));
+        int j = e2[0] >= e2[1] && e2[0] >= e2[2] ? 0 : e2[1] >= e2[2] ? 1 : 2;
+        double a2 = rad_vec3_dot(normal_of(m.xyz, m.tri + 3 * p), normal_of(m.xyz, m.tri + 3 * p));
+        double sine2 = a2 / (e2[j] * fmax(e2[(j + 1) % 3], e2[(j + 2) % 3]));
+        if (e2[j] > span * span)
+            CHECK_MSG(sine2 >= 0.125 * (1.0 - 1e-9), "piece %zu: longest edge %.3f, squared "
+                      "sine %.3g", p, sqrt(e2[j]), sine2);
+    }
+    rad_mesh_contacts_free(&m);
+}
+
 TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
 {
     double fp[4][2];

@@ -27,8 +27,9 @@
 //     coordinates away from the largest normal component (exact predicates,
 //     so the segments may cross each other and A's edges: the crossings are
 //     constructed), with A's edges and the segments, not clipped to A, as
-//     constraints; the faces whose centroids lie inside A are kept, in A's
-//     orientation, and new vertices are lifted onto A's plane.  A piece the scene's degenerate
+//     constraints; long slivers inside A are bisected (split()); the faces
+//     whose centroids lie inside A are kept, in A's orientation, and new
+//     vertices are lifted onto A's plane.  A piece the scene's degenerate
 //     test refuses (a sliver where segments cross at a hair's angle) is
 //     dropped and counted.
 #include "rad_mesh.h"
@@ -146,6 +147,10 @@ struct Output {
 // rad_ff_params degenerate_rel_tol)
 const double SLIVER_REL = 1e-12;
 
+// At most this many points added to one input triangle to bisect its long
+// slivers (far fewer are needed: a few hundred under a thousand boxes).
+const size_t REFINE_POINTS = 20000;
+
 // Step 3: triangle t of the input (corners v[3]) cut by its segments.
 void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs, Output &out)
 {
@@ -167,15 +172,68 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
     // the edge).
     const CGAL::Orientation turn = CGAL::orientation(c[0]->point(), c[1]->point(), c[2]->point());
     bool ccw = turn == CGAL::LEFT_TURN;
-    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    auto inside = [&](CDT::Face_handle f) {
         const Point2 &p = f->vertex(0)->point(), &q = f->vertex(1)->point(),
                      &r = f->vertex(2)->point();
         Point2 m((p.x() + q.x() + r.x()) / 3.0, (p.y() + q.y() + r.y()) / 3.0);
-        f->info() = 0;
         for (int j = 0; j < 3; j++)
             if (CGAL::orientation(c[j]->point(), c[(j + 1) % 3]->point(), m) != turn)
-                f->info() = 1; // outside A
+                return false;
+        return true;
+    };
+    // The plain triangulation of a large triangle cut by a few short
+    // segments joins the segments' ends to A's far corners by slivers as
+    // long as A, which as elements no hierarchy can split below its
+    // smallest area and no bounding sphere fits (a floor under many boxes
+    // was linked to each of them through shafts across the room).  So a
+    // piece inside A longer than span (a sixteenth of A, and four times
+    // A's longest segment: the scale of what stands on it) with an angle
+    // under about 20.7 degrees (squared sine under 0.125, CGAL's mesh
+    // criterion) has its longest edge bisected, the midpoint inserted (the
+    // triangulation stays constrained Delaunay; a constraint is split in
+    // two), round after round, until no such piece is left, no midpoint is
+    // new (a vertex a rounding away from the edge, where segments cross at
+    // a hair's angle) or REFINE_POINTS are added.  Shorter slivers are
+    // left: refining them would go on towards the crossings.
+    double longest = 0.0;
+    for (const Segment &sg : segs) {
+        double d[3] = {sg.b[0] - sg.a[0], sg.b[1] - sg.a[1], sg.b[2] - sg.a[2]};
+        longest = std::max(longest, std::sqrt(dot(d, d)));
     }
+    const double span = std::max(A.size / 16.0, 4.0 * longest), span2 = span * span;
+    for (size_t added = 0; added < REFINE_POINTS;) {
+        std::vector<Point2> mid;
+        for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end();
+             ++f) {
+            double e2[3];
+            for (int j = 0; j < 3; j++)
+                e2[j] = CGAL::to_double(CGAL::squared_distance(f->vertex((j + 1) % 3)->point(),
+                                                               f->vertex((j + 2) % 3)->point()));
+            int j = e2[0] >= e2[1] && e2[0] >= e2[2] ? 0 : e2[1] >= e2[2] ? 1 : 2;
+            const Point2 &p = f->vertex((j + 1) % 3)->point(), &q = f->vertex((j + 2) % 3)->point();
+            double area = CGAL::to_double(
+                CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
+            /* the smallest angle's squared sine: (2 area)^2 over the two
+               longer edges' squared lengths, as CGAL's mesh criteria */
+            double shorter = std::max(e2[(j + 1) % 3], e2[(j + 2) % 3]);
+            double sine2 = 4.0 * area * area / (e2[j] * shorter);
+            /* a piece the scene's test calls degenerate is dropped below */
+            bool flat = std::fabs(area) <= SLIVER_REL * e2[j];
+            if (e2[j] > span2 && sine2 < 0.125 && !flat && inside(f))
+                mid.push_back(Point2((p.x() + q.x()) / 2.0, (p.y() + q.y()) / 2.0));
+        }
+        size_t before = cdt.number_of_vertices();
+        for (const Point2 &m : mid)
+            cdt.insert(m);
+        /* a midpoint already there (a vertex a rounding away from the edge,
+           where segments cross at a hair's angle) adds nothing: done when
+           none is new */
+        if (cdt.number_of_vertices() == before)
+            break;
+        added += cdt.number_of_vertices() - before;
+    }
+    for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+        f->info() = inside(f) ? 0 : 1;
     // the vertices: A's corners keep theirs, the others are lifted onto A's
     // plane when a kept face first uses them (-1: not yet)
     for (CDT::Finite_vertices_iterator h = cdt.finite_vertices_begin();
