@@ -616,7 +616,8 @@ rad_status hier_cluster_create(rad_hier *h)
     h->cl = calloc(h->ncl, sizeof *h->cl);
     h->corder = malloc(n * sizeof *h->corder);
     h->cemit = malloc(6 * n * sizeof *h->cemit);
-    if (!h->cl || !h->corder || !h->cemit) {
+    h->cmom = malloc(3 * h->ncl * sizeof *h->cmom);
+    if (!h->cl || !h->corder || !h->cemit || !h->cmom) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
@@ -694,6 +695,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cln);
     free(h->cemit);
     free(h->celem);
+    free(h->cmom);
     free(h->cinc_start);
     free(h->cinc);
 }
@@ -727,11 +729,15 @@ static double carried(const hier_elem *e, int carry, int c)
 }
 
 /* The sources' compact rows of what is carried: cemit for the input
- * triangles in cluster order, celem for the elements; 0 when out of memory. */
+ * triangles in cluster order, celem for the elements, cmom for the
+ * clusters' moments (pulled); 0 when out of memory. */
 static int fill_emitters(rad_hier *h, int carry)
 {
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
         return 0;
+    int nch = channels(h, carry);
+    for (size_t i = 0; i < h->ncl; i++)
+        memcpy(h->cmom + (size_t)nch * i, h->cl[i].src, (size_t)nch * sizeof *h->cmom);
     for (size_t i = 0; i < h->nroots; i++) {
         const hier_elem *e = &h->el[h->corder[i]];
         rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
@@ -757,39 +763,51 @@ static int fill_emitters(rad_hier *h, int carry)
     return 1;
 }
 
-/* The intensity of end id (what is carried, each channel carried into p[c])
- * towards unit direction u: sum_j A_j v_j max(n_j.u, 0) (a cluster's by the
- * model), from the rows fill_emitters wrote.  The channels share each
- * triangle's projected area, so it is computed once. */
-static void intensity(const rad_hier *h, int id, int carry, rad_vec3 u, double p[3])
+/* The intensity of a link's other end x (what is carried, each channel
+ * carried into p[c]) towards unit direction u: sum_j A_j v_j max(n_j.u, 0)
+ * (a cluster's by the model), from the rows fill_emitters wrote.  The
+ * channels share each triangle's projected area, so it is computed once. */
+static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3 u, double p[3])
 {
     int nch = channels(h, carry);
-    if (id < 0) {
-        const double *m = h->celem + 8 * (size_t)(-1 - id);
+    if (x->kind == HIER_CINC_ELEMENT) {
+        const double *m = h->celem + 8 * (size_t)x->src;
         double a = m[3] * rad_dmax(0.0, rad_vec3_dot(rad_vec3_make(m[0], m[1], m[2]), u));
         for (int c = 0; c < nch; c++)
             p[c] = a * m[4 + c];
         return;
     }
-    const hier_clus *x = &h->cl[id];
-    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+    if (x->kind == HIER_CINC_MOMENTS) {
+        const hier_dir *g = h->cmom + (size_t)nch * (size_t)x->src;
+        double err;
         for (int c = 0; c < nch; c++)
-            p[c] = 0.25 * x->src[c].C;
+            p[c] = h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? 0.25 * g[c].C
+                                                               : dir_eval(&g[c], u, &err);
         return;
     }
-    if (x->count <= CLUSTER_SMALL) {
-        p[0] = p[1] = p[2] = 0.0;
-        const double *m = h->cemit + 6 * (size_t)x->first;
-        for (int i = 0; i < x->count; i++, m += 6) {
-            double a = rad_dmax(0.0, m[0] * u.x + m[1] * u.y + m[2] * u.z);
-            for (int c = 0; c < nch; c++)
-                p[c] += a * m[3 + c];
-        }
-        return;
+    p[0] = p[1] = p[2] = 0.0;
+    const double *m = h->cemit + 6 * (size_t)x->src;
+    for (int i = 0; i < x->kind; i++, m += 6) {
+        double a = rad_dmax(0.0, m[0] * u.x + m[1] * u.y + m[2] * u.z);
+        for (int c = 0; c < nch; c++)
+            p[c] += a * m[3 + c];
     }
-    double err;
-    for (int c = 0; c < nch; c++)
-        p[c] = dir_eval(&x->src[c], u, &err);
+}
+
+/* Where a gather reads end id as a source (hier_cinc's src and kind). */
+static hier_cinc source_of(const rad_hier *h, int id)
+{
+    hier_cinc x = {rad_vec3_make(0.0, 0.0, 0.0), 0.0, 0, HIER_CINC_MOMENTS};
+    if (id < 0) {
+        x.src = -1 - id;
+        x.kind = HIER_CINC_ELEMENT;
+    } else if (h->p.cluster_model != RAD_HIER_CLUSTER_ISO && h->cl[id].count <= CLUSTER_SMALL) {
+        x.src = h->cl[id].first;
+        x.kind = h->cl[id].count;
+    } else {
+        x.src = id;
+    }
+    return x;
 }
 
 /* Each receiving end's cluster-link ends (h->cinc), in link order; 0 when
@@ -817,8 +835,10 @@ static int cluster_incidence(rad_hier *h)
         const int ends[2] = {l->a, l->b};
         for (int s = 0; s < 2; s++) {
             size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
-            h->cinc[start[r]++] = (hier_cinc){s == 0 ? l->w : rad_vec3_scale(l->w, -1.0), l->kv,
-                                              ends[1 - s]};
+            hier_cinc x = source_of(h, ends[1 - s]);
+            x.dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
+            x.kv = l->kv;
+            h->cinc[start[r]++] = x;
         }
     }
     for (size_t r = nr; r > 0; r--)
@@ -871,7 +891,7 @@ static rad_status gather_links(rad_hier *h, int carry)
             memset(h->cl[end].g, 0, sizeof h->cl[end].g);
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
-            intensity(h, inc[i].other, carry, rad_vec3_scale(inc[i].dir, -1.0), v);
+            intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
             for (int c = 0; c < nch; c++)
                 v[c] *= inc[i].kv;
             receive(h, end, carry, inc[i].dir, v);

@@ -128,15 +128,20 @@ typedef struct hier_clink {
                               error: split the larger end, not the source */
 } hier_clink;
 
-/* A cluster link's end as its receiver gathers it: the other end, the
- * link's kv and the unit direction from the receiver's centre towards the
- * other's (cluster.c).  A receiver's ends lie together, so a gather step
- * reads them in order and each source's compact row once per end. */
+/* A cluster link's end as its receiver gathers it: where to read the other
+ * end as a source, the link's kv and the unit direction from the receiver's
+ * centre towards the other's (cluster.c).  A receiver's ends lie together,
+ * so a gather step reads them in order and each source's compact row once
+ * per end, never the clusters themselves. */
 typedef struct hier_cinc {
     rad_vec3 dir;
     double kv;
-    int other;
+    int src;  /* the other end's source row: an element's (celem), a small
+                 cluster's first triangle (cemit) or a cluster's moments (cmom) */
+    int kind; /* HIER_CINC_ELEMENT, HIER_CINC_MOMENTS, or the small cluster's
+                 triangle count (1 .. 16) */
 } hier_cinc;
+enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
 
 struct rad_hier {
     rad_hier_params p;
@@ -178,6 +183,9 @@ struct rad_hier {
        element end is one cache line */
     double *celem;
     size_t celem_cap;
+    /* each cluster's source moments of what is carried (cchannels hier_dir
+       each), copied out of the clusters at each gather */
+    hier_dir *cmom;
     /* each receiving end's cluster-link ends, in link order: clusters
        0 .. ncl - 1, then the elements (cluster.c's parallel gather); built
        for cinc_version == cln_version and cinc_nel == nel */
