@@ -192,40 +192,42 @@ TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
  * lower floor triangle (area 0.125).  The lower triangle's pieces must not
  * include it: each floor triangle's pieces cover its own area, and the
  * pieces inside the footprint its area. */
-TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
+/* The floor with a box of half side h standing at (x, y), turned by deg,
+ * cut (m): `split` floor triangles cut, the pieces checked (check_pieces),
+ * and those inside the footprint covering its area 4 h^2 exactly. */
+static void cut_floor_under_box(double x, double y, double deg, double h, size_t split,
+                                rad_mesh_contacts *m)
 {
     soup s = {0};
     double fp[4][2];
     floor2(&s);
-    box_at(&s, 1.05, 0.95, 0.0, 0.3, 0.0, fp);
+    box_at(&s, x, y, deg, h, 0.0, fp);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, m) ==
+          RAD_OK);
+    CHECK(m->faces_split == split);
+    check_pieces(&s, m);
+    CHECK_NEAR(footprint_area(m, m->nt - 10, fp), 4.0 * h * h, 1e-12, 0.0);
+}
+
+TEST(contact_cut_keeps_to_the_triangle_where_a_corner_crosses_its_edge)
+{
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
-    CHECK(m.faces_split == 2);
-    check_pieces(&s, &m);
-    CHECK_NEAR(footprint_area(&m, m.nt - 10, fp), 0.36, 1e-12, 0.0);
+    cut_floor_under_box(1.05, 0.95, 0.0, 0.3, 2, &m);
     rad_mesh_contacts_free(&m);
 }
 
 /* A small box (footprint 0.04 wide) near a corner of the floor: the plain
  * triangulation would join its footprint's corners to the floor's far
  * corners by slivers as long as the floor.  Every piece longer than the
- * refinement's span (a sixteenth of its triangle, four times the longest
- * segment: 0.177 here, the segments 0.04 long) has its smallest angle above 20.7 degrees (squared
- * sine at least 0.125), and the pieces still cover the floor and the
- * footprint exactly, a few dozen of them. */
+ * refinement's span (a sixteenth of its triangle and four times the
+ * longest segment: 0.177 here, the segments 0.04 long) has its smallest
+ * angle above 20.7 degrees (squared sine at least 0.125), and the pieces
+ * still cover the floor and the footprint exactly, a few dozen of them. */
 TEST(contact_cut_leaves_no_long_slivers)
 {
-    soup s = {0};
-    double fp[4][2];
-    floor2(&s);
-    box_at(&s, 1.7, 0.25, 10.0, 0.02, 0.0, fp);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
-          RAD_OK);
-    CHECK(m.faces_split == 1);
-    check_pieces(&s, &m);
+    cut_floor_under_box(1.7, 0.25, 10.0, 0.02, 1, &m);
     size_t floor_pieces = m.nt - 10;
-    CHECK_NEAR(footprint_area(&m, floor_pieces, fp), 0.0016, 1e-12, 0.0);
     CHECK_MSG(floor_pieces > 10 && floor_pieces < 200, "%zu pieces", floor_pieces);
     double span = sqrt(8.0) / 16.0;
     for (size_t p = 0; p < floor_pieces; p++) {
