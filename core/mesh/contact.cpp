@@ -189,12 +189,11 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
     // piece inside A longer than span (a sixteenth of A, and four times
     // A's longest segment: the scale of what stands on it) with an angle
     // under about 20.7 degrees (squared sine under 0.125, CGAL's mesh
-    // criterion) has its longest edge bisected, the midpoint inserted (the
-    // triangulation stays constrained Delaunay; a constraint is split in
-    // two), round after round, until no such piece is left, no midpoint is
-    // new (a vertex a rounding away from the edge, where segments cross at
-    // a hair's angle) or REFINE_POINTS are added.  Shorter slivers are
-    // left: refining them would go on towards the crossings.
+    // criterion) has its longest edge bisected, the midpoint inserted into
+    // that edge (the triangulation stays constrained Delaunay; a constraint
+    // is split in two), round after round, until no such piece is left or
+    // REFINE_POINTS are added.  Shorter slivers are left: refining them
+    // would go on towards the crossings.
     double longest = 0.0;
     for (const Segment &sg : segs) {
         double d[3] = {sg.b[0] - sg.a[0], sg.b[1] - sg.a[1], sg.b[2] - sg.a[2]};
@@ -202,7 +201,7 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
     }
     const double span = std::max(A.size / 16.0, 4.0 * longest), span2 = span * span;
     for (size_t added = 0; added < REFINE_POINTS;) {
-        std::vector<Point2> mid;
+        std::vector<std::pair<CDT::Vertex_handle, CDT::Vertex_handle>> cut;
         for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end();
              ++f) {
             double e2[3];
@@ -210,7 +209,6 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
                 e2[j] = CGAL::to_double(CGAL::squared_distance(f->vertex((j + 1) % 3)->point(),
                                                                f->vertex((j + 2) % 3)->point()));
             int j = e2[0] >= e2[1] && e2[0] >= e2[2] ? 0 : e2[1] >= e2[2] ? 1 : 2;
-            const Point2 &p = f->vertex((j + 1) % 3)->point(), &q = f->vertex((j + 2) % 3)->point();
             double area = CGAL::to_double(
                 CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
             /* the smallest angle's squared sine: (2 area)^2 over the two
@@ -220,14 +218,21 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
             /* a piece the scene's test calls degenerate is dropped below */
             bool flat = std::fabs(area) <= SLIVER_REL * e2[j];
             if (e2[j] > span2 && sine2 < 0.125 && !flat && inside(f))
-                mid.push_back(Point2((p.x() + q.x()) / 2.0, (p.y() + q.y()) / 2.0));
+                cut.push_back({f->vertex((j + 1) % 3), f->vertex((j + 2) % 3)});
         }
         size_t before = cdt.number_of_vertices();
-        for (const Point2 &m : mid)
-            cdt.insert(m);
-        /* a midpoint already there (a vertex a rounding away from the edge,
-           where segments cross at a hair's angle) adds nothing: done when
-           none is new */
+        for (const auto &e : cut) {
+            /* the midpoint goes into the edge itself (a constraint is split
+               in two): inserted as a free point it would lie a rounding off
+               the edge and leave specks between them.  An edge an earlier
+               insertion of the round removed is left to the next. */
+            CDT::Face_handle f;
+            int j;
+            if (!cdt.is_edge(e.first, e.second, f, j))
+                continue;
+            const Point2 &p = e.first->point(), &q = e.second->point();
+            cdt.insert(Point2((p.x() + q.x()) / 2.0, (p.y() + q.y()) / 2.0), CDT::EDGE, f, j);
+        }
         if (cdt.number_of_vertices() == before)
             break;
         added += cdt.number_of_vertices() - before;
