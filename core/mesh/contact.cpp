@@ -148,7 +148,7 @@ struct Output {
 const double SLIVER_REL = 1e-12;
 
 // At most this many points added to one input triangle to bisect its long
-// slivers (far fewer are needed: a few hundred under a thousand boxes).
+// slivers: a bound on the work, far above what a cut needs.
 const size_t REFINE_POINTS = 20000;
 
 // Step 3: triangle t of the input (corners v[3]) cut by its segments.
@@ -184,8 +184,8 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
     // The plain triangulation of a large triangle cut by a few short
     // segments joins the segments' ends to A's far corners by slivers as
     // long as A, which as elements no hierarchy can split below its
-    // smallest area and no bounding sphere fits (a floor under many boxes
-    // was linked to each of them through shafts across the room).  So a
+    // smallest area and no bounding sphere fits (such a piece is linked to
+    // every object standing near it, through shafts across A).  So a
     // piece inside A longer than span (a sixteenth of A, and four times
     // A's longest segment: the scale of what stands on it) with an angle
     // under about 20.7 degrees (squared sine under 0.125, CGAL's mesh
@@ -213,11 +213,14 @@ void split(const Tri &A, const int v[3], int t, const std::vector<Segment> &segs
                 CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
             /* the smallest angle's squared sine: (2 area)^2 over the two
                longer edges' squared lengths, as CGAL's mesh criteria */
-            double shorter = std::max(e2[(j + 1) % 3], e2[(j + 2) % 3]);
-            double sine2 = 4.0 * area * area / (e2[j] * shorter);
-            /* a piece the scene's test calls degenerate is dropped below */
+            /* a piece the scene's test calls degenerate is dropped below
+               (its sine is not computed: its edges may be 0) */
             bool flat = std::fabs(area) <= SLIVER_REL * e2[j];
-            if (e2[j] > span2 && sine2 < 0.125 && !flat && inside(f))
+            double shorter = std::max(e2[(j + 1) % 3], e2[(j + 2) % 3]);
+            if (flat || !(e2[j] > span2))
+                continue;
+            double sine2 = 4.0 * area * area / (e2[j] * shorter);
+            if (sine2 < 0.125 && inside(f))
                 cut.push_back({f->vertex((j + 1) % 3), f->vertex((j + 2) % 3)});
         }
         size_t before = cdt.number_of_vertices();
