@@ -534,31 +534,50 @@ static double term(const rad_hier *h, const end_values *r, const end_values *s, 
 /* One pass: target > 0 refines by the bound (refine.c's rule), target = 0
  * only links whose spheres meet.  Links made are examined in the same pass,
  * generation by generation. */
+/* The oracle's decision on link l: 0 keep it, else split_link's split_b + 2. */
+static signed char decide(const rad_hier *h, const hier_clink *l, double target)
+{
+    if (l->overlap)
+        return -1 + 2;
+    if (!(target > 0.0))
+        return 0;
+    end_values x, y;
+    values(h, l->a, &x);
+    values(h, l->b, &y);
+    double share = h->p.link_share * target;
+    double ta = term(h, &x, &y, l->ea, l->va) / (share * x.scale);
+    double tb = term(h, &y, &x, l->eb, l->vb) / (share * y.scale);
+    if (!(ta > 1.0 || tb > 1.0))
+        return 0;
+    return (signed char)((l->by_size ? -1 : ta >= tb) + 2);
+}
+
 static rad_status refine_pass(rad_hier *h, double target, long long *count)
 {
     job_list cj = {NULL, 0, 0}, sj = {NULL, 0, 0};
+    signed char *dec = NULL;
+    size_t capdec = 0;
     rad_status st = RAD_OK;
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     if (target > 0.0)
         pull(h, CLUSTER_B);
     size_t begin = 0, end = h->ncln;
     while (begin < end && st == RAD_OK) {
         cj.n = sj.n = 0;
+        /* the decisions read only the ends' values, which splitting leaves
+           as they are: made in parallel, then carried out in link order */
+        if (!rad_sys_grow((void **)&dec, &capdec, 0, end - begin, 1, 4096)) {
+            st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link decisions", end - begin);
+            break;
+        }
+        const rad_hier *hc = h;
+#pragma omp parallel for schedule(static) num_threads(threads) if (end - begin > 4096)
+        for (long long k = (long long)begin; k < (long long)end; k++)
+            dec[k - (long long)begin] = decide(hc, &hc->cln[k], target);
         for (size_t k = begin; k < end && st == RAD_OK; k++) {
-            const hier_clink *l = &h->cln[k];
-            int refine = l->overlap, split_b = -1;
-            if (!refine && target > 0.0) {
-                end_values x, y;
-                values(h, l->a, &x);
-                values(h, l->b, &y);
-                double share = h->p.link_share * target;
-                double ta = term(h, &x, &y, l->ea, l->va) / (share * x.scale);
-                double tb = term(h, &y, &x, l->eb, l->vb) / (share * y.scale);
-                refine = ta > 1.0 || tb > 1.0;
-                split_b = l->by_size ? -1 : ta >= tb;
-            }
-            if (!refine)
+            if (!dec[k - begin])
                 continue;
-            st = split_link(h, k, split_b, &cj, &sj);
+            st = split_link(h, k, dec[k - begin] - 2, &cj, &sj);
             ++*count;
         }
         if (st == RAD_OK)
@@ -570,6 +589,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
     }
     free(cj.j);
     free(sj.j);
+    free(dec);
     size_t w = 0;
     for (size_t k = 0; k < h->ncln; k++)
         if (h->cln[k].a != INT_MIN)
@@ -736,8 +756,11 @@ static int fill_emitters(rad_hier *h, int carry)
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
         return 0;
     int nch = channels(h, carry);
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
     for (size_t i = 0; i < h->ncl; i++)
         memcpy(h->cmom + (size_t)nch * i, h->cl[i].src, (size_t)nch * sizeof *h->cmom);
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
     for (size_t i = 0; i < h->nroots; i++) {
         const hier_elem *e = &h->el[h->corder[i]];
         rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
@@ -748,6 +771,7 @@ static int fill_emitters(rad_hier *h, int carry)
         for (int c = 0; c < 3; c++)
             m[3 + c] = carried(e, carry, c);
     }
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
     for (size_t i = 0; i < h->nel; i++) {
         const hier_elem *e = &h->el[i];
         rad_vec3 n = h->normal[e->face];
@@ -821,6 +845,12 @@ static int cluster_incidence(rad_hier *h)
                       sizeof *h->cinc_start, 1024) ||
         !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
         return 0;
+    /* each cluster's source row, read once here instead of at every end */
+    hier_cinc *src = malloc((h->ncl ? h->ncl : 1) * sizeof *src);
+    if (!src)
+        return 0;
+    for (size_t i = 0; i < h->ncl; i++)
+        src[i] = source_of(h, (int)i);
     size_t *start = h->cinc_start;
     memset(start, 0, (nr + 1) * sizeof *start);
     for (size_t k = 0; k < h->ncln; k++) {
@@ -830,17 +860,35 @@ static int cluster_incidence(rad_hier *h)
     }
     for (size_t r = 0; r < nr; r++)
         start[r + 1] += start[r];
-    for (size_t k = 0; k < h->ncln; k++) { /* start[r] runs ahead, then is restored */
-        const hier_clink *l = &h->cln[k];
-        const int ends[2] = {l->a, l->b};
-        for (int s = 0; s < 2; s++) {
-            size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
-            hier_cinc x = source_of(h, ends[1 - s]);
-            x.dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
-            x.kv = l->kv;
-            h->cinc[start[r]++] = x;
+    /* each thread writes the receivers of its share of the ends (whole
+       receivers, so each keeps link order); start[r] runs ahead, then is
+       restored */
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+    {
+        int t = omp_get_thread_num(), nt = omp_get_num_threads();
+        size_t lo = 0, hi = nr;
+        while (lo < nr && start[lo] * (size_t)nt < start[nr] * (size_t)t)
+            lo++;
+        while (hi > 0 && start[hi - 1] * (size_t)nt >= start[nr] * (size_t)(t + 1))
+            hi--;
+#pragma omp barrier
+        for (size_t k = 0; k < h->ncln; k++) {
+            const hier_clink *l = &h->cln[k];
+            const int ends[2] = {l->a, l->b};
+            for (int s = 0; s < 2; s++) {
+                size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
+                if (r < lo || r >= hi)
+                    continue;
+                int o = ends[1 - s];
+                hier_cinc x = o >= 0 ? src[o] : source_of(h, o);
+                x.dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
+                x.kv = l->kv;
+                h->cinc[start[r]++] = x;
+            }
         }
     }
+    free(src);
     for (size_t r = nr; r > 0; r--)
         start[r] = start[r - 1];
     start[0] = 0;
