@@ -254,8 +254,18 @@ TEST(hier_furnace_cube_mixed_levels)
 /* One unsealed furnace (every face E 2.385, reflectance rho) through
  * rad_hier at eps; the worst input triangle's error, checked against
  * max_err and against the bound the solve reports for it. */
-static void unsealed_furnace(const char *scene, int cluster, double rho, double eps,
-                             double max_err)
+static void count_round(int round, size_t leaves, size_t links, void *ctx)
+{
+    (void)round;
+    (void)leaves;
+    (void)links;
+    ++*(int *)ctx;
+}
+
+/* round_min >= 0 replaces the default; *passes (if given) gets the oracle's
+ * passes over the links (rounds begun, progress calls). */
+static void unsealed_furnace_rounds(const char *scene, int cluster, double rho, double eps,
+                                    double max_err, double round_min, int *passes)
 {
     scene_arrays s;
     if (!load(scene, &s))
@@ -275,6 +285,11 @@ static void unsealed_furnace(const char *scene, int cluster, double rho, double 
     p.cluster = cluster;
     /* radkit solve's default minimum area */
     p.min_area = total_area(&s, NULL) * fmin(1e-4, 1e-2 * eps * eps);
+    if (round_min >= 0.0)
+        p.round_min = round_min;
+    int calls = 0;
+    p.progress = count_round;
+    p.progress_ctx = &calls;
     rad_hier *h = vis ? run(&s, vis, &p) : NULL;
     if (h) {
         size_t n = rad_hier_leaf_count(h);
@@ -297,9 +312,12 @@ static void unsealed_furnace(const char *scene, int cluster, double rho, double 
         }
         /* the bound is relative to the mean reflected radiosity, want - E */
         double bound_face = st.bound_face_max * (want - 2.385) / want;
-        printf("# %s %s unsealed, rho %g, eps %g: %zu leaves, %zu links (%zu cluster), worst "
-               "face %.2e, area-mean %.2e, its bound %.2e\n", cluster ? "cluster" : "hier", scene,
-               rho, eps, st.elements, st.links, st.links_cluster, worst, sum / area, bound_face);
+        printf("# %s %s unsealed, rho %g, eps %g, round_min %g: %zu leaves, %zu links (%zu "
+               "cluster), %d passes, worst face %.2e, area-mean %.2e, its bound %.2e\n",
+               cluster ? "cluster" : "hier", scene, rho, eps, p.round_min, st.elements, st.links,
+               st.links_cluster, calls, worst, sum / area, bound_face);
+        if (passes)
+            *passes = calls;
         CHECK_MSG(worst <= max_err, "%s: worst face error %.3g", scene, worst);
         CHECK_MSG(worst <= bound_face, "%s: worst face error %.3g beyond the bound %.3g", scene,
                   worst, bound_face);
@@ -310,6 +328,12 @@ static void unsealed_furnace(const char *scene, int cluster, double rho, double 
     rad_hier_destroy(h);
     rad_vis_destroy(vis);
     unload(&s);
+}
+
+static void unsealed_furnace(const char *scene, int cluster, double rho, double eps,
+                             double max_err)
+{
+    unsealed_furnace_rounds(scene, cluster, rho, eps, max_err, -1.0, NULL);
 }
 
 TEST(hier_unsealed_rooms_near_contact)
@@ -334,6 +358,19 @@ TEST(cluster_unsealed_furnaces_within_the_bound)
        are: papers/accuracy.md), and the reported bound must still hold */
     unsealed_furnace(scenes[0], 1, 0.9, 0.1, 1.0);
     unsealed_furnace(scenes[0], 1, 0.99, 0.1, 1.0);
+}
+
+/* A round that refines fewer than round_min of the links ends the rounds
+ * (then the bound is computed and the thresholds tightened, as after a round
+ * that refines nothing): with round_min 0.3 the room of 27 boxes skips the
+ * passes that would refine nothing, and its answer still lies within the
+ * bound it reports and near the furnace's exact value. */
+TEST(hier_rounds_end_where_few_links_are_refined)
+{
+    int all = 0, few = 0;
+    unsealed_furnace_rounds("scenes/furnace_room/room_27.obj", 1, 0.5, 0.01, 0.03, 0.0, &all);
+    unsealed_furnace_rounds("scenes/furnace_room/room_27.obj", 1, 0.5, 0.01, 0.03, 0.3, &few);
+    CHECK_MSG(few > 0 && few < all, "%d passes with round_min 0.3, %d with 0", few, all);
 }
 
 /* With a tiny eps every link is refined until neither end may be split, so
@@ -743,6 +780,13 @@ TEST(hier_rejects_bad_parameters)
         p.final_share = bad_share[k];
         CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
         CHECK(strstr(rad_error_message(), "final_share") != NULL);
+    }
+    const double bad_round_min[3] = {-0.01, 1.0, NAN};
+    for (int k = 0; k < 3; k++) {
+        rad_hier_params_default(&p);
+        p.round_min = bad_round_min[k];
+        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+        CHECK(strstr(rad_error_message(), "round_min") != NULL);
     }
     rad_hier_params_default(&p);
     p.oracle = (rad_hier_oracle)7;

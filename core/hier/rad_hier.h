@@ -166,6 +166,13 @@ typedef struct rad_hier_params {
     double bound_tol;     /* the same for the error transport T; default 1e-3 */
     int max_iterations;   /* steps per solve before RAD_ENUMERIC; default 100000 */
     int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
+    double round_min;     /* a round that refines fewer than round_min x the links ends
+                             the rounds (it is solved and the oracle's tightening, if any,
+                             goes on from there): the last rounds of a large hierarchy
+                             refine the few links B's last change pushed over their
+                             thresholds, each at the cost of a full pass and solve, and
+                             what they leave the bound reports.  0: only a round that
+                             refines nothing.  Default 1e-2 */
     double round_tol;     /* the solves between rounds only feed the oracle, whose
                              decisions compare errors with eps R (R the mean reflected
                              radiosity): they stop where B is within about
@@ -263,7 +270,8 @@ rad_status rad_hier_test(const rad_hier *h);
  * max_elements / max_links. */
 rad_status rad_hier_refine(rad_hier *h, long long *refined);
 /* The whole algorithm: steps to convergence, refine, repeat until a round
- * refines nothing (or max_rounds), then the final solve and error bound.
+ * refines nothing or fewer than round_min of the links (or max_rounds), then
+ * the final solve and error bound.
  * RAD_ENUMERIC when a solve does not converge in max_iterations steps. */
 rad_status rad_hier_solve(rad_hier *h);
 

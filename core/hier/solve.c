@@ -47,7 +47,8 @@
  *    residuals average out (each fit's residual has zero mean over its
  *    receiver), so its bound is the area-weighted mean of T.
  * 3. Solve: steps until the test passes; rad_hier_solve alternates solves and
- *    refinement rounds (refine.c), then solves to tol and computes the bound.
+ *    refinement rounds (refine.c) until a round refines nothing or fewer than
+ *    round_min of the links, then solves to tol and computes the bound.
  * Shared among processes with split_gather (exchange.c), a step gathers only
  * the link ends in this process's input triangles, pushes and pulls only
  * their trees, and exchanges the elements' new values. */
@@ -731,14 +732,24 @@ rad_status rad_hier_solve(rad_hier *h)
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_status st = solve_share(h, h->p.round_tol);
-    for (int round = 0; st == RAD_OK; round++) {
+    int round, settled = 0;
+    for (round = 0; st == RAD_OK; round++) {
         if (h->p.progress)
             h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
         if (round >= h->p.max_rounds)
             break;
         long long n = 0;
+        double links = (double)(h->nln + h->ncln);
         st = rad_hier_refine(h, &n);
-        if (st == RAD_OK && n == 0 && h->p.oracle == RAD_HIER_ORACLE_ERROR) {
+        settled = st == RAD_OK && n > 0 && (double)n < h->p.round_min * links;
+        if (settled) {
+            /* the few links B's last change pushed over their thresholds:
+               settled, as if the round had refined nothing */
+            st = solve_share(h, h->p.round_tol);
+            n = 0;
+        }
+        if (st == RAD_OK && n == 0 && h->p.oracle == RAD_HIER_ORACLE_ERROR &&
+            h->p.max_tighten > 0) {
             /* nothing left above the thresholds: where the bound still exceeds
                eps R, tighten them (refine.c) and go on */
             if ((st = hier_error_estimate(h)) == RAD_OK && hier_tighten_failing(h) > 0)
@@ -746,8 +757,12 @@ rad_status rad_hier_solve(rad_hier *h)
         }
         if (st != RAD_OK || n == 0)
             break;
+        settled = 0;
         st = solve_share(h, h->p.round_tol);
     }
+    /* the last report is the final hierarchy, which a settled round changed */
+    if (st == RAD_OK && settled && h->p.progress)
+        h->p.progress(round + 1, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
     if (st == RAD_OK)
         st = solve_share(h, h->p.final_share);
     if (st == RAD_OK)

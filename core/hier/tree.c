@@ -59,6 +59,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->bound_tol = 1e-3;
     params->max_iterations = 100000;
     params->max_rounds = 64;
+    params->round_min = 1e-2;
     params->max_elements = 4000000;
     params->max_links = 50000000;
 }
@@ -91,6 +92,8 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
         p->max_tighten > 30)
         return RAD_ERROR(RAD_EINVAL, "hier: round_tol must lie in (0, 1) and max_tighten in "
                                      "0..30");
+    if (!(p->round_min >= 0.0) || !(p->round_min < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "hier: round_min must lie in [0, 1) (got %g)", p->round_min);
     if (!(p->final_share >= 0.0) || !(p->final_share < 1.0))
         return RAD_ERROR(RAD_EINVAL, "hier: final_share must lie in [0, 1) (got %g)",
                          p->final_share);
