@@ -1240,3 +1240,61 @@ TEST(vis_segment_blocked_by_the_blockers_equals_the_ray)
         rad_vis_destroy(vis);
     }
 }
+
+/* rad_vis_pair_blockers walks a pair's shaft once for what
+ * rad_vis_pair_can_block and rad_vis_blockers each walk it for: on every
+ * pair of the Cornell box refined once (boxes among walls, coplanar halves
+ * of one wall: flat pairs) the two answers must be theirs, entry by entry,
+ * with the list cut at 4 as well as in full. */
+TEST(vis_pair_blockers_give_both_answers_of_one_walk)
+{
+    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
+    rad_mesh *base = NULL, *mesh = NULL;
+    if (!scene)
+        return;
+    CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
+                          rad_scene_triangles(scene), rad_scene_triangle_count(scene), NULL,
+                          &base) == RAD_OK);
+    CHECK(rad_mesh_refine_uniform(base, 1, 100000, &mesh) == RAD_OK);
+    rad_vis *vis = NULL;
+    size_t n = mesh ? (size_t)rad_mesh_face_count(mesh) : 0;
+    if (mesh)
+        CHECK(rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
+                             rad_mesh_triangles(mesh), n, NULL, &vis) == RAD_OK);
+    const double *xyz = mesh ? rad_mesh_vertices(mesh) : NULL;
+    const int *tri = mesh ? rad_mesh_triangles(mesh) : NULL;
+    int *one = malloc((n + 1) * sizeof *one), *two = malloc((n + 1) * sizeof *two);
+    long pairs = 0, differ = 0, flat = 0, listed = 0, cut = 0;
+    for (size_t i = 0; vis && i < n; i++)
+        for (size_t j = i + 1; j < n; j++) {
+            rad_vec3 a[3], b[3];
+            for (int v = 0; v < 3; v++) {
+                const double *p = xyz + 3 * tri[3 * i + v], *q = xyz + 3 * tri[3 * j + v];
+                a[v] = rad_vec3_make(p[0], p[1], p[2]);
+                b[v] = rad_vec3_make(q[0], q[1], q[2]);
+            }
+            for (int max = 4; max <= (int)n; max += (int)n - 4) {
+                int can = -1;
+                int got = rad_vis_pair_blockers(vis, i, j, one, max, &can);
+                int want = rad_vis_blockers(vis, a, (int)i, b, (int)j, two, max);
+                int ok = can == rad_vis_pair_can_block(vis, i, j) && got == want;
+                for (int k = 0; ok && k < got && k < max; k++)
+                    ok = one[k] == two[k];
+                differ += !ok;
+                pairs++;
+                flat += can == 1 && got == 0;
+                listed += got > 0;
+                cut += got > max;
+            }
+        }
+    printf("# %ld pair queries: %ld with blockers (%ld past the cut), %ld flat, %ld differ\n",
+           pairs, listed, cut, flat, differ);
+    CHECK(pairs > 0 && differ == 0);
+    CHECK(listed > 0 && cut > 0 && flat > 0); /* every case met */
+    free(one);
+    free(two);
+    rad_vis_destroy(vis);
+    rad_mesh_destroy(mesh);
+    rad_mesh_destroy(base);
+    rad_scene_destroy(scene);
+}

@@ -210,6 +210,11 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     if (first) {
         nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
         blocked = rad_hier_pairs_get(h->pairs, ia, ib, nb != 0) & RAD_HIER_PAIR_CAN_BLOCK;
+    } else if (!pre && !h->pairs && h->use_vis && ia == ea->face && ib == eb->face) {
+        /* no table (the cluster layer): a pair of input triangles walks its
+           shaft once for both answers */
+        nb = rad_vis_pair_blockers(h->vis, (size_t)ia, (size_t)ib, blk, LINK_MAX_BLOCKERS,
+                                   &blocked);
     } else {
         blocked = hier_pair_can_block(h, ea->face, eb->face);
         if (blocked && pre && pre->nb >= 0)

@@ -190,6 +190,13 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
 int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
                      int face_b, int *out, int max);
 
+/* Both answers for the pair of input triangles i and j from one walk of
+ * their shaft: rad_vis_blockers into out (up to max, max + 1 when more),
+ * and *can_block, rad_vis_pair_can_block's answer (1 for a flat pair, with
+ * no blockers listed). */
+int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int max,
+                          int *can_block);
+
 /* F_vis(x, b): the form factor from the point x (unit normal nx, its cosine
  * clamped) to the part of triangle b that the given blockers leave visible
  * (0 when x is behind b's plane); *F_open (may be NULL) the unoccluded one.

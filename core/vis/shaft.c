@@ -415,6 +415,22 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     return shaft_walk(vis, pts, i, j, NULL, 0) != 0;
 }
 
+int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int max,
+                          int *can_block)
+{
+    *can_block = 1;
+    if (!vis || i >= vis->ntris || j >= vis->ntris || max < 0 || (max > 0 && !out))
+        return 0;
+    rad_vec3 pts[6];
+    for (int v = 0; v < 3; v++) {
+        pts[v] = vis_vertex(vis, i, v);
+        pts[3 + v] = vis_vertex(vis, j, v);
+    }
+    int n = shaft_walk(vis, pts, i, j, out, max);
+    *can_block = n != 0;
+    return n < 0 ? 0 : n;
+}
+
 int vis_shaft_filter(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3], const int *in,
                      int n, int *out)
 {
