@@ -809,13 +809,21 @@ static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3
                                                                : dir_eval(&g[c], u, &err);
         return;
     }
-    p[0] = p[1] = p[2] = 0.0;
+    /* the gather's innermost loop: the sums stay in registers, and max(d, 0)
+       is taken without a branch, (d + |d|) / 2, exact for a finite d (a
+       small cluster's triangles face the direction or not in no pattern a
+       branch predictor could follow) */
     const double *m = h->cemit + 6 * (size_t)x->src;
+    double p0 = 0.0, p1 = 0.0, p2 = 0.0;
     for (int i = 0; i < x->kind; i++, m += 6) {
-        double a = rad_dmax(0.0, m[0] * u.x + m[1] * u.y + m[2] * u.z);
-        for (int c = 0; c < nch; c++)
-            p[c] += a * m[3 + c];
+        double d = m[0] * u.x + m[1] * u.y + m[2] * u.z, a = 0.5 * (d + fabs(d));
+        p0 += a * m[3];
+        p1 += a * m[4];
+        p2 += a * m[5];
     }
+    p[0] = p0;
+    p[1] = nch > 1 ? p1 : 0.0;
+    p[2] = nch > 1 ? p2 : 0.0;
 }
 
 /* Where a gather reads end id as a source (hier_cinc's src and kind). */
