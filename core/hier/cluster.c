@@ -431,48 +431,59 @@ static void dir_one(hier_dir *g, double a, rad_vec3 n)
     dir_add(g, a, n);
 }
 
-/* Every cluster's source moments of what is carried (B, T or 1), and with
- * B its mean, var, H range and threshold scale, from its leaves (children
- * come after their parents). */
-static void pull(rad_hier *h, int carry)
+/* Cluster i's source moments of what is carried (B, T or 1), and with B
+ * its mean, var, H range and threshold scale, from its children (or its
+ * triangle). */
+static void pull_node(rad_hier *h, size_t i, int carry)
 {
-    for (size_t i = h->ncl; i-- > 0;) {
-        hier_clus *x = &h->cl[i];
-        if (x->root >= 0) {
-            const hier_elem *e = &h->el[x->root];
-            x->scale = h->face_scale[x->root];
-            for (int c = 0; c < 3; c++) {
-                double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-                dir_one(&x->src[c], e->area * v, h->normal[x->root]);
-                if (carry == CLUSTER_T) {
-                    x->T[c] = e->T[c];
-                } else if (carry == CLUSTER_B) {
-                    x->B[c] = e->B[c];
-                    x->var[c] = e->var[c];
-                    x->Hlo[c] = x->Hhi[c] = element_H(h, e, c);
-                }
+    hier_clus *x = &h->cl[i];
+    if (x->root >= 0) {
+        const hier_elem *e = &h->el[x->root];
+        x->scale = h->face_scale[x->root];
+        for (int c = 0; c < 3; c++) {
+            double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+            dir_one(&x->src[c], e->area * v, h->normal[x->root]);
+            if (carry == CLUSTER_T) {
+                x->T[c] = e->T[c];
+            } else if (carry == CLUSTER_B) {
+                x->B[c] = e->B[c];
+                x->var[c] = e->var[c];
+                x->Hlo[c] = x->Hhi[c] = element_H(h, e, c);
             }
+        }
+        return;
+    }
+    const hier_clus *u = &h->cl[x->child[0]], *v = &h->cl[x->child[1]];
+    double a = u->area + v->area;
+    x->scale = rad_dmin(u->scale, v->scale);
+    for (int c = 0; c < 3; c++) {
+        x->src[c] = u->src[c];
+        dir_sum(&x->src[c], &v->src[c]);
+        if (carry == CLUSTER_T) {
+            x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
             continue;
         }
-        const hier_clus *u = &h->cl[x->child[0]], *v = &h->cl[x->child[1]];
-        double a = u->area + v->area;
-        x->scale = rad_dmin(u->scale, v->scale);
-        for (int c = 0; c < 3; c++) {
-            x->src[c] = u->src[c];
-            dir_sum(&x->src[c], &v->src[c]);
-            if (carry == CLUSTER_T) {
-                x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
-                continue;
-            }
-            if (carry != CLUSTER_B)
-                continue;
-            double m = a > 0.0 ? (u->area * u->B[c] + v->area * v->B[c]) / a : 0.0;
-            x->B[c] = m;
-            x->var[c] = rad_dmax(fabs(u->B[c] - m) + u->var[c], fabs(v->B[c] - m) + v->var[c]);
-            x->Hlo[c] = rad_dmin(u->Hlo[c], v->Hlo[c]);
-            x->Hhi[c] = rad_dmax(u->Hhi[c], v->Hhi[c]);
-        }
+        if (carry != CLUSTER_B)
+            continue;
+        double m = a > 0.0 ? (u->area * u->B[c] + v->area * v->B[c]) / a : 0.0;
+        x->B[c] = m;
+        x->var[c] = rad_dmax(fabs(u->B[c] - m) + u->var[c], fabs(v->B[c] - m) + v->var[c]);
+        x->Hlo[c] = rad_dmin(u->Hlo[c], v->Hlo[c]);
+        x->Hhi[c] = rad_dmax(u->Hhi[c], v->Hhi[c]);
     }
+}
+
+/* Every cluster's, children before parents: the subtrees on every thread,
+ * then the nodes above them. */
+static void pull(rad_hier *h, int carry)
+{
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (size_t k = 0; k < h->ncsub; k++)
+        for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
+            pull_node(h, i, carry);
+    for (size_t k = h->nctop; k-- > 0;)
+        pull_node(h, (size_t)h->ctop[k], carry);
 }
 
 /* What an end offers as a source, channel c: B, var; as a receiver: its
@@ -606,6 +617,47 @@ rad_status hier_cluster_refine(rad_hier *h, double target, long long *count)
 
 /* ---- creation ------------------------------------------------------------ */
 
+/* The tree cut for the passes that run on every thread (h->csub, h->ctop):
+ * the subtrees CUT_DEPTH levels below the root, enough for the threads to
+ * share them out, and the nodes above.  Nodes are made depth-first, so a
+ * subtree is the run from its root to its rightmost leaf.  0 when out of
+ * memory. */
+enum { CUT_DEPTH = 6 };
+static int tree_cut(rad_hier *h)
+{
+    size_t cap = (size_t)2 << CUT_DEPTH;
+    h->csub = malloc(cap * sizeof *h->csub);
+    h->csub_end = malloc(cap * sizeof *h->csub_end);
+    h->ctop = malloc(cap * sizeof *h->ctop);
+    if (!h->csub || !h->csub_end || !h->ctop)
+        return 0;
+    int stack[2 * CUT_DEPTH + 4], depth[2 * CUT_DEPTH + 4], top = 0;
+    if (h->ncl > 0) {
+        stack[top] = 0;
+        depth[top++] = 0;
+    }
+    while (top > 0) { /* left before right: both lists come out in index order */
+        int i = stack[--top], d = depth[top];
+        const hier_clus *x = &h->cl[i];
+        if (d == CUT_DEPTH && x->root < 0) {
+            int last = i;
+            while (h->cl[last].root < 0)
+                last = h->cl[last].child[1];
+            h->csub[h->ncsub] = i;
+            h->csub_end[h->ncsub++] = last + 1;
+            continue;
+        }
+        h->ctop[h->nctop++] = i;
+        if (x->root < 0) {
+            for (int k = 1; k >= 0; k--) {
+                stack[top] = x->child[k];
+                depth[top++] = d + 1;
+            }
+        }
+    }
+    return 1;
+}
+
 rad_status hier_cluster_create(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -679,6 +731,8 @@ rad_status hier_cluster_create(rad_hier *h)
                                      : rad_dmax(h->cl[x->child[0]].rho[c],
                                                 h->cl[x->child[1]].rho[c]);
     }
+    if (!tree_cut(h))
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
     h->cchannels = 1;
     for (size_t t = 0; t < n; t++)
         for (int c = 1; c < 3; c++)
@@ -711,6 +765,9 @@ done:
 void hier_cluster_destroy(rad_hier *h)
 {
     free(h->cl);
+    free(h->csub);
+    free(h->csub_end);
+    free(h->ctop);
     free(h->corder);
     free(h->cln);
     free(h->cemit);
@@ -911,7 +968,7 @@ static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double 
     int nch = channels(h, carry);
     if (end < 0) {
         const hier_elem *e = &h->el[-1 - end];
-        double cosine = rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], dir)), got[3];
+        double d = rad_vec3_dot(h->normal[e->face], dir), cosine = 0.5 * (d + fabs(d)), got[3];
         for (int c = 0; c < nch; c++)
             got[c] = v[c] * cosine;
         add_to_element(h, -1 - end, carry, got);
@@ -923,6 +980,17 @@ static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double 
         else
             dir_add(&h->cl[end].g[c], v[c], dir);
     }
+}
+
+/* What cluster i gathered, added to its children's. */
+static void push_node(rad_hier *h, size_t i, int nch)
+{
+    const hier_clus *x = &h->cl[i];
+    if (x->root >= 0)
+        return;
+    for (int k = 0; k < 2; k++)
+        for (int c = 0; c < nch; c++)
+            dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
 }
 
 /* Gather every link (elements' ends directly, clusters' by direction) and
@@ -953,14 +1021,14 @@ static rad_status gather_links(rad_hier *h, int carry)
             receive(h, end, carry, inc[i].dir, v);
         }
     }
-    for (size_t i = 0; i < h->ncl; i++) {
-        const hier_clus *x = &h->cl[i];
-        if (x->root >= 0)
-            continue;
-        for (int k = 0; k < 2; k++)
-            for (int c = 0; c < nch; c++)
-                dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
-    }
+    /* parents before children: the nodes above the subtrees, then the
+       subtrees on every thread */
+    for (size_t k = 0; k < h->nctop; k++)
+        push_node(h, (size_t)h->ctop[k], nch);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (size_t k = 0; k < h->ncsub; k++)
+        for (size_t i = (size_t)h->csub[k]; i < (size_t)h->csub_end[k]; i++)
+            push_node(h, i, nch);
     return RAD_OK;
 }
 

@@ -167,6 +167,11 @@ struct rad_hier {
     /* the cluster layer (cluster.c); ncl = 0 without clustering */
     hier_clus *cl;
     size_t ncl;
+    /* the tree cut for the passes that run on every thread: the roots of
+       disjoint subtrees (csub[k] and their ends csub_end[k], nodes made
+       depth-first) and the nodes above them (ctop), in index order */
+    int *csub, *csub_end, *ctop;
+    size_t ncsub, nctop;
     int *corder;              /* input triangles in cluster order */
     hier_clink *cln;
     size_t ncln, capcln;
