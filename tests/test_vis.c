@@ -484,6 +484,44 @@ TEST(vis_geom_normal_follows_the_winding_in_every_branch)
     }
 }
 
+/* The Cornell box refined once (the boxes among the walls, each wall in
+ * coplanar pieces) and its visibility over the refined triangles, *n of
+ * them; NULL (after a failed check) when it cannot be made.  Released by
+ * cornell_close whatever it returned. */
+typedef struct cornell_refined {
+    rad_scene *scene;
+    rad_mesh *base, *mesh;
+    rad_vis *vis;
+} cornell_refined;
+
+static rad_vis *cornell_open(cornell_refined *c, size_t *n)
+{
+    memset(c, 0, sizeof *c);
+    *n = 0;
+    if (!(c->scene = harness_scene_load("scenes/cornell/cornell.obj", NULL)))
+        return NULL;
+    CHECK(rad_mesh_create(rad_scene_vertices(c->scene), rad_scene_vertex_count(c->scene),
+                          rad_scene_triangles(c->scene), rad_scene_triangle_count(c->scene),
+                          NULL, &c->base) == RAD_OK);
+    if (!c->base)
+        return NULL;
+    CHECK(rad_mesh_refine_uniform(c->base, 1, 100000, &c->mesh) == RAD_OK);
+    if (!c->mesh)
+        return NULL;
+    *n = (size_t)rad_mesh_face_count(c->mesh);
+    CHECK(rad_vis_create(rad_mesh_vertices(c->mesh), (size_t)rad_mesh_vertex_count(c->mesh),
+                         rad_mesh_triangles(c->mesh), *n, NULL, &c->vis) == RAD_OK);
+    return c->vis;
+}
+
+static void cornell_close(cornell_refined *c)
+{
+    rad_vis_destroy(c->vis);
+    rad_mesh_destroy(c->mesh);
+    rad_mesh_destroy(c->base);
+    rad_scene_destroy(c->scene);
+}
+
 /* The shaft test may only skip what no ray can find blocked: on the refined
  * Cornell box, every pair it clears must have all its sample segments that
  * carry light (both cosines positive) free when they are traced.  (Segments
@@ -493,17 +531,14 @@ TEST(vis_geom_normal_follows_the_winding_in_every_branch)
  * most pairs are cleared without a plane. */
 TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
 {
-    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
-    rad_mesh *base = NULL, *mesh = NULL;
-    if (!scene)
+    cornell_refined cb;
+    size_t n;
+    rad_vis *vis = cornell_open(&cb, &n);
+    if (!vis) {
+        cornell_close(&cb);
         return;
-    CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
-                          rad_scene_triangles(scene), rad_scene_triangle_count(scene), NULL, &base) == RAD_OK);
-    CHECK(rad_mesh_refine_uniform(base, 1, 100000, &mesh) == RAD_OK);
-    size_t n = (size_t)rad_mesh_face_count(mesh);
-    rad_vis *vis = NULL;
-    CHECK(rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
-                         rad_mesh_triangles(mesh), n, NULL, &vis) == RAD_OK);
+    }
+    rad_mesh *mesh = cb.mesh;
     int ns = rad_vis_sample_count(vis);
     double *si = malloc(3 * (size_t)ns * sizeof *si), *sj = malloc(3 * (size_t)ns * sizeof *sj);
     double *from = malloc(3 * (size_t)ns * ns * sizeof *from), *to = malloc(3 * (size_t)ns * ns * sizeof *to);
@@ -587,10 +622,7 @@ TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
     free(from);
     free(to);
     free(blocked);
-    rad_vis_destroy(vis);
-    rad_mesh_destroy(mesh);
-    rad_mesh_destroy(base);
-    rad_scene_destroy(scene);
+    cornell_close(&cb);
 }
 
 /* In an L-shaped room the walls of the inner corner are not on the hull: they
@@ -1248,19 +1280,10 @@ TEST(vis_segment_blocked_by_the_blockers_equals_the_ray)
  * with the list cut at 4 as well as in full. */
 TEST(vis_pair_blockers_give_both_answers_of_one_walk)
 {
-    rad_scene *scene = harness_scene_load("scenes/cornell/cornell.obj", NULL);
-    rad_mesh *base = NULL, *mesh = NULL;
-    if (!scene)
-        return;
-    CHECK(rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
-                          rad_scene_triangles(scene), rad_scene_triangle_count(scene), NULL,
-                          &base) == RAD_OK);
-    CHECK(rad_mesh_refine_uniform(base, 1, 100000, &mesh) == RAD_OK);
-    rad_vis *vis = NULL;
-    size_t n = mesh ? (size_t)rad_mesh_face_count(mesh) : 0;
-    if (mesh)
-        CHECK(rad_vis_create(rad_mesh_vertices(mesh), (size_t)rad_mesh_vertex_count(mesh),
-                             rad_mesh_triangles(mesh), n, NULL, &vis) == RAD_OK);
+    cornell_refined cb;
+    size_t n;
+    rad_vis *vis = cornell_open(&cb, &n);
+    rad_mesh *mesh = cb.mesh;
     const double *xyz = mesh ? rad_mesh_vertices(mesh) : NULL;
     const int *tri = mesh ? rad_mesh_triangles(mesh) : NULL;
     int *one = malloc((n + 1) * sizeof *one), *two = malloc((n + 1) * sizeof *two);
@@ -1293,8 +1316,5 @@ TEST(vis_pair_blockers_give_both_answers_of_one_walk)
     CHECK(listed > 0 && cut > 0 && flat > 0); /* every case met */
     free(one);
     free(two);
-    rad_vis_destroy(vis);
-    rad_mesh_destroy(mesh);
-    rad_mesh_destroy(base);
-    rad_scene_destroy(scene);
+    cornell_close(&cb);
 }
