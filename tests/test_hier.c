@@ -774,20 +774,16 @@ TEST(hier_rejects_bad_parameters)
     p.far_ratio = -1.0;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
     CHECK(strstr(rad_error_message(), "far_ratio") != NULL);
+    /* the shares that must lie in [0, 1) */
     const double bad_share[3] = {-0.01, 1.0, NAN};
-    for (int k = 0; k < 3; k++) {
-        rad_hier_params_default(&p);
-        p.final_share = bad_share[k];
-        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
-        CHECK(strstr(rad_error_message(), "final_share") != NULL);
-    }
-    const double bad_round_min[3] = {-0.01, 1.0, NAN};
-    for (int k = 0; k < 3; k++) {
-        rad_hier_params_default(&p);
-        p.round_min = bad_round_min[k];
-        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
-        CHECK(strstr(rad_error_message(), "round_min") != NULL);
-    }
+    const char *share_name[2] = {"final_share", "round_min"};
+    for (int f = 0; f < 2; f++)
+        for (int k = 0; k < 3; k++) {
+            rad_hier_params_default(&p);
+            *(f == 0 ? &p.final_share : &p.round_min) = bad_share[k];
+            CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+            CHECK(strstr(rad_error_message(), share_name[f]) != NULL);
+        }
     rad_hier_params_default(&p);
     p.oracle = (rad_hier_oracle)7;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
