@@ -595,17 +595,22 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
             st = estimate_batch(h, cj.j, cj.n);
         if (st == RAD_OK)
             st = hier_estimate_batch(h, sj.j, sj.n, 0);
-        begin = end;
+        /* the generation's split links go before the next is examined, so
+           the array holds the live links and one generation's new ones, not
+           every link made (order is kept: results do not depend on it) */
+        size_t kept = begin, w = begin;
+        for (size_t k = begin; k < h->ncln; k++)
+            if (h->cln[k].a != INT_MIN) {
+                kept += k < end;
+                h->cln[w++] = h->cln[k];
+            }
+        h->ncln = w;
+        begin = kept;
         end = h->ncln;
     }
     free(cj.j);
     free(sj.j);
     free(dec);
-    size_t w = 0;
-    for (size_t k = 0; k < h->ncln; k++)
-        if (h->cln[k].a != INT_MIN)
-            h->cln[w++] = h->cln[k];
-    h->ncln = w;
     h->cln_version++;
     return st;
 }

@@ -102,6 +102,21 @@ int hier_tighten_failing(rad_hier *h)
     return tightened;
 }
 
+/* Drop the replaced links from links[from ..) keeping their order (so
+ * results do not depend on when this runs); returns where the survivors of
+ * links[from .. end) now end. */
+static size_t drop_replaced(rad_hier *h, size_t from, size_t end)
+{
+    size_t kept = from, w = from;
+    for (size_t k = from; k < h->nln; k++)
+        if (h->ln[k].a >= 0) {
+            kept += k < end;
+            h->ln[w++] = h->ln[k];
+        }
+    h->nln = w;
+    return kept;
+}
+
 rad_status rad_hier_refine(rad_hier *h, long long *refined)
 {
     double t0 = rad_sys_seconds();
@@ -170,21 +185,18 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
                 jobs[nj++] = (hier_job){first + c4, other};
             count++;
         }
-        if ((st = hier_estimate_batch(h, jobs, nj, 1)) != RAD_OK)
-            goto done;
-        begin = end;
+        st = hier_estimate_batch(h, jobs, nj, 1);
+        /* the generation's replaced links go before the next is examined, so
+           the array holds the live links and one generation's new ones, not
+           every link made */
+        begin = drop_replaced(h, begin, end);
         end = h->nln;
+        if (st != RAD_OK)
+            goto done;
     }
 done:
     free(jobs);
-    /* drop the replaced links (keeps order, so results do not depend on capacity) */
-    {
-        size_t w = 0;
-        for (size_t k = 0; k < h->nln; k++)
-            if (h->ln[k].a >= 0)
-                h->ln[w++] = h->ln[k];
-        h->nln = w;
-    }
+    drop_replaced(h, 0, 0); /* those an error left */
     if (count > 0) {
         rad_status caps = hier_row_caps(h);
         if (st == RAD_OK)

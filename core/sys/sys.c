@@ -39,6 +39,21 @@ double rad_sys_peak_rss_bytes(void)
     return 1024.0 * (double)ru.ru_maxrss; /* Linux reports kilobytes */
 }
 
+/* Ask for transparent huge pages over the whole huge pages inside
+ * [p, p + bytes) (advice: failure only costs speed). */
+static void advise_huge(void *p, size_t bytes)
+{
+#ifdef MADV_HUGEPAGE
+    uintptr_t lo = ((uintptr_t)p + RAD_SYS_HUGE_PAGE - 1) / RAD_SYS_HUGE_PAGE * RAD_SYS_HUGE_PAGE;
+    uintptr_t hi = ((uintptr_t)p + bytes) / RAD_SYS_HUGE_PAGE * RAD_SYS_HUGE_PAGE;
+    if (hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)p;
+    (void)bytes;
+#endif
+}
+
 void *rad_sys_alloc_huge(size_t bytes)
 {
     if (bytes == 0)
@@ -52,9 +67,7 @@ void *rad_sys_alloc_huge(size_t bytes)
     void *p = NULL;
     if (posix_memalign(&p, RAD_SYS_HUGE_PAGE, size) != 0)
         return NULL;
-#ifdef MADV_HUGEPAGE
-    (void)madvise(p, size, MADV_HUGEPAGE); /* advice: failure only costs speed */
-#endif
+    advise_huge(p, size);
     return p;
 }
 
@@ -70,12 +83,25 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     }
     if (c > SIZE_MAX / item)
         return 0;
-    void *n = rad_sys_alloc_huge(c * item);
+    if (used == 0) {
+        /* nothing to keep: the old block goes before the new one comes */
+        free(*arr);
+        *arr = NULL;
+        *cap = 0;
+        void *n = rad_sys_alloc_huge(c * item);
+        if (!n)
+            return 0;
+        *arr = n;
+        *cap = c;
+        return 1;
+    }
+    /* a block mapped on its own (glibc: any above 32 MB) is remapped, not
+       copied, so growing never holds two copies */
+    void *n = realloc(*arr, c * item);
     if (!n)
         return 0;
-    if (used > 0)
-        memcpy(n, *arr, used * item);
-    free(*arr);
+    if (c * item >= RAD_SYS_HUGE_PAGE)
+        advise_huge(n, c * item);
     *arr = n;
     *cap = c;
     return 1;
