@@ -65,8 +65,9 @@ void *rad_sys_alloc_huge(size_t bytes);
  * large block by remapping its pages rather than copying them, so a growing
  * array never holds two copies; with `used` 0 the old block is freed before
  * a new one comes from rad_sys_alloc_huge.  Large blocks are advised onto
- * transparent huge pages either way (free them with free()).  0 when out of
- * memory (*arr unchanged, or with `used` 0 NULL and *cap 0), 1 otherwise. */
+ * transparent huge pages either way (free them with free()).  0 when the
+ * size overflows (*arr unchanged) or memory runs out (*arr unchanged, but
+ * with `used` 0 NULL and *cap 0), 1 otherwise. */
 int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first);
 
 #ifdef __cplusplus
