@@ -3,7 +3,8 @@
  * same answer on any thread count, and linking that starts linear in the
  * input triangles (hier's starts with every pair).  Its answers against the
  * furnaces and the Monte Carlo reference are in test_furnace.c and
- * test_hier.c, beside hier's. */
+ * test_hier.c, beside hier's; here, a cluster link's visibility between
+ * two slabs against the closed form. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "rad_ff.h"
 #include "rad_hier.h"
 #include "rad_solve.h"
 #include "rad_vis.h"
@@ -410,4 +412,112 @@ TEST(cluster_effects_plan_decides_for_hier)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--basis", "p1", "--clustering", "on", NULL}, "--clustering");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--clustering", "off", NULL}, "--clustering off");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--clustering", "maybe", NULL}, "maybe");
+}
+
+/* Howell's C-11: the form factor between directly opposed equal squares of
+ * side a at distance c. */
+static double opposed_squares(double a, double c)
+{
+    double X = a / c, q = sqrt(1.0 + X * X);
+    return 2.0 / (RAD_PI * X * X) *
+           (log((1.0 + X * X) / sqrt(1.0 + 2.0 * X * X)) + 2.0 * X * q * atan(X / q) -
+            2.0 * X * atan(X));
+}
+
+/* The box [lo, hi] as 8 vertices (xyz, 24 doubles) and 12 outward triangles
+ * (vertex indices from base); its +z face is triangles 10 and 11, its -z
+ * face 8 and 9. */
+static void slab(const double lo[3], const double hi[3], int base, double *xyz, int *tri)
+{
+    for (int v = 0; v < 8; v++) {
+        xyz[3 * v] = v & 1 ? hi[0] : lo[0];
+        xyz[3 * v + 1] = v & 2 ? hi[1] : lo[1];
+        xyz[3 * v + 2] = v & 4 ? hi[2] : lo[2];
+    }
+    static const int quad[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                   {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (int f = 0; f < 6; f++) {
+        const int *q = quad[f];
+        int t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+        for (int k = 0; k < 6; k++)
+            tri[6 * f + k] = base + t[k];
+    }
+}
+
+/* Two thin slabs (1 x 1 x 0.02) face each other across 4: one's front face
+ * emits 1, the other's reflects 0.5, nothing else reflects, so the
+ * reflector's mean radiosity is 0.5 F with F the opposed squares' form
+ * factor (closed form, checked here against rad_ff's exact rule).  At the
+ * preview setting (eps 1, no tightening) linking starts with a cluster link
+ * between the slabs.  A slab's back faces lie behind its front: visibility
+ * rays from them are blocked by their own slab, and when every sample fell
+ * on one, all four rays were blocked, the link carried nothing, and as the
+ * rays agreed nothing flagged it (the reflector stayed black).  Rays start
+ * on faces turned towards the other end. */
+TEST(cluster_link_sees_past_its_own_back_faces)
+{
+    const double t = 0.02, D = 4.0;
+    double xyz[48];
+    int tri[72];
+    slab((double[3]){0, 0, 0}, (double[3]){1, 1, t}, 0, xyz, tri);
+    slab((double[3]){0, 0, t + D}, (double[3]){1, 1, 2 * t + D}, 8, xyz + 24, tri + 36);
+    double rho[72] = {0}, E[72] = {0};
+    for (int c = 0; c < 3; c++) {
+        rho[10 + 24 * c] = rho[11 + 24 * c] = 0.5; /* the reflector's +z face */
+        E[12 + 8 + 24 * c] = E[12 + 9 + 24 * c] = 1.0; /* the emitter's -z face */
+    }
+    double F = opposed_squares(1.0, D), G = 0.0;
+    rad_ff_rule exact = {RAD_FF_EXACT, 0};
+    rad_ff_params fp;
+    rad_ff_params_default(&fp);
+    for (int i = 10; i < 12; i++)
+        for (int j = 20; j < 22; j++) {
+            rad_vec3 ti[3], tj[3];
+            for (int k = 0; k < 3; k++) {
+                const double *a = xyz + 3 * tri[3 * i + k], *b = xyz + 3 * tri[3 * j + k];
+                ti[k] = rad_vec3_make(a[0], a[1], a[2]);
+                tj[k] = rad_vec3_make(b[0], b[1], b[2]);
+            }
+            rad_ff_result r;
+            CHECK(rad_ff_compute(ti, tj, exact, &fp, &r) == RAD_OK);
+            G += r.G;
+        }
+    CHECK_MSG(fabs(G - F) <= 1e-9 * F, "closed form %.12g, exact rule %.12g", F, G);
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(xyz, 16, tri, 24, &vp, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 1.0;
+    p.max_tighten = 0;
+    rad_hier *h = NULL;
+    CHECK(vis && rad_hier_create(xyz, 16, tri, 24, rho, E, vis, &p, &h) == RAD_OK);
+    if (h && rad_hier_solve(h) == RAD_OK) {
+        size_t n = rad_hier_leaf_count(h);
+        int *face = malloc(n * sizeof *face);
+        double *area = malloc(n * sizeof *area), *B = malloc(3 * n * sizeof *B);
+        rad_hier_leaves(h, face, area, NULL, B);
+        double a = 0.0, ab = 0.0;
+        for (size_t k = 0; k < n; k++)
+            if (face[k] == 10 || face[k] == 11) {
+                a += area[k];
+                ab += area[k] * B[k];
+            }
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        double got = ab / a / 0.5;
+        printf("# slabs across %g: F %.5f, through %zu links (%zu cluster): %.5f (%+.1f%%)\n", D,
+               F, st.links, st.links_cluster, got, 100.0 * (got / F - 1.0));
+        CHECK(st.links_cluster > 0);
+        CHECK_MSG(fabs(got / F - 1.0) <= 0.1, "reflector's F %.5f, closed form %.5f", got, F);
+        free(face);
+        free(area);
+        free(B);
+    } else {
+        CHECK_MSG(0, "solve: %s", rad_error_message());
+    }
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
 }

@@ -71,10 +71,11 @@
 #include "rad_cluster.h"
 #include "rad_sys.h"
 
-/* CLUSTER_RAYS: visibility samples per cluster link; CLUSTER_SMALL: a
- * cluster of at most this many triangles emits exactly (its triangles'
- * own sum), so that a link's cost stays bounded. */
-enum { CLUSTER_RAYS = 4, CLUSTER_SMALL = 16 };
+/* CLUSTER_RAYS: visibility samples per cluster link, each on the first of
+ * CLUSTER_TRIES triangles of a cluster that faces the other end;
+ * CLUSTER_SMALL: a cluster of at most this many triangles emits exactly
+ * (its triangles' own sum), so that a link's cost stays bounded. */
+enum { CLUSTER_RAYS = 4, CLUSTER_TRIES = 4, CLUSTER_SMALL = 16 };
 
 rad_status rad_hier_cluster_model_parse(const char *text, rad_hier_cluster_model *model)
 {
@@ -202,8 +203,15 @@ static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, do
     *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
 }
 
-/* Sample point k of end x, and the input triangle it lies on. */
-static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, int *tri)
+/* Sample point k of end x, seen from the direction w (unit, from x towards
+ * the other end), and the input triangle it lies on.  A cluster's sample is
+ * the centroid of the first of its triangles that faces w among
+ * CLUSTER_TRIES spread over it: a ray from a triangle turned away would
+ * first cross the triangle's own object, and count as blocked what the
+ * model does not carry anyway (its projected area counts only faces turned
+ * towards w).  Where none of them faces w the first stands.  An element's
+ * samples are points spread over it. */
+static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, rad_vec3 w, int *tri)
 {
     static const double bary[CLUSTER_RAYS][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
                                                  {2.0 / 3, 1.0 / 6, 1.0 / 6},
@@ -214,7 +222,16 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, int *t
     if (x->elem >= 0) {
         e = &h->el[x->elem];
     } else {
-        e = &h->el[h->corder[x->cl->first + (k * x->cl->count) / CLUSTER_RAYS]];
+        const int spread = CLUSTER_RAYS * CLUSTER_TRIES;
+        e = NULL;
+        for (int j = 0; j < CLUSTER_TRIES && !e; j++) {
+            int m = k + CLUSTER_RAYS * j;
+            const hier_elem *t = &h->el[h->corder[x->cl->first + (m * x->cl->count) / spread]];
+            if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
+                e = t;
+        }
+        if (!e)
+            e = &h->el[h->corder[x->cl->first + (k * x->cl->count) / spread]];
         b = bary[0];
     }
     *tri = e->face;
@@ -254,8 +271,8 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
         int open = 0;
         for (int k = 0; k < CLUSTER_RAYS; k++) {
             int ta, tb;
-            rad_vec3 p = sample_point(h, &x, k, &ta);
-            rad_vec3 q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, &tb);
+            rad_vec3 p = sample_point(h, &x, k, w, &ta);
+            rad_vec3 q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, mw, &tb);
             double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
             open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
         }
