@@ -12,10 +12,13 @@
  * A link with a cluster at one end (the other a cluster or an element)
  * carries light both ways between the ends' bounding spheres (centres c,
  * radii R, distance r, w = (c_Y - c_X) / r): a point of X facing w receives
- *     kv I_Y(-w),   kv = V / (pi r^2),
+ *     kv I_Y(-w),   kv = V / (pi d^2),
  * I_Y the intensity of Y towards X (sum_j A_j B_j max(n_j.(-w), 0) over its
- * triangles) and V the share of open segments between four pairs of sample
- * points (rays).  How a cluster emits and receives is the model:
+ * triangles), V the share of open segments between four pairs of sample
+ * points (rays, from triangles turned towards the other end) and d the
+ * distance between where the ends' projected areas lie (a small cluster's
+ * triangles' centroid weighted by their projected areas, else the centre).
+ * How a cluster emits and receives is the model:
  *  - ORIENTED (default): a cluster keeps the moments C, S, M of its
  *    triangles' normals weighted by A B (hier_dir), which bracket its
  *    intensity towards any direction (exact for a flat cluster, within 27%
@@ -171,10 +174,15 @@ static double cos_upper(rad_vec3 u, rad_vec3 w, double spread)
 
 /* The projected area of end x towards unit direction w, by the model, and
  * how far (relative) the truth may lie from it (*rel; the bracket's half
- * width over its middle, 0 for an element). */
-static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double *rel)
+ * width over its middle, 0 for an element), and where it lies (*at): a small
+ * cluster's centroid of its triangles weighted by their projected areas (the
+ * faces a box turns towards w lie nearer the other end than its centre),
+ * else the centre. */
+static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double *rel,
+                        rad_vec3 *at)
 {
     *rel = 0.0;
+    *at = x->c;
     if (x->elem >= 0)
         return x->area * rad_dmax(0.0, rad_vec3_dot(x->axis, w));
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
@@ -183,10 +191,15 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
     }
     if (x->cl->count <= CLUSTER_SMALL) {
         double p = 0.0;
+        rad_vec3 m = rad_vec3_make(0.0, 0.0, 0.0);
         for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
             const hier_elem *e = &h->el[h->corder[i]];
-            p += e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], w));
+            double a = e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], w));
+            p += a;
+            m = rad_vec3_add(m, rad_vec3_scale(e->c, a));
         }
+        if (p > 0.0)
+            *at = rad_vec3_scale(m, 1.0 / p);
         return p;
     }
     double err, p = dir_eval(&x->cl->geo, w, &err);
@@ -280,14 +293,20 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
         V = (double)open / CLUSTER_RAYS;
         mixed = open > 0 && open < CLUSTER_RAYS;
     }
-    double rel_x, rel_y, px = projected(h, &x, w, &rel_x), py = projected(h, &y, mw, &rel_y);
-    double G = px * py / (RAD_PI * r * r) * V;
+    double rel_x, rel_y;
+    rad_vec3 at_x, at_y;
+    double px = projected(h, &x, w, &rel_x, &at_x), py = projected(h, &y, mw, &rel_y, &at_y);
+    /* the point kernel between where the projected areas lie (within the
+       spheres, so never nearer than their gap) */
+    rad_vec3 s = rad_vec3_sub(at_y, at_x);
+    double r2 = rad_dmax(rad_vec3_dot(s, s), gap * gap);
+    double G = px * py / (RAD_PI * r2) * V;
     G = rad_dmin(G, rad_dmin(x.area * Fa, y.area * Fb));
     out->G = G;
     out->Fa = Fa;
     out->Fb = Fb;
     out->w = w;
-    out->kv = V / (RAD_PI * r * r);
+    out->kv = V / (RAD_PI * r2);
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
         /* every point of a cluster gets the mean: anything in [0, F] is possible */
         out->ea = rad_dmax(G / x.area, Fa - G / x.area);
