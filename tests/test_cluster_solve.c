@@ -449,11 +449,11 @@ static void slab(const double lo[3], const double hi[3], int base, double *xyz, 
  * reflector's mean radiosity is 0.5 F with F the opposed squares' form
  * factor (closed form, checked here against rad_ff's exact rule).  At the
  * preview setting (eps 1, no tightening) linking starts with a cluster link
- * between the slabs.  A slab's back faces lie behind its front: visibility
- * rays from them are blocked by their own slab, and when every sample fell
- * on one, all four rays were blocked, the link carried nothing, and as the
- * rays agreed nothing flagged it (the reflector stayed black).  Rays start
- * on faces turned towards the other end. */
+ * between the slabs.  A slab's back faces lie behind its front: a
+ * visibility ray from one is blocked by its own slab, and with every sample
+ * there the four rays would agree on "blocked", the link would carry
+ * nothing and flag nothing, and the reflector would stay black.  Rays must
+ * start on faces turned towards the other end. */
 TEST(cluster_link_sees_past_its_own_back_faces)
 {
     const double t = 0.02, D = 4.0;

@@ -375,10 +375,10 @@ TEST(cluster_unsealed_furnaces_within_the_bound)
 }
 
 /* The preview setting (eps 1, no tightening) on rooms of 64 and 343 boxes:
- * the unsealed rows show what the cluster links carry.  Area-mean within 8%
- * (measured 4.1% and 5.6%; 11% and 16% when visibility rays could start on
- * back faces and be blocked by their own box), worst faces within 50%
- * (measured 32% and 27%) and within the bound. */
+ * the unsealed rows show what the cluster links carry (rays from back faces
+ * blocked by their own box would leave them short).  Area-mean within 8%
+ * (measured 4.1% and 5.6%), worst faces within 50% (measured 32% and 27%)
+ * and within the bound. */
 TEST(cluster_preview_furnaces_near_exact_on_average)
 {
     const char *scenes[2] = {"scenes/many_objects/many_64.obj", "scenes/many_objects/many_343.obj"};
@@ -1025,4 +1025,3 @@ TEST(hier_pair_table_equals_the_direct_tests)
     rad_vis_destroy(vis);
     unload(&s);
 }
-

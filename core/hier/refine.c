@@ -196,7 +196,8 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     }
 done:
     free(jobs);
-    drop_replaced(h, 0, 0); /* those an error left */
+    if (st != RAD_OK)
+        drop_replaced(h, 0, 0); /* what an error left among the links */
     if (count > 0) {
         rad_status caps = hier_row_caps(h);
         if (st == RAD_OK)

@@ -405,14 +405,9 @@ static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0,
 
 int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
 {
-    if (!vis || i >= vis->ntris || j >= vis->ntris)
-        return 1;
-    rad_vec3 pts[6];
-    for (int v = 0; v < 3; v++) {
-        pts[v] = vis_vertex(vis, i, v);
-        pts[3 + v] = vis_vertex(vis, j, v);
-    }
-    return shaft_walk(vis, pts, i, j, NULL, 0) != 0;
+    int can_block;
+    rad_vis_pair_blockers(vis, i, j, NULL, 0, &can_block);
+    return can_block;
 }
 
 int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int max,
