@@ -217,13 +217,16 @@ static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, do
 }
 
 /* Sample point k of end x, seen from the direction w (unit, from x towards
- * the other end), and the input triangle it lies on.  A cluster's sample is
- * the centroid of the first of its triangles that faces w among
- * CLUSTER_TRIES spread over it: a ray from a triangle turned away would
- * first cross the triangle's own object, and count as blocked what the
- * model does not carry anyway (its projected area counts only faces turned
- * towards w).  Where none of them faces w the first stands.  An element's
- * samples are points spread over it. */
+ * the other end), and the input triangle it lies on.  Samples lie on
+ * triangles that face w: a ray from a triangle turned away would first
+ * cross the triangle's own object, and count as blocked what the model does
+ * not carry anyway (its projected area counts only faces turned towards
+ * w).  A small cluster's samples are spread over the triangles facing w
+ * (a box seen along an axis turns 2 of its 12 towards it; fewer than
+ * CLUSTER_RAYS such triangles take points spread over them); a larger
+ * cluster's is the centroid of the first that faces w among CLUSTER_TRIES
+ * spread over it, where none does the first.  An element's samples are
+ * points spread over it. */
 static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, rad_vec3 w, int *tri)
 {
     static const double bary[CLUSTER_RAYS][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
@@ -234,6 +237,16 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, rad_ve
     const double *b = bary[k];
     if (x->elem >= 0) {
         e = &h->el[x->elem];
+    } else if (x->cl->count <= CLUSTER_SMALL) {
+        const hier_elem *facing[CLUSTER_SMALL];
+        int m = 0;
+        for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
+            const hier_elem *t = &h->el[h->corder[i]];
+            if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
+                facing[m++] = t;
+        }
+        e = m > 0 ? facing[(k * m) / CLUSTER_RAYS] : &h->el[h->corder[x->cl->first]];
+        b = m >= CLUSTER_RAYS ? bary[0] : bary[k];
     } else {
         const int spread = CLUSTER_RAYS * CLUSTER_TRIES;
         e = NULL;
