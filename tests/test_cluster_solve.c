@@ -544,7 +544,7 @@ TEST(cluster_link_sees_past_its_own_back_faces)
  * them is never refined: what it carries is its point kernel V / (pi d^2)
  * times the emitter's projected area, d the distance between where the
  * ends' projected areas lie: the facing faces' centres, 3 apart (5% above
- * F).  Between the cubes' centres, 4 apart, it would be 38% below F. */
+ * F).  Between the cubes' centres, 4 apart, it would be 40% below F. */
 TEST(cluster_link_kernel_between_the_projected_areas)
 {
     const double D = 3.0;
