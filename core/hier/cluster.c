@@ -318,6 +318,7 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     out->G = G;
     out->Fa = Fa;
     out->Fb = Fb;
+    out->w = w;
     out->kv = V / (RAD_PI * r2);
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
         /* every point of a cluster gets the mean: anything in [0, F] is possible */
@@ -828,7 +829,6 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cmom);
     free(h->cinc_start);
     free(h->cinc);
-    free(h->ccentre);
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
@@ -940,7 +940,7 @@ static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3
 /* Where a gather reads end id as a source (hier_cinc's src and kind). */
 static hier_cinc source_of(const rad_hier *h, int id)
 {
-    hier_cinc x = {0.0, 0, HIER_CINC_MOMENTS, 0};
+    hier_cinc x = {rad_vec3_make(0.0, 0.0, 0.0), 0.0, 0, HIER_CINC_MOMENTS};
     if (id < 0) {
         x.src = -1 - id;
         x.kind = HIER_CINC_ELEMENT;
@@ -962,13 +962,8 @@ static int cluster_incidence(rad_hier *h)
         return 1;
     if (!rad_sys_grow((void **)&h->cinc_start, &h->cinc_start_cap, 0, nr + 1,
                       sizeof *h->cinc_start, 1024) ||
-        !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024) ||
-        !rad_sys_grow((void **)&h->ccentre, &h->ccentre_cap, 0, nr, sizeof *h->ccentre, 1024))
+        !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
         return 0;
-    for (size_t i = 0; i < h->ncl; i++)
-        h->ccentre[i] = h->cl[i].c;
-    for (size_t e = 0; e < h->nel; e++)
-        h->ccentre[h->ncl + e] = h->el[e].c;
     /* each cluster's source row, read once here instead of at every end */
     hier_cinc *src = malloc((h->ncl ? h->ncl : 1) * sizeof *src);
     if (!src)
@@ -1006,7 +1001,7 @@ static int cluster_incidence(rad_hier *h)
                     continue;
                 int o = ends[1 - s];
                 hier_cinc x = o >= 0 ? src[o] : source_of(h, o);
-                x.other = o >= 0 ? o : (int)h->ncl + (-1 - o);
+                x.dir = s == 0 ? l->w : rad_vec3_scale(l->w, -1.0);
                 x.kv = l->kv;
                 h->cinc[start[r]++] = x;
             }
@@ -1072,16 +1067,12 @@ static rad_status gather_links(rad_hier *h, int carry)
         int end = r < (long long)h->ncl ? (int)r : -1 - (int)(r - (long long)h->ncl);
         if (end >= 0)
             memset(h->cl[end].g, 0, sizeof h->cl[end].g);
-        rad_vec3 at = h->ccentre[r];
         for (size_t i = start[r]; i < start[r + 1]; i++) {
-            /* as the link's estimate took it, from its end a to its end b */
-            rad_vec3 d = rad_vec3_sub(h->ccentre[inc[i].other], at);
-            rad_vec3 dir = rad_vec3_scale(d, 1.0 / rad_vec3_norm(d));
             double v[3];
-            intensity(h, &inc[i], carry, rad_vec3_scale(dir, -1.0), v);
+            intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
             for (int c = 0; c < nch; c++)
                 v[c] *= inc[i].kv;
-            receive(h, end, carry, dir, v);
+            receive(h, end, carry, inc[i].dir, v);
         }
     }
     /* parents before children: the nodes above the subtrees, then the

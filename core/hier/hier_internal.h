@@ -120,6 +120,7 @@ typedef struct hier_clink {
                               (and of G / A_b) */
     double va, vb;         /* what the source's variation var is multiplied by in the
                               error at a (at b) */
+    rad_vec3 w;            /* unit direction from a's centre to b's */
     double kv;             /* V / (pi r^2): a point facing the source head-on receives
                               kv times the source's intensity (sum A B max(cos, 0)) */
     unsigned char overlap; /* the bounding spheres meet: no bound, refine */
@@ -128,19 +129,17 @@ typedef struct hier_clink {
 } hier_clink;
 
 /* A cluster link's end as its receiver gathers it: where to read the other
- * end as a source, the link's kv and the other end's receiver index, whose
- * centre (ccentre) gives the unit direction from the receiver's centre
- * towards the other's (cluster.c; the direction the link was estimated
- * along, bit for bit).  A receiver's ends lie together, so a gather step
- * reads them in order and each source's compact row once per end, never
- * the clusters themselves. */
+ * end as a source, the link's kv and the unit direction from the receiver's
+ * centre towards the other's (cluster.c).  A receiver's ends lie together,
+ * so a gather step reads them in order and each source's compact row once
+ * per end, never the clusters themselves. */
 typedef struct hier_cinc {
+    rad_vec3 dir;
     double kv;
-    int src;   /* the other end's source row: an element's (celem), a small
-                  cluster's first triangle (cemit) or a cluster's moments (cmom) */
-    int kind;  /* HIER_CINC_ELEMENT, HIER_CINC_MOMENTS, or the small cluster's
-                  triangle count (1 .. 16) */
-    int other; /* the other end as a receiver: a cluster c, an element e as ncl + e */
+    int src;  /* the other end's source row: an element's (celem), a small
+                 cluster's first triangle (cemit) or a cluster's moments (cmom) */
+    int kind; /* HIER_CINC_ELEMENT, HIER_CINC_MOMENTS, or the small cluster's
+                 triangle count (1 .. 16) */
 } hier_cinc;
 enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
 
@@ -197,9 +196,7 @@ struct rad_hier {
        for cinc_version == cln_version and cinc_nel == nel */
     size_t *cinc_start;
     struct hier_cinc *cinc;
-    rad_vec3 *ccentre;        /* each receiver's centre (a cluster's, an element's
-                                 centroid), in the same order; built with cinc */
-    size_t cinc_start_cap, cinc_cap, cinc_nel, ccentre_cap;
+    size_t cinc_start_cap, cinc_cap, cinc_nel;
     unsigned long long cln_version, cinc_version;
     /* the links or elements changed (refine.c): bumped so that exchange.c
        rebuilds its plan of the shared gather */
