@@ -525,6 +525,16 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok)
     return got;
 }
 
+/* The reflector's F within tol (relative) of the closed form, and the
+ * reported bound covering its error. */
+static void opposed_boxes_within(double t, double D, double eps, double tol)
+{
+    int bound_ok = 0;
+    double got = opposed_boxes(t, D, eps, &bound_ok), F = opposed_squares(1.0, D);
+    CHECK_MSG(fabs(got / F - 1.0) <= tol, "reflector's F %.5f, closed form %.5f", got, F);
+    CHECK(bound_ok);
+}
+
 /* Thin slabs (t 0.02) across 4 at the preview setting (eps 1, no
  * tightening).  A slab's back faces lie behind its front: a visibility ray
  * from one is blocked by its own slab, and with every sample there the four
@@ -533,11 +543,7 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok)
  * turned towards the other end. */
 TEST(cluster_link_sees_past_its_own_back_faces)
 {
-    const double D = 4.0;
-    int bound_ok = 0;
-    double got = opposed_boxes(0.02, D, 1.0, &bound_ok), F = opposed_squares(1.0, D);
-    CHECK_MSG(fabs(got / F - 1.0) <= 0.1, "reflector's F %.5f, closed form %.5f", got, F);
-    CHECK(bound_ok);
+    opposed_boxes_within(0.02, 4.0, 1.0, 0.1);
 }
 
 /* Unit cubes across 3, with eps so large that the one cluster link between
@@ -547,9 +553,5 @@ TEST(cluster_link_sees_past_its_own_back_faces)
  * F).  Between the cubes' centres, 4 apart, it would be 40% below F. */
 TEST(cluster_link_kernel_between_the_projected_areas)
 {
-    const double D = 3.0;
-    int bound_ok = 0;
-    double got = opposed_boxes(1.0, D, 1e6, &bound_ok), F = opposed_squares(1.0, D);
-    CHECK_MSG(fabs(got / F - 1.0) <= 0.15, "reflector's F %.5f, closed form %.5f", got, F);
-    CHECK(bound_ok);
+    opposed_boxes_within(1.0, 3.0, 1e6, 0.15);
 }

@@ -216,18 +216,39 @@ static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, do
     *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
 }
 
+/* A small cluster's triangles that face w (unit, from the cluster towards
+ * the other end), in cluster order; none listed for an element or a larger
+ * cluster. */
+typedef struct facing_set {
+    const hier_elem *t[CLUSTER_SMALL];
+    int m;
+} facing_set;
+
+static void facing_of(const rad_hier *h, const end_view *x, rad_vec3 w, facing_set *f)
+{
+    f->m = 0;
+    if (x->elem >= 0 || x->cl->count > CLUSTER_SMALL)
+        return;
+    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
+        const hier_elem *t = &h->el[h->corder[i]];
+        if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
+            f->t[f->m++] = t;
+    }
+}
+
 /* Sample point k of end x, seen from the direction w (unit, from x towards
- * the other end), and the input triangle it lies on.  Samples lie on
- * triangles that face w: a ray from a triangle turned away would first
- * cross the triangle's own object, and count as blocked what the model does
- * not carry anyway (its projected area counts only faces turned towards
- * w).  A small cluster's samples are spread over the triangles facing w
- * (a box seen along an axis turns 2 of its 12 towards it; fewer than
- * CLUSTER_RAYS such triangles take points spread over them); a larger
- * cluster's is the centroid of the first that faces w among CLUSTER_TRIES
- * spread over it, where none does the first.  An element's samples are
- * points spread over it. */
-static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, rad_vec3 w, int *tri)
+ * the other end; f: facing_of(x, w)), and the input triangle it lies on.
+ * Samples lie on triangles that face w: a ray from a triangle turned away
+ * would first cross the triangle's own object, and count as blocked what
+ * the model does not carry anyway (its projected area counts only faces
+ * turned towards w).  A small cluster's samples are spread over the
+ * triangles facing w (a box seen along an axis turns 2 of its 12 towards
+ * it; fewer than CLUSTER_RAYS such triangles take points spread over them);
+ * a larger cluster's is the centroid of the first that faces w among
+ * CLUSTER_TRIES spread over it, where none does the first.  An element's
+ * samples are points spread over it. */
+static rad_vec3 sample_point(const rad_hier *h, const end_view *x, const facing_set *f, int k,
+                             rad_vec3 w, int *tri)
 {
     static const double bary[CLUSTER_RAYS][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3},
                                                  {2.0 / 3, 1.0 / 6, 1.0 / 6},
@@ -238,15 +259,8 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, int k, rad_ve
     if (x->elem >= 0) {
         e = &h->el[x->elem];
     } else if (x->cl->count <= CLUSTER_SMALL) {
-        const hier_elem *facing[CLUSTER_SMALL];
-        int m = 0;
-        for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
-            const hier_elem *t = &h->el[h->corder[i]];
-            if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
-                facing[m++] = t;
-        }
-        e = m > 0 ? facing[(k * m) / CLUSTER_RAYS] : &h->el[h->corder[x->cl->first]];
-        b = m >= CLUSTER_RAYS ? bary[0] : bary[k];
+        e = f->m > 0 ? f->t[(k * f->m) / CLUSTER_RAYS] : &h->el[h->corder[x->cl->first]];
+        b = f->m >= CLUSTER_RAYS ? bary[0] : bary[k];
     } else {
         const int spread = CLUSTER_RAYS * CLUSTER_TRIES;
         e = NULL;
@@ -295,10 +309,13 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     int mixed = 0;
     if (h->use_vis) {
         int open = 0;
+        facing_set fx, fy;
+        facing_of(h, &x, w, &fx);
+        facing_of(h, &y, mw, &fy);
         for (int k = 0; k < CLUSTER_RAYS; k++) {
             int ta, tb;
-            rad_vec3 p = sample_point(h, &x, k, w, &ta);
-            rad_vec3 q = sample_point(h, &y, (k + 1) % CLUSTER_RAYS, mw, &tb);
+            rad_vec3 p = sample_point(h, &x, &fx, k, w, &ta);
+            rad_vec3 q = sample_point(h, &y, &fy, (k + 1) % CLUSTER_RAYS, mw, &tb);
             double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
             open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
         }
