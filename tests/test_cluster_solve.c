@@ -15,6 +15,7 @@
 #include "rad_ff.h"
 #include "rad_hier.h"
 #include "rad_solve.h"
+#include "rad_sys.h"
 #include "rad_vis.h"
 
 TEST(cluster_cli_table_and_stats)
@@ -88,6 +89,44 @@ TEST(cluster_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--refine", "1", NULL}, "--refine");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--eps", "0", NULL}, "--eps");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){harness_path("scenes/bad/rho_too_big.obj"), "--method", "cluster", NULL}, "rho_too_big");
+}
+
+/* A hierarchy that would outgrow the machine's memory is refused as too big
+ * (exit 2), naming the memory and what makes it smaller, before the kernel
+ * kills the process: at the first check when the memory is less than the
+ * process holds already (1 MB), for hier (p0 and p1) and cluster alike, and part way
+ * through the refinement of 343 boxes at the defaults (some 1.5 GB) when
+ * the memory is what the test holds now and 100 MB more. */
+TEST(cluster_refuses_a_hierarchy_beyond_the_machines_memory)
+{
+    const char *room = harness_path("scenes/many_objects/many_343.obj");
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    setenv("RADKIT_MEMORY_LIMIT", "1000000", 1);
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){room, "--method", "cluster", "--quiet", NULL}, "RADKIT_MEMORY_LIMIT");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "hier", "--quiet", NULL}, "--method cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "hier", "--basis", "p1", "--quiet", NULL}, "--basis");
+    rad_scene *scene = harness_scene_load("scenes/many_objects/many_343.obj", NULL);
+    char limit[64];
+    snprintf(limit, sizeof limit, "%.0f", rad_sys_rss_bytes() + 100e6);
+    setenv("RADKIT_MEMORY_LIMIT", limit, 1);
+    if (scene) {
+        rad_solve_params p;
+        rad_solve_params_default(&p);
+        p.method = RAD_SOLVE_CLUSTER;
+        rad_solution *s = NULL;
+        rad_status st = rad_solve_run(scene, &p, &s);
+        const char *msg = rad_error_message();
+        CHECK_MSG(st == RAD_ETOOBIG && !s, "status %d: %s", (int)st, msg);
+        size_t links = 0, clinks = 0;
+        const char *with = strstr(msg, "GiB (RADKIT_MEMORY_LIMIT sets it), with ");
+        CHECK_MSG(with && sscanf(with, "GiB (RADKIT_MEMORY_LIMIT sets it), with %zu links, %zu",
+                                 &links, &clinks) == 2 && clinks > 0,
+                  "%s", msg);
+        CHECK_MSG(strstr(msg, "--eps") != NULL, "%s", msg);
+        rad_solution_destroy(s);
+        rad_scene_destroy(scene);
+    }
+    unsetenv("RADKIT_MEMORY_LIMIT");
 }
 
 /* Estimates run in parallel, each into its own slot, in job order, and the

@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <sched.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,4 +106,35 @@ TEST(sys_bind_threads_gives_each_thread_one_cpu)
     }
 #pragma omp parallel num_threads(ncpu)
     sched_setaffinity(0, sizeof allowed, &allowed);
+}
+
+static unsigned char *volatile escaped;
+
+/* The resident memory rises by what the process touches (64 MB written:
+ * at least 60 MB more), and rad_sys_memory_allows holds it and the growth
+ * asked for against the share of RADKIT_MEMORY_LIMIT. */
+TEST(sys_resident_memory_follows_what_is_touched)
+{
+    double before = rad_sys_rss_bytes();
+    CHECK(before > 0.0);
+    size_t n = 64u << 20;
+    unsigned char *p = malloc(n);
+    CHECK(p != NULL);
+    if (!p)
+        return;
+    memset(p, 1, n);
+    escaped = p; /* the stores must happen before the call that could read them */
+    double after = rad_sys_rss_bytes();
+    CHECK_MSG(after - before >= 60e6, "resident %.0f then %.0f bytes", before, after);
+    char limit[64];
+    snprintf(limit, sizeof limit, "%.0f", 2.0 * after);
+    setenv("RADKIT_MEMORY_LIMIT", limit, 1);
+    double would, have;
+    CHECK(rad_sys_memory_allows(0.5 * after, 0.9, &would, &have));
+    CHECK_MSG(have == 2.0 * after && would >= 1.5 * after, "would %.0f, have %.0f", would, have);
+    CHECK(!rad_sys_memory_allows(0.9 * after, 0.9, &would, &have));
+    unsetenv("RADKIT_MEMORY_LIMIT");
+    CHECK(rad_sys_memory_allows(0.0, 0.9, &would, &have) && have > 0.0);
+    escaped = NULL;
+    free(p);
 }

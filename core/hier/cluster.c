@@ -371,6 +371,9 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     if (h->ncln + n > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu cluster links (raise max_links or "
                                       "eps)", h->p.max_links);
+    rad_status mem = hier_memory_check(h, 0, n, 0);
+    if (mem != RAD_OK)
+        return mem;
     if (!rad_sys_grow((void **)&h->cln, &h->capcln, h->ncln, h->ncln + n, sizeof *h->cln, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu cluster links", h->ncln + n);
     unsigned char *keep = malloc(n);

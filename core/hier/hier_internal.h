@@ -128,6 +128,17 @@ typedef struct hier_clink {
                               error: split the larger end, not the source */
 } hier_clink;
 
+/* One end of a link as the receiver sees it: the source element, the form
+ * factor, its gradient over the receiver and the source-slope vector (the
+ * moment's over the receiver's area: constant while the links are), and
+ * whether the receiver is the link's b end (the order of gather_link's
+ * terms there). */
+typedef struct hier_end {
+    int src, is_b;
+    double F;
+    rad_vec3 g, m;
+} hier_end;
+
 /* A cluster link's end as its receiver gathers it: where to read the other
  * end as a source, the link's kv and the unit direction from the receiver's
  * centre towards the other's (cluster.c).  A receiver's ends lie together,
@@ -218,6 +229,12 @@ struct rad_hier {
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
 };
+
+/* ---- memory.c ---- */
+/* RAD_ETOOBIG when adding links element links, clinks cluster links and
+ * elems elements (and the gather's ends of the links) would take the
+ * process past its share of the machine's memory. */
+rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, size_t elems);
 
 /* ---- tree.c ---- */
 rad_status hier_grow_elems(rad_hier *h, size_t extra);

@@ -257,17 +257,6 @@ static void gather_link_T(const rad_hier *h, const hier_link *l, unsigned ends)
     }
 }
 
-/* One end of a link as the receiver sees it: the source element, the form
- * factor, its gradient over the receiver and the source-slope vector (the
- * moment's over the receiver's area: constant while the links are), and
- * whether the receiver is the link's b end (the order of gather_link's
- * terms there). */
-struct hier_end {
-    int src, is_b;
-    double F;
-    rad_vec3 g, m;
-};
-
 /* Each element's link ends, in link order. */
 static rad_status incidence(rad_hier *h)
 {

@@ -117,6 +117,10 @@ rad_status hier_grow_elems(rad_hier *h, size_t extra)
     if (h->nel + extra > h->p.max_elements)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
                                       "min_area)", h->p.max_elements);
+    rad_status st;
+    if (h->nel + extra > h->capel &&
+        (st = hier_memory_check(h, 0, 0, h->nel + extra - h->capel)) != RAD_OK)
+        return st;
     if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
@@ -127,6 +131,9 @@ rad_status hier_reserve_links(rad_hier *h, size_t extra)
     if (h->nln + extra > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
+    rad_status st = hier_memory_check(h, extra, 0, 0);
+    if (st != RAD_OK)
+        return st;
     if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     return RAD_OK;

@@ -77,11 +77,31 @@ void hp_bound_B(rad_hierp *h)
             h->el[e].Bmax[c] = hp_poly_bound(h, h->el[e].B[c], h->el[e].area);
 }
 
+/* Refuse more of what the machine cannot hold (hier/memory.c's check, for
+ * this solver's arrays). */
+static rad_status hp_memory_check(const rad_hierp *h, double bytes, const char *what, size_t more)
+{
+    double would, have;
+    if (rad_sys_memory_allows(bytes, 0.9, &would, &have))
+        return RAD_OK;
+    const double gib = 1024.0 * 1024.0 * 1024.0;
+    return RAD_ERROR(RAD_ETOOBIG,
+                     "hier: %zu more %s would take the process to %.3g GiB, more than 90%% of "
+                     "this machine's %.3g GiB (RADKIT_MEMORY_LIMIT sets it), with %zu links and "
+                     "%zu elements made so far; raise --eps, use a lower --basis or fewer "
+                     "triangles", more, what, would / gib, have / gib, h->nln, h->nel);
+}
+
 rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
                                       "min_area)", h->p.max_elements);
+    rad_status st;
+    if (h->nel + extra > h->capel &&
+        (st = hp_memory_check(h, (double)(h->nel + extra - h->capel) * sizeof *h->el, "elements",
+                              h->nel + extra - h->capel)) != RAD_OK)
+        return st;
     if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
@@ -93,6 +113,10 @@ rad_status hp_reserve_links(rad_hierp *h, size_t extra)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
                                       "min_area)", h->p.max_links);
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
+    rad_status st = hp_memory_check(h, (double)extra * (sizeof *h->ln + mm * sizeof *h->K), "links",
+                                    extra);
+    if (st != RAD_OK)
+        return st;
     if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     if (!rad_sys_grow((void **)&h->K, &cap, h->nln, h->capln, mm * sizeof *h->K, 256))

@@ -2,6 +2,7 @@
 #include "rad_sys.h"
 
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -29,6 +30,26 @@ double rad_sys_memory_bytes(void)
     if (pages <= 0 || size <= 0)
         return 0.0;
     return (double)pages * (double)size;
+}
+
+double rad_sys_rss_bytes(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    unsigned long long size = 0, resident = 0;
+    int got = f ? fscanf(f, "%llu %llu", &size, &resident) : 0;
+    if (f)
+        fclose(f);
+    long page = sysconf(_SC_PAGESIZE);
+    if (got == 2 && page > 0)
+        return (double)resident * (double)page;
+    return rad_sys_peak_rss_bytes();
+}
+
+int rad_sys_memory_allows(double more, double share, double *would, double *have)
+{
+    *have = rad_sys_memory_bytes();
+    *would = rad_sys_rss_bytes() + more;
+    return !(*have > 0.0) || *would <= share * *have;
 }
 
 double rad_sys_peak_rss_bytes(void)
