@@ -129,8 +129,8 @@ rad_status hier_grow_elems(rad_hier *h, size_t extra)
 rad_status hier_reserve_links(rad_hier *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
-                                      "min_area)", h->p.max_links);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links): raise --eps "
+                                      "or --min-area, or use fewer triangles", h->p.max_links);
     rad_status st = hier_memory_check(h, extra, 0, 0);
     if (st != RAD_OK)
         return st;
