@@ -94,9 +94,10 @@ TEST(cluster_cli_rejects_bad_options)
 /* A hierarchy that would outgrow the machine's memory is refused as too big
  * (exit 2), naming the memory and what makes it smaller, before the kernel
  * kills the process: at the first check when the memory is less than the
- * process holds already (1 MB), for hier (p0 and p1) and cluster alike, and part way
- * through the refinement of 343 boxes at the defaults (some 1.5 GB) when
- * the memory is what the test holds now and 100 MB more. */
+ * process holds already (1 MB), for hier (p0 and p1) and cluster alike,
+ * and part way through the refinement of 343 boxes at the defaults (whose
+ * links take far more than 100 MB) when the memory is what the test holds
+ * now and 100 MB more. */
 TEST(cluster_refuses_a_hierarchy_beyond_the_machines_memory)
 {
     const char *room = harness_path("scenes/many_objects/many_343.obj");

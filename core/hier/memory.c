@@ -2,8 +2,8 @@
  * before the kernel kills it (rad_sys_memory_allows).  Before links are
  * added, the process's resident memory plus the new links and the gather's
  * ends they will have (two per link: solve.c's inc, cluster.c's cinc, built
- * after the refinement) is held against HIER_MEMORY_SHARE of the machine's
- * memory; elements are checked when their array grows.  The message says
+ * after the refinement) is held against RAD_SYS_MEMORY_SHARE of the
+ * machine's memory; elements are checked when their array grows.  The message says
  * what the hierarchy holds and what would make it smaller.  Shared among
  * processes (rad_hier_exchange) the check is left out: each process would
  * decide from its own memory, and one that stopped alone would leave the
@@ -11,8 +11,6 @@
 #include "hier_internal.h"
 
 #include "rad_sys.h"
-
-#define HIER_MEMORY_SHARE 0.9
 
 static double pending_ends(size_t links, size_t cap, size_t item)
 {
@@ -29,7 +27,7 @@ rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, siz
     if (h->ncl)
         add += pending_ends(h->ncln + clinks, h->cinc_cap, sizeof(hier_cinc));
     double would, have;
-    if (rad_sys_memory_allows(add, HIER_MEMORY_SHARE, &would, &have))
+    if (rad_sys_memory_allows(add, &would, &have))
         return RAD_OK;
     const double gib = 1024.0 * 1024.0 * 1024.0;
     size_t more = links ? links : clinks ? clinks : elems;
@@ -39,6 +37,6 @@ rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, siz
                      "of this machine's %.3g GiB (RADKIT_MEMORY_LIMIT sets it), with %zu links, "
                      "%zu cluster links and %zu elements made so far; raise --eps or lower "
                      "--max-tighten%s, or use fewer triangles",
-                     more, kind, would / gib, 100.0 * HIER_MEMORY_SHARE, have / gib, h->nln,
+                     more, kind, would / gib, 100.0 * RAD_SYS_MEMORY_SHARE, have / gib, h->nln,
                      h->ncln, h->nel, h->ncl ? "" : ", or link through clusters (--method cluster)");
 }

@@ -115,8 +115,8 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
 rad_status hier_grow_elems(rad_hier *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
-                                      "min_area)", h->p.max_elements);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (max_elements): raise --eps "
+                                      "or --min-area, or use fewer triangles", h->p.max_elements);
     rad_status st;
     if (h->nel + extra > h->capel &&
         (st = hier_memory_check(h, 0, 0, h->nel + extra - h->capel)) != RAD_OK)

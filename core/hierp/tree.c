@@ -82,21 +82,22 @@ void hp_bound_B(rad_hierp *h)
 static rad_status hp_memory_check(const rad_hierp *h, double bytes, const char *what, size_t more)
 {
     double would, have;
-    if (rad_sys_memory_allows(bytes, 0.9, &would, &have))
+    if (rad_sys_memory_allows(bytes, &would, &have))
         return RAD_OK;
     const double gib = 1024.0 * 1024.0 * 1024.0;
     return RAD_ERROR(RAD_ETOOBIG,
-                     "hier: %zu more %s would take the process to %.3g GiB, more than 90%% of "
+                     "hier: %zu more %s would take the process to %.3g GiB, more than %.0f%% of "
                      "this machine's %.3g GiB (RADKIT_MEMORY_LIMIT sets it), with %zu links and "
                      "%zu elements made so far; raise --eps, use a lower --basis or fewer "
-                     "triangles", more, what, would / gib, have / gib, h->nln, h->nel);
+                     "triangles", more, what, would / gib, 100.0 * RAD_SYS_MEMORY_SHARE, have / gib, h->nln,
+                     h->nel);
 }
 
 rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 {
     if (h->nel + extra > h->p.max_elements)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (raise max_elements, eps or "
-                                      "min_area)", h->p.max_elements);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu elements (max_elements): raise --eps "
+                                      "or --min-area, or use fewer triangles", h->p.max_elements);
     rad_status st;
     if (h->nel + extra > h->capel &&
         (st = hp_memory_check(h, (double)(h->nel + extra - h->capel) * sizeof *h->el, "elements",
@@ -110,8 +111,8 @@ rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 rad_status hp_reserve_links(rad_hierp *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (raise max_links, eps or "
-                                      "min_area)", h->p.max_links);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links): raise --eps "
+                                      "or --min-area, or use fewer triangles", h->p.max_links);
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
     rad_status st = hp_memory_check(h, (double)extra * (sizeof *h->ln + mm * sizeof *h->K), "links",
                                     extra);

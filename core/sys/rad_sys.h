@@ -51,13 +51,14 @@ double rad_sys_memory_bytes(void);
 double rad_sys_rss_bytes(void);
 
 /* Whether the process may take more bytes on top of what it holds now
- * (rad_sys_rss_bytes) and stay within share of the machine's memory
- * (rad_sys_memory_bytes): 1, or 0; either way *would is what it would hold
- * and *have the machine's memory (0 when unknown: then always 1).  Linux
- * lends memory it does not have, so a large structure that grows past the
- * machine is not refused by malloc but killed by the kernel: the solvers
- * ask this before they grow one. */
-int rad_sys_memory_allows(double more, double share, double *would, double *have);
+ * (rad_sys_rss_bytes) and stay within RAD_SYS_MEMORY_SHARE of the machine's
+ * memory (rad_sys_memory_bytes): 1, or 0; either way *would is what it
+ * would hold and *have the machine's memory (0 when unknown: then always
+ * 1).  Linux lends memory it does not have, so a large structure that grows
+ * past the machine is not refused by malloc but killed by the kernel: the
+ * hierarchical solvers ask this before they grow one. */
+#define RAD_SYS_MEMORY_SHARE 0.9
+int rad_sys_memory_allows(double more, double *would, double *have);
 
 /* Peak resident set size of this process in bytes (0 if unknown). */
 double rad_sys_peak_rss_bytes(void);

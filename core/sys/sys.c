@@ -45,11 +45,11 @@ double rad_sys_rss_bytes(void)
     return rad_sys_peak_rss_bytes();
 }
 
-int rad_sys_memory_allows(double more, double share, double *would, double *have)
+int rad_sys_memory_allows(double more, double *would, double *have)
 {
     *have = rad_sys_memory_bytes();
     *would = rad_sys_rss_bytes() + more;
-    return !(*have > 0.0) || *would <= share * *have;
+    return !(*have > 0.0) || *would <= RAD_SYS_MEMORY_SHARE * *have;
 }
 
 double rad_sys_peak_rss_bytes(void)
