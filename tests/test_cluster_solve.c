@@ -130,6 +130,35 @@ TEST(cluster_refuses_a_hierarchy_beyond_the_machines_memory)
     unsetenv("RADKIT_MEMORY_LIMIT");
 }
 
+/* --max-links caps each kind of link, and a hierarchy past it is refused
+ * (exit 2) with a message naming the option: the room of 343 boxes needs
+ * far more than 2 000 cluster links at any eps; the furnace cube's 12
+ * triangles make 66 pairs, more than 50; the Cornell box's initial pairs fit
+ * in 2 000 (its table says so) but its refinement at the defaults, P0 and
+ * P1, does not.  A cap that is not reached changes nothing. */
+TEST(cluster_and_hier_refuse_more_links_than_max_links)
+{
+    const char *room = harness_path("scenes/many_objects/many_343.obj");
+    const char *cube = harness_path("scenes/furnace_cube/cube.obj");
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){room, "--method", "cluster", "--eps", "1", "--max-links", "2000", "--quiet", NULL}, "more than 2000 cluster links");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-links", "50", "--quiet", NULL}, "--max-links");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "hier", "--max-links", "2000", "--quiet", NULL}, "more than 2000 links (max_links, --max-links)");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cornell, "--method", "hier", "--basis", "p1", "--max-links", "2000", "--quiet", NULL}, "more than 2000 links (max_links, --max-links)");
+    char *out[2] = {NULL, NULL}, *err = NULL, buf[64];
+    double B[2][3 * 12];
+    for (int k = 0; k < 2; k++) {
+        CHECK(harness_radkit_run("solve", (const char *[]){cube, "--method", "hier", "--quiet", k ? "--max-links" : NULL, "66", NULL}, &out[k], &err) == 0);
+        free(err);
+        err = NULL;
+    }
+    CHECK(out[1] && harness_header(out[1], "max_links", buf, sizeof buf) && atol(buf) == 66);
+    CHECK(out[0] && out[1] && harness_face_table(out[0], B[0], 12) == 12 &&
+          harness_face_table(out[1], B[1], 12) == 12 && memcmp(B[0], B[1], sizeof B[0]) == 0);
+    free(out[0]);
+    free(out[1]);
+}
+
 /* Estimates run in parallel, each into its own slot, in job order, and the
  * cluster links' intensities are computed in parallel and summed in link
  * order: the table is the same to the bit on one thread and on two.  The

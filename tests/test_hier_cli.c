@@ -53,6 +53,10 @@ TEST(hier_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--max-tighten", "1.5", NULL}, "--max-tighten");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--max-tighten", "2", NULL}, "--method hier or cluster");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--oracle", "bf", "--max-tighten", "1", NULL}, "--oracle error");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-links", "0", NULL}, "--max-links");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--max-links", "-5", NULL}, "--max-links");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-links", "1e6", NULL}, "--max-links");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "mc", "--max-links", "100", NULL}, "--method hier or cluster");
     /* the largest K is taken (the cube's bound meets eps before any tightening) */
     char *out = NULL, *err = NULL, buf[64];
     CHECK(harness_radkit_run("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "30", "--quiet", NULL}, &out, &err) == 0);

@@ -88,6 +88,11 @@ static const char help_head[] =
     "                   costs: see papers/clustering.md for links, time and error\n"
     "                   against K.  The error estimate bounds the error whatever\n"
     "                   K; a smaller K leaves it further above --eps\n"
+    "  --max-links N    hier, cluster: refuse (exit 2) a hierarchy of more than N\n"
+    "                   links, element links and cluster links each (default\n"
+    "                   50000000); whatever N, a hierarchy that would outgrow\n"
+    "                   90% of the machine's memory (RADKIT_MEMORY_LIMIT bytes\n"
+    "                   if set) is refused before it is made\n"
     "  --samples N      mc: paths per input triangle, >= 2 (default 4096; rounded\n"
     "                   up to a multiple of the 32 batches the standard error is\n"
     "                   estimated from)\n"
@@ -231,6 +236,7 @@ int solve_option_table(solve_options *o, cli_option *table)
         {"--eps", &o->eps, NULL, NULL},
         {"--min-area", &o->min_area, NULL, NULL},
         {"--max-tighten", &o->max_tighten, NULL, NULL},
+        {"--max-links", &o->max_links, NULL, NULL},
         {"--oracle", &o->oracle, NULL, NULL},
         {"--cluster-model", &o->cluster_model, NULL, NULL},
         {"--edges", NULL, &o->edges, NULL},

@@ -40,7 +40,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--max-iter", o->max_iter, "dhc"}, {"--refine", o->refine, "d"},
         {"--vis-strata", o->strata, "d"},   {"--eps", o->eps, "hc"},
         {"--min-area", o->min_area, "hc"},  {"--oracle", o->oracle, "h"},
-        {"--max-tighten", o->max_tighten, "hc"},
+        {"--max-tighten", o->max_tighten, "hc"}, {"--max-links", o->max_links, "hc"},
         {"--samples", o->samples, "m"},     {"--seed", o->seed, "m"},
         {"--basis", o->basis, "dh"},        {"--cluster-model", o->cluster_model, "c"},
     };
@@ -127,6 +127,12 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
         if (hp->oracle != RAD_HIER_ORACLE_ERROR) /* BF compares no bound with eps */
             return RAD_ERROR(RAD_EINVAL, "solve: --max-tighten applies to --oracle error only");
         hp->max_tighten = (int)v;
+    }
+    if (o->max_links) {
+        unsigned long long v;
+        if ((st = parse_count("--max-links", o->max_links, 1, 1ull << 40, &v)) != RAD_OK)
+            return st;
+        hp->max_links = (size_t)v;
     }
     if (o->solver_tol &&
         (st = solve_parse_double("--solver-tol", o->solver_tol, 0.0, &hp->tol)) != RAD_OK)

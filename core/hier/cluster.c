@@ -369,8 +369,9 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     if (n == 0)
         return RAD_OK;
     if (h->ncln + n > h->p.max_links)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu cluster links (max_links): raise "
-                                      "--eps or use fewer triangles", h->p.max_links);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu cluster links (max_links, "
+                                      "--max-links): raise --eps, raise --max-links if the "
+                                      "machine has the memory, or use fewer triangles", h->p.max_links);
     rad_status mem = hier_memory_check(h, 0, n, 0);
     if (mem != RAD_OK)
         return mem;

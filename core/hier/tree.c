@@ -129,8 +129,9 @@ rad_status hier_grow_elems(rad_hier *h, size_t extra)
 rad_status hier_reserve_links(rad_hier *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links): raise --eps "
-                                      "or --min-area, or use fewer triangles", h->p.max_links);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links, --max-links): "
+                                      "raise --eps or --min-area, raise --max-links if the "
+                                      "machine has the memory, or use fewer triangles", h->p.max_links);
     rad_status st = hier_memory_check(h, extra, 0, 0);
     if (st != RAD_OK)
         return st;
@@ -275,12 +276,12 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         }
     }
     h->nel = ntris;
-    /* Every pair of input triangles is estimated: refuse before the work
-       when they could not all be held as links (clustering, which would link
-       groups of triangles, is not implemented). */
+    /* Without clustering every pair of input triangles is estimated: refuse
+       before the work when they could not all be held as links. */
     if (!p.cluster && (double)ntris * (double)(ntris - 1) / 2.0 > (double)p.max_links) {
         st = RAD_ERROR(RAD_ETOOBIG, "hier: %zu input triangles make %.3g pairs to link, beyond "
-                                    "max_links (%zu); use clustering or fewer triangles",
+                                    "max_links (%zu, --max-links); use clustering (--method "
+                                    "cluster) or fewer triangles",
                        ntris, (double)ntris * (double)(ntris - 1) / 2.0, p.max_links);
         goto fail;
     }

@@ -111,8 +111,9 @@ rad_status hp_grow_elems(rad_hierp *h, size_t extra)
 rad_status hp_reserve_links(rad_hierp *h, size_t extra)
 {
     if (h->nln + extra > h->p.max_links)
-        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links): raise --eps "
-                                      "or --min-area, or use fewer triangles", h->p.max_links);
+        return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu links (max_links, --max-links): "
+                                      "raise --eps or --min-area, raise --max-links if the "
+                                      "machine has the memory, or use fewer triangles", h->p.max_links);
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
     rad_status st = hp_memory_check(h, (double)extra * (sizeof *h->ln + mm * sizeof *h->K), "links",
                                     extra);
