@@ -43,13 +43,6 @@ static const char help[] =
     "                   among the ranks by input triangles and its values\n"
     "                   all-gathered; replicated: every rank gathers every link\n";
 
-static void hier_progress(int round, size_t leaves, size_t links, void *ctx)
-{
-    (void)ctx;
-    fprintf(stderr, "\rradkit-mpi: hier round %d: %zu leaves, %zu links   ", round, leaves, links);
-    fflush(stderr);
-}
-
 int radkit_mpi_hier(int argc, char **argv, int rank, int ranks)
 {
     solve_options o;
@@ -101,8 +94,12 @@ int radkit_mpi_hier(int argc, char **argv, int rank, int ranks)
         if (rank == 0 && !o.quiet) {
             for (int w = 0; w < rad_scene_warning_count(scene); w++)
                 fprintf(stderr, "radkit: warning: %s\n", rad_scene_warning(scene, w));
-            if (isatty(2))
-                p.hier.progress = hier_progress;
+            if (isatty(2)) {
+                p.hier.progress = cli_hier_progress;
+                p.hier.working = cli_hier_working;
+                static char who[] = "radkit-mpi";
+                p.hier.progress_ctx = who;
+            }
         }
         mpi_exchange_hook(&x, split, &p.hier.exchange);
         cpu = mpi_cpu_seconds();

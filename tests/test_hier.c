@@ -772,6 +772,79 @@ TEST(hier_solve_reports_progress_per_round)
     unload(&s);
 }
 
+/* With clustering, the progress reports count cluster links with the
+ * element links (the stats' links), and the working callback shows each
+ * round under way: while linking, the links made so far, ending at what
+ * the round's progress report then gives; while solving and bounding, the
+ * steps.  64 boxes at the preview setting (eps 1, no tightening). */
+typedef struct working_log {
+    progress_log rounds;
+    size_t linking[16], progress_links[16];
+    int linked[16], reported[16], solving, bounding, round_out_of_order;
+} working_log;
+
+static void log_rounds(int round, size_t leaves, size_t links, void *ctx)
+{
+    working_log *l = ctx;
+    log_progress(round, leaves, links, &l->rounds);
+    if (round >= 0 && round < 16) {
+        l->reported[round] = 1;
+        l->progress_links[round] = links;
+    }
+}
+
+static void log_working(int round, const char *what, size_t count, void *ctx)
+{
+    working_log *l = ctx;
+    /* a round is worked on after the report of the round before */
+    l->round_out_of_order |= round < 0 || round >= 16 || round > l->rounds.calls;
+    if (round < 0 || round >= 16)
+        return;
+    if (strcmp(what, "linking") == 0) {
+        l->linked[round] = 1;
+        l->linking[round] = count;
+    }
+    l->solving += strcmp(what, "solving") == 0;
+    l->bounding += strcmp(what, "bounding") == 0;
+}
+
+TEST(cluster_solve_reports_links_and_work_under_way)
+{
+    scene_arrays s;
+    if (!load("scenes/many_objects/many_64.obj", &s))
+        return;
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
+                         rad_scene_triangles(s.scene), (size_t)s.n, &vp, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 1.0;
+    p.max_tighten = 0;
+    working_log log = {.rounds = {0, -1, 1, 0, 0}};
+    p.progress = log_rounds;
+    p.working = log_working;
+    p.progress_ctx = &log;
+    rad_hier *h = vis ? run(&s, vis, &p) : NULL;
+    if (h) {
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        CHECK(st.links_cluster > 0 && log.rounds.last_links == st.links);
+        CHECK(log.rounds.in_order && !log.round_out_of_order);
+        CHECK(log.linked[0] && log.solving > 0 && log.bounding > 0);
+        for (int r = 0; r < 16; r++)
+            if (log.linked[r] && log.reported[r])
+                CHECK_MSG(log.linking[r] == log.progress_links[r],
+                          "round %d: linking ended at %zu links, progress says %zu", r,
+                          log.linking[r], log.progress_links[r]);
+    }
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+    unload(&s);
+}
+
 TEST(hier_rejects_bad_parameters)
 {
     double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, rho[3] = {0.5, 0.5, 0.5}, E[3] = {1, 1, 1};

@@ -4,6 +4,8 @@
 #ifndef RAD_CLI_H
 #define RAD_CLI_H
 
+#include <stddef.h>
+
 #include "rad_error.h"
 
 /* One option of a subcommand.  `value` receives the argument of an option that
@@ -27,6 +29,10 @@ rad_status cli_parse(const char *command, int argc, char **argv, int first,
 /* Print the last error as "radkit: <message>" on stderr and return the exit
  * status for st (rad_status_exit_code). */
 int cli_fail(rad_status st);
+/* rad_hier_params' progress and working callbacks on a terminal (progress.c);
+ * ctx: the program's name, or NULL for "radkit". */
+void cli_hier_progress(int round, size_t leaves, size_t links, void *ctx);
+void cli_hier_working(int round, const char *what, size_t count, void *ctx);
 
 /* Parse a whole positive integer in [1, max]; RAD_EINVAL names the option. */
 rad_status cli_parse_positive_int(const char *option, const char *text, long max, int *out);

@@ -169,13 +169,6 @@ static void solver_progress(int channel, int iteration, double residual, void *c
     fflush(stderr);
 }
 
-static void hier_progress(int round, size_t leaves, size_t links, void *ctx)
-{
-    (void)ctx;
-    fprintf(stderr, "\rradkit: hier round %d: %zu leaves, %zu links   ", round, leaves, links);
-    fflush(stderr);
-}
-
 static void mc_progress(double done, void *ctx)
 {
     (void)ctx;
@@ -285,7 +278,8 @@ int cli_solve(int argc, char **argv)
     if (show_progress) {
         p.assembly.progress = dense_progress;
         p.dense.progress = solver_progress;
-        p.hier.progress = hier_progress;
+        p.hier.progress = cli_hier_progress;
+        p.hier.working = cli_hier_working;
         p.mc.progress = mc_progress;
     }
 

@@ -677,6 +677,8 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
         h->ncln = w;
         begin = kept;
         end = h->ncln;
+        if (st == RAD_OK)
+            hier_working(h, "linking", h->nln + h->ncln);
     }
     free(cj.j);
     free(sj.j);

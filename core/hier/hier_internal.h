@@ -209,6 +209,7 @@ struct rad_hier {
     struct hier_cinc *cinc;
     size_t cinc_start_cap, cinc_cap, cinc_nel;
     unsigned long long cln_version, cinc_version;
+    int round;                /* the round being made or solved (params.working) */
     /* the links or elements changed (refine.c): bumped so that exchange.c
        rebuilds its plan of the shared gather */
     unsigned long long version;
@@ -322,6 +323,8 @@ rad_status hier_error_estimate(rad_hier *h);
 /* R: the area-weighted mean reflected radiosity of the leaves, the three
  * channels averaged (E_max before anything is reflected). */
 double hier_reflected_scale(const rad_hier *h);
+/* Tell params.working (if any) what round h->round is doing (rad_hier.h). */
+void hier_working(const rad_hier *h, const char *what, size_t count);
 /* The error bound of a leaf, channel c, and the part of it that does not
  * average out over an input triangle (the linear fits' residuals do): see
  * solve.c. */

@@ -195,8 +195,16 @@ typedef struct rad_hier_params {
     size_t max_links;     /* RAD_ETOOBIG beyond this many links (pairs, each carrying
                              light both ways); 5e7 */
     /* Called by rad_hier_solve after each solve (round 0: the initial links),
-     * with the leaves and links at that point; may be NULL (default). */
+     * with the leaves and links (element and cluster links) at that point;
+     * may be NULL (default). */
     void (*progress)(int round, size_t leaves, size_t links, void *ctx);
+    /* Called while a round's hierarchy is made or solved, so that a long run
+     * shows it is moving (may be NULL, the default): what is "linking" with
+     * the links made so far, after each generation of new links, "solving"
+     * with the gather/push-pull steps taken, or "bounding" with the error
+     * transport's steps; round as progress will report it (0: the initial
+     * links).  Gets progress_ctx. */
+    void (*working)(int round, const char *what, size_t count, void *ctx);
     void *progress_ctx;
     rad_hier_exchange exchange; /* cooperating processes (above); default: none */
 } rad_hier_params;

@@ -193,6 +193,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
         end = h->nln;
         if (st != RAD_OK)
             goto done;
+        hier_working(h, "linking", h->nln + h->ncln);
     }
 done:
     free(jobs);

@@ -430,6 +430,7 @@ rad_status hier_solve_links(rad_hier *h, double tol)
         rad_status st = rad_hier_step(h);
         if (st != RAD_OK)
             return st;
+        hier_working(h, "solving", (size_t)it + 1);
         if (h->last_change <= tol) {
             h->st.time_solve_s += rad_sys_seconds() - t0;
             return RAD_OK;
@@ -438,6 +439,12 @@ rad_status hier_solve_links(rad_hier *h, double tol)
     return RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
                                    "(change %.3g > tol %.3g)", h->p.max_iterations,
                      h->last_change, tol);
+}
+
+void hier_working(const rad_hier *h, const char *what, size_t count)
+{
+    if (h->p.working)
+        h->p.working(h->round, what, count, h->p.progress_ctx);
 }
 
 double hier_reflected_scale(const rad_hier *h)
@@ -652,6 +659,7 @@ rad_status hier_error_estimate(rad_hier *h)
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error bound is not finite");
             break;
         }
+        hier_working(h, "bounding", (size_t)it + 1);
         if (change <= h->p.bound_tol * tmax)
             break;
     }
@@ -724,9 +732,10 @@ rad_status rad_hier_solve(rad_hier *h)
     int round, settled = 0;
     for (round = 0; st == RAD_OK; round++) {
         if (h->p.progress)
-            h->p.progress(round, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
+            h->p.progress(round, rad_hier_leaf_count(h), h->nln + h->ncln, h->p.progress_ctx);
         if (round >= h->p.max_rounds)
             break;
+        h->round = round + 1;
         long long n = 0;
         double links = (double)(h->nln + h->ncln);
         st = rad_hier_refine(h, &n);
@@ -749,9 +758,10 @@ rad_status rad_hier_solve(rad_hier *h)
         settled = 0;
         st = solve_share(h, h->p.round_tol);
     }
+    h->round = settled ? round + 1 : round; /* the final solve's */
     /* the last report is the final hierarchy, which a settled round changed */
     if (st == RAD_OK && settled && h->p.progress)
-        h->p.progress(round + 1, rad_hier_leaf_count(h), h->nln, h->p.progress_ctx);
+        h->p.progress(round + 1, rad_hier_leaf_count(h), h->nln + h->ncln, h->p.progress_ctx);
     if (st == RAD_OK)
         st = solve_share(h, h->p.final_share);
     if (st == RAD_OK)
