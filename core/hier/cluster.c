@@ -889,6 +889,7 @@ static int fill_emitters(rad_hier *h, int carry)
 {
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
         return 0;
+    hier_gather_touch(h, HIER_GATHER_CELEM, 8 * h->nel * sizeof *h->celem);
     int nch = channels(h, carry);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
@@ -987,6 +988,8 @@ static int cluster_incidence(rad_hier *h)
                       sizeof *h->cinc_start, 1024) ||
         !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
         return 0;
+    hier_gather_touch(h, HIER_GATHER_CINC_START, (nr + 1) * sizeof *h->cinc_start);
+    hier_gather_touch(h, HIER_GATHER_CINC, 2 * h->ncln * sizeof *h->cinc);
     /* each cluster's source row, read once here instead of at every end */
     hier_cinc *src = malloc((h->ncl ? h->ncl : 1) * sizeof *src);
     if (!src)

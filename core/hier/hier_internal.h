@@ -226,6 +226,10 @@ struct rad_hier {
        or T), so that a link end reads its source from one short row */
     double *src;
     size_t src_cap;
+    /* the bytes each of the gather's arrays has touched (HIER_GATHER_*):
+       what is resident of them, which a forecast of their next build
+       subtracts (memory.c) */
+    double gather_touched[6];
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
@@ -233,9 +237,15 @@ struct rad_hier {
 
 /* ---- memory.c ---- */
 /* RAD_ETOOBIG when adding links element links, clinks cluster links and
- * elems elements (and the gather's ends of the links) would take the
- * process past its share of the machine's memory. */
+ * elems elements (and what the gather's arrays will hold for them) would
+ * take the process past its share of the machine's memory. */
 rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, size_t elems);
+/* The gather's arrays, built at solve time: element-link ends, cluster-link
+ * ends, their receivers' starts, the sources' rows, the elements' emitters. */
+enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
+       HIER_GATHER_SRC, HIER_GATHER_CELEM };
+/* Array k of the gather now holds `bytes` (written from its start). */
+void hier_gather_touch(rad_hier *h, int k, size_t bytes);
 
 /* ---- tree.c ---- */
 rad_status hier_grow_elems(rad_hier *h, size_t extra);

@@ -267,6 +267,8 @@ static rad_status incidence(rad_hier *h)
                       1024) ||
         !rad_sys_grow((void **)&h->inc, &h->inc_cap, 0, 2 * nl, sizeof *h->inc, 1024))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the ends of %zu links", nl);
+    hier_gather_touch(h, HIER_GATHER_INC_START, (ne + 1) * sizeof *h->inc_start);
+    hier_gather_touch(h, HIER_GATHER_INC, 2 * nl * sizeof *h->inc);
     size_t *start = h->inc_start;
     memset(start, 0, (ne + 1) * sizeof *start);
     for (size_t k = 0; k < nl; k++)
@@ -333,6 +335,7 @@ static rad_status fill_sources(rad_hier *h, int carry)
     if (!rad_sys_grow((void **)&h->src, &h->src_cap, 0, h->nel * HIER_SRC, sizeof *h->src,
                       1024 * HIER_SRC))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' values", h->nel);
+    hier_gather_touch(h, HIER_GATHER_SRC, h->nel * HIER_SRC * sizeof *h->src);
     for (size_t e = 0; e < h->nel; e++) {
         const hier_elem *x = &h->el[e];
         double *s = h->src + e * HIER_SRC;
@@ -426,6 +429,9 @@ rad_status rad_hier_test(const rad_hier *h)
 rad_status hier_solve_links(rad_hier *h, double tol)
 {
     double t0 = rad_sys_seconds();
+    rad_status fits = hier_memory_check(h, 0, 0, 0); /* the gather's arrays, built below */
+    if (fits != RAD_OK)
+        return fits;
     for (int it = 0; it < h->p.max_iterations; it++) {
         rad_status st = rad_hier_step(h);
         if (st != RAD_OK)
