@@ -34,10 +34,15 @@
 #    TARGET_BOXES boxes (10 000: 120 012 triangles, issue 17's "120k
 #    triangles in under 2 minutes and 6 GB"; 30 000: 360 012 triangles, the
 #    largest this 24 GB machine runs on the way to the goal's 1.2M), part
-#    "target", data/target.dat (about 7 minutes, 7 GB at the largest).  A
-#    size radkit refuses (exit 2: max_links, or the machine's memory) is a
-#    comment row with its time and message; TARGET_BOXES="10000 30000
-#    100000" adds the goal's 1.2M triangles (7 minutes more, 15 GB).
+#    "target", data/target.dat (about 7 minutes, 7 GB at the largest), with
+#    --max-links TARGET_MAX_LINKS (past the default cap, so that the
+#    machine's memory decides).  A size radkit refuses (exit 2: the links'
+#    cap or the machine's memory) is a comment row with its time and
+#    message; TARGET_BOXES="10000 30000 100000" adds the goal's 1.2M
+#    triangles at the preview (refused on 24 GB after about 12 minutes).
+#    Then cluster-coarse: COARSE_BOXES (100 000 boxes, the goal's 1.2M
+#    triangles) at eps COARSE_EPS (10), --max-tighten 0, the setting at
+#    which they fit here (about 6 minutes, 12 GB).
 # 7. When the layer pays (the effects plan's choice for --method hier):
 #    hier without and with clusters on the spheres of 320 and 1 280
 #    triangles and rooms of PAYS_BOXES boxes at eps 0.1 (the defaults) and,
@@ -58,7 +63,7 @@ EPS=${EPS:-0.1}
 EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the issue's target
 EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (oriented) only
-EPS_LARGE=${EPS_LARGE:-"1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
+EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
 TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
 EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
@@ -66,6 +71,9 @@ LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
 LOOSE_REPEAT=${LOOSE_REPEAT:-3} # the preview's runs per size: the fastest is kept
 TARGET_BOXES=${TARGET_BOXES:-"10000 30000"}
+TARGET_MAX_LINKS=${TARGET_MAX_LINKS:-200000000} # past the default cap: the machine's memory decides
+COARSE_BOXES=${COARSE_BOXES:-100000} # the goal's 1.2M triangles at a coarse setting
+COARSE_EPS=${COARSE_EPS:-10}
 PAYS_BOXES=${PAYS_BOXES:-"125 216 343 512"}
 PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
@@ -190,26 +198,29 @@ slopes "$dat" | sed 1d >> data/slopes.dat
 fi
 if want target; then
 dat=data/target.dat
-table_head "$dat" "clustering at the target size and beyond: rooms of $TARGET_BOXES boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN (issue 17: 120k triangles in under 120 s and 6 GB; the goal 1.2M in 60 s and 8 GB)" \
+table_head "$dat" "clustering at the target size and beyond: rooms of $TARGET_BOXES boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN (cluster-preview), and of $COARSE_BOXES boxes at eps $COARSE_EPS, --max-tighten 0 (cluster-coarse) (issue 17: 120k triangles in under 120 s and 6 GB; the goal 1.2M in 60 s and 8 GB)" \
   "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
   "method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
-for n in $TARGET_BOXES; do
+target_row() { # LABEL BOXES EPS MAX_TIGHTEN
+  label=$1 n=$2 eps=$3 tighten=$4
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_target.obj"
-  echo "clustering: preview setting, $n boxes" >&2
+  echo "clustering: $label, $n boxes" >&2
   start=$(date +%s)
   code=0
   set --
   [ -x /usr/bin/time ] && set -- /usr/bin/time -f %M -o "$tmp/rss"
-  "$@" "$RADKIT" solve "$tmp/boxes_target.obj" --method cluster --eps "$LOOSE_EPS" \
-    --max-tighten "$LOOSE_TIGHTEN" --quiet --out "$tmp/t.tsv" 2>"$tmp/err" || code=$?
+  "$@" "$RADKIT" solve "$tmp/boxes_target.obj" --method cluster --eps "$eps" --max-tighten "$tighten" \
+    --max-links "$TARGET_MAX_LINKS" --quiet --out "$tmp/t.tsv" 2>"$tmp/err" || code=$?
   if [ "$code" -eq 0 ] && [ -s "$tmp/t.tsv" ]; then
-    { scaling_row cluster-preview "$n"; echo; } >> "$dat"
+    { scaling_row "$label" "$n"; echo; } >> "$dat"
   else
     rss=$(tail -n 1 "$tmp/rss" 2>/dev/null || echo "?")
-    echo "# refused: $n boxes, exit $code after $(($(date +%s) - start)) s, max RSS $rss kB: $(grep '^radkit' "$tmp/err" | head -c 400)" >> "$dat"
+    echo "# refused ($label): $n boxes, exit $code after $(($(date +%s) - start)) s, max RSS $rss kB: $(grep '^radkit' "$tmp/err" | head -c 400)" >> "$dat"
   fi
   rm -f "$tmp/t.tsv" "$tmp/err" "$tmp/rss" "$tmp/boxes_target.obj"
-done
+}
+for n in $TARGET_BOXES; do target_row cluster-preview "$n" "$LOOSE_EPS" "$LOOSE_TIGHTEN"; done
+for n in $COARSE_BOXES; do target_row cluster-coarse "$n" "$COARSE_EPS" 0; done
 fi
 if want pays; then
 dat=data/pays.dat
