@@ -60,6 +60,18 @@ static rad_hier *run(const scene_arrays *s, const rad_vis *vis, const rad_hier_p
     return h;
 }
 
+/* The scene's visibility with the default parameters (NULL, and a failed
+ * check, if it cannot be made). */
+static rad_vis *scene_vis(const scene_arrays *s)
+{
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(rad_scene_vertices(s->scene), (size_t)rad_scene_vertex_count(s->scene),
+                         rad_scene_triangles(s->scene), (size_t)s->n, &vp, &vis) == RAD_OK);
+    return vis;
+}
+
 static double total_area(const scene_arrays *s, double *areas)
 {
     const double *xyz = rad_scene_vertices(s->scene);
@@ -284,11 +296,7 @@ static void unsealed_furnace_case(furnace_case c, int *passes)
         s.rho[i] = rho;
         s.E[i] = 2.385;
     }
-    rad_vis *vis = NULL;
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
-                         rad_scene_triangles(s.scene), (size_t)s.n, &vp, &vis) == RAD_OK);
+    rad_vis *vis = scene_vis(&s);
     rad_hier_params p;
     rad_hier_params_default(&p);
     p.eps = eps;
@@ -813,11 +821,7 @@ TEST(cluster_solve_reports_links_and_work_under_way)
     scene_arrays s;
     if (!load("scenes/many_objects/many_64.obj", &s))
         return;
-    rad_vis *vis = NULL;
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    CHECK(rad_vis_create(rad_scene_vertices(s.scene), (size_t)rad_scene_vertex_count(s.scene),
-                         rad_scene_triangles(s.scene), (size_t)s.n, &vp, &vis) == RAD_OK);
+    rad_vis *vis = scene_vis(&s);
     rad_hier_params p;
     rad_hier_params_default(&p);
     p.cluster = 1;
