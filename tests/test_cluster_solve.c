@@ -152,24 +152,26 @@ static double peak_since_reset(int reset)
     return 1024.0 * kb;
 }
 
-/* The memory check forecasts what a hierarchy will hold before it makes it,
- * the solve's arrays included, so under any limit a run either finishes or
- * is refused before its resident memory passes the limit's share.  Found
- * otherwise: a room of 1.2M triangles was killed by the kernel past the
- * machine's memory; the forecast took the gather's arrays as resident up to
- * their capacity, and on 64 boxes at the defaults the first solve step
- * after a round's last check grew the resident memory by the round's new
- * link ends, 11% past the forecast (here 7% past the share under the limit
- * for 105%).  In process, limits of the resident memory before the run
- * plus 50%, 95% and 105% of what the run took unchecked: the peak (VmHWM,
- * reset before each run) may pass the share by the pages the kernel backs
- * in 2 MB (a few arrays' last huge page).  Through the program (a process
- * of its own, no heap left by other runs), a limit 30% above the peak the
- * run reports unchecked lets it finish within the share: the forecast
- * bounds what is made, it does not refuse everything. */
-TEST(cluster_memory_check_keeps_the_run_within_its_limit)
+/* Under the address sanitizer the resident memory holds its shadow and the
+ * quarantine of freed blocks, which no forecast of radkit's arrays counts:
+ * there the peaks are printed, not held to the share. */
+#if defined(__SANITIZE_ADDRESS__)
+enum { PEAK_HELD = 0 };
+#else
+enum { PEAK_HELD = 1 };
+#endif
+
+/* Under limits of the resident memory before the run plus 50%, 95% and
+ * 105% of what the run took unchecked, in process: the run finishes or is
+ * refused, and its peak (VmHWM, reset before each run) stays within the
+ * limit's share but for the pages the kernel backs in 2 MB (a few arrays'
+ * last huge page).  Then through the program (a process of its own, no
+ * heap left by other runs): a limit 30% above the peak the run reports
+ * unchecked lets it finish within the share, so the forecast bounds what
+ * is made and does not refuse everything. */
+static void memory_check_holds(const char *scene_path, rad_solve_params p, const char *const args[])
 {
-    rad_scene *scene = harness_scene_load("scenes/many_objects/many_64.obj", NULL);
+    rad_scene *scene = harness_scene_load(scene_path, NULL);
     if (!scene)
         return;
     if (!peak_since_reset(1)) {
@@ -177,9 +179,6 @@ TEST(cluster_memory_check_keeps_the_run_within_its_limit)
         rad_scene_destroy(scene);
         return;
     }
-    rad_solve_params p;
-    rad_solve_params_default(&p);
-    p.method = RAD_SOLVE_CLUSTER;
     unsetenv("RADKIT_MEMORY_LIMIT");
     double base = rad_sys_rss_bytes();
     rad_solution *s = NULL;
@@ -198,21 +197,27 @@ TEST(cluster_memory_check_keeps_the_run_within_its_limit)
         rad_status st = rad_solve_run(scene, &p, &s);
         double peak = peak_since_reset(0);
         CHECK_MSG(st == RAD_OK || st == RAD_ETOOBIG, "status %d: %s", (int)st, rad_error_message());
-        printf("# many_64, limit for %.0f%% of the run: %s, peak %.1f MB, share %.1f MB\n",
+        printf("# %s, limit for %.0f%% of the run: %s, peak %.1f MB, share %.1f MB\n", scene_path,
                100.0 * share[k], st == RAD_OK ? "finished" : "refused", (peak - base) / 1e6,
                (RAD_SYS_MEMORY_SHARE * limit - base) / 1e6);
-        CHECK_MSG(peak <= RAD_SYS_MEMORY_SHARE * limit + 8e6,
-                  "limit for %.0f%% of the run: peak %.1f MB past the share %.1f MB (%s)",
-                  100.0 * share[k], peak / 1e6, RAD_SYS_MEMORY_SHARE * limit / 1e6,
+        CHECK_MSG(!PEAK_HELD || peak <= RAD_SYS_MEMORY_SHARE * limit + 8e6,
+                  "%s, limit for %.0f%% of the run: peak %.1f MB past the share %.1f MB (%s)",
+                  scene_path, 100.0 * share[k], peak / 1e6, RAD_SYS_MEMORY_SHARE * limit / 1e6,
                   st == RAD_OK ? "finished" : "refused");
         rad_solution_destroy(s);
     }
     unsetenv("RADKIT_MEMORY_LIMIT");
     rad_scene_destroy(scene);
     /* through the program: the table's memory_peak_bytes */
-    const char *room = harness_path("scenes/many_objects/many_64.obj");
+    const char *argv[16] = {harness_path(scene_path), "--quiet"};
+    int n = 2;
+    while (args[n - 2] && n < 15) {
+        argv[n] = args[n - 2];
+        n++;
+    }
+    argv[n] = NULL;
     char *out = NULL, *err = NULL, buf[64];
-    CHECK(harness_radkit_run("solve", (const char *[]){room, "--method", "cluster", "--quiet", NULL}, &out, &err) == 0);
+    CHECK(harness_radkit_run("solve", argv, &out, &err) == 0);
     double peak = out && harness_header(out, "memory_peak_bytes", buf, sizeof buf) ? atof(buf) : 0.0;
     free(out);
     free(err);
@@ -221,16 +226,45 @@ TEST(cluster_memory_check_keeps_the_run_within_its_limit)
         double limit = 1.3 * peak / RAD_SYS_MEMORY_SHARE;
         snprintf(buf, sizeof buf, "%.0f", limit);
         setenv("RADKIT_MEMORY_LIMIT", buf, 1);
-        int code = harness_radkit_run("solve", (const char *[]){room, "--method", "cluster", "--quiet", NULL}, &out, &err);
+        int code = harness_radkit_run("solve", argv, &out, &err);
         unsetenv("RADKIT_MEMORY_LIMIT");
-        CHECK_MSG(code == 0, "limit 30%% above the peak: exit %d: %s", code, err ? err : "");
+        CHECK_MSG(code == 0, "%s, limit 30%% above the peak: exit %d: %s", scene_path, code,
+                  err ? err : "");
         double again = out && harness_header(out, "memory_peak_bytes", buf, sizeof buf) ? atof(buf)
                                                                                           : INFINITY;
-        CHECK_MSG(again <= RAD_SYS_MEMORY_SHARE * limit, "peak %.1f MB past the share %.1f MB",
-                  again / 1e6, RAD_SYS_MEMORY_SHARE * limit / 1e6);
+        CHECK_MSG(!PEAK_HELD || again <= RAD_SYS_MEMORY_SHARE * limit,
+                  "%s: peak %.1f MB past the share %.1f MB",
+                  scene_path, again / 1e6, RAD_SYS_MEMORY_SHARE * limit / 1e6);
         free(out);
         free(err);
     }
+}
+
+/* The memory check forecasts what a hierarchy will hold before it makes it,
+ * the solve's arrays included, so under any limit a run either finishes or
+ * is refused before its resident memory passes the limit's share.  Found
+ * otherwise: a room of 1.2M triangles was killed by the kernel past the
+ * machine's memory; the forecast took the gather's arrays as resident up to
+ * their capacity, and on 64 boxes at the defaults the first solve step
+ * after a round's last check grew the resident memory by the round's new
+ * link ends, 11% past the forecast (here 7% past the share under the limit
+ * for 105%).  The same for P1 elements (hierp's own arrays) on the Cornell
+ * box at eps 0.01, where the reruns in process mostly reuse the heap the
+ * first run left (they grow a few MB), so that its run through the program
+ * is what tests it. */
+TEST(cluster_memory_check_keeps_the_run_within_its_limit)
+{
+    rad_solve_params p;
+    rad_solve_params_default(&p);
+    p.method = RAD_SOLVE_CLUSTER;
+    memory_check_holds("scenes/many_objects/many_64.obj", p,
+                       (const char *[]){"--method", "cluster", NULL});
+    rad_solve_params_default(&p);
+    p.method = RAD_SOLVE_HIER;
+    p.basis = 1;
+    p.hier.eps = 0.01;
+    memory_check_holds("scenes/cornell/cornell.obj", p,
+                       (const char *[]){"--method", "hier", "--basis", "p1", "--eps", "0.01", NULL});
 }
 
 /* --max-links caps each kind of link, and a hierarchy past it is refused

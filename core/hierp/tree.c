@@ -78,7 +78,10 @@ void hp_bound_B(rad_hierp *h)
 }
 
 /* Refuse more of what the machine cannot hold (hier/memory.c's check, for
- * this solver's arrays). */
+ * this solver's arrays: each link with its K and the two ends the solve
+ * lists for it, each element with the solve's row of its coefficients;
+ * the solve's arrays counted whole, as a rebuild may keep the old block
+ * resident). */
 static rad_status hp_memory_check(const rad_hierp *h, double bytes, const char *what, size_t more)
 {
     double would, have;
@@ -100,8 +103,10 @@ rad_status hp_grow_elems(rad_hierp *h, size_t extra)
                                       "or --min-area, or use fewer triangles", h->p.max_elements);
     rad_status st;
     if (h->nel + extra > h->capel &&
-        (st = hp_memory_check(h, (double)(h->nel + extra - h->capel) * sizeof *h->el, "elements",
-                              h->nel + extra - h->capel)) != RAD_OK)
+        (st = hp_memory_check(h,
+                              (double)(h->nel + extra - h->capel) *
+                                  (sizeof *h->el + 3 * HP_M * sizeof *h->Bs + sizeof *h->inc_start),
+                              "elements", h->nel + extra - h->capel)) != RAD_OK)
         return st;
     if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
@@ -115,8 +120,9 @@ rad_status hp_reserve_links(rad_hierp *h, size_t extra)
                                       "raise --eps or --min-area, raise --max-links if the "
                                       "machine has the memory, or use fewer triangles", h->p.max_links);
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
-    rad_status st = hp_memory_check(h, (double)extra * (sizeof *h->ln + mm * sizeof *h->K), "links",
-                                    extra);
+    double per_link = (double)(sizeof *h->ln + mm * sizeof *h->K +
+                               2 * (sizeof *h->inc + sizeof *h->inc_src));
+    rad_status st = hp_memory_check(h, (double)extra * per_link, "links", extra);
     if (st != RAD_OK)
         return st;
     if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
