@@ -174,17 +174,16 @@ static void memory_check_holds(const char *scene_path, rad_solve_params p, const
     rad_scene *scene = harness_scene_load(scene_path, NULL);
     if (!scene)
         return;
-    if (!peak_since_reset(1)) {
-        printf("# /proc/self/clear_refs not writable: the peak cannot be measured per run\n");
-        rad_scene_destroy(scene);
-        return;
-    }
     unsetenv("RADKIT_MEMORY_LIMIT");
-    double base = rad_sys_rss_bytes();
-    rad_solution *s = NULL;
-    CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "%s", rad_error_message());
-    double grown = peak_since_reset(0) - base;
-    rad_solution_destroy(s);
+    double base = rad_sys_rss_bytes(), grown = 0.0;
+    if (peak_since_reset(1)) {
+        rad_solution *s = NULL;
+        CHECK_MSG(rad_solve_run(scene, &p, &s) == RAD_OK, "%s", rad_error_message());
+        grown = peak_since_reset(0) - base;
+        rad_solution_destroy(s);
+    } else {
+        printf("# /proc/self/clear_refs not writable: no peak per run in process\n");
+    }
     const double share[3] = {0.5, 0.95, 1.05};
     for (int k = 0; k < 3 && grown > 0.0; k++) {
         base = rad_sys_rss_bytes();
@@ -193,7 +192,7 @@ static void memory_check_holds(const char *scene_path, rad_solve_params p, const
         snprintf(text, sizeof text, "%.0f", limit);
         setenv("RADKIT_MEMORY_LIMIT", text, 1);
         peak_since_reset(1);
-        s = NULL;
+        rad_solution *s = NULL;
         rad_status st = rad_solve_run(scene, &p, &s);
         double peak = peak_since_reset(0);
         CHECK_MSG(st == RAD_OK || st == RAD_ETOOBIG, "status %d: %s", (int)st, rad_error_message());
