@@ -240,18 +240,14 @@ static void memory_check_holds(const char *scene_path, rad_solve_params p, const
 }
 
 /* The memory check forecasts what a hierarchy will hold before it makes it,
- * the solve's arrays included, so under any limit a run either finishes or
- * is refused before its resident memory passes the limit's share.  Found
- * otherwise: a room of 1.2M triangles was killed by the kernel past the
- * machine's memory; the forecast took the gather's arrays as resident up to
- * their capacity, and on 64 boxes at the defaults the first solve step
- * after a round's last check grew the resident memory by the round's new
- * link ends, 11% past the forecast (here 7% past the share under the limit
- * for 105%).  The same for P1 elements (hierp's own arrays) on the Cornell
- * box at eps 0.01, where the reruns in process mostly reuse the heap the
- * first run left (they grow a few MB), so that its run through the program
- * is what tests it. */
-TEST(cluster_memory_check_keeps_the_run_within_its_limit)
+ * the solve's arrays included (a round's new link ends are built by the
+ * solve after the round's last check of links), so under any limit a run
+ * either finishes or is refused before its resident memory passes the
+ * limit's share: 64 boxes through the cluster layer at the defaults, and
+ * P1 elements (hierp's own arrays) on the Cornell box at eps 0.01, whose
+ * reruns in process mostly reuse the heap the first run left, so that its
+ * run through the program is what tests it. */
+TEST(memory_check_keeps_the_run_within_its_limit)
 {
     rad_solve_params p;
     rad_solve_params_default(&p);

@@ -23,9 +23,8 @@ void hier_gather_touch(rad_hier *h, int k, size_t bytes)
 
 /* What array k (cap bytes now) will add when it holds `bytes`: rebuilt
    within its capacity it writes over the pages it has touched; past it, a
-   new block, counted whole (the old one's pages are not always returned:
-   measured, a rebuild past capacity grew the resident memory by the new
-   block's size). */
+   new block, counted whole (the old block, freed, may stay in the heap and
+   resident: glibc returns only blocks it mapped on their own). */
 static double pending(const rad_hier *h, int k, double bytes, double cap)
 {
     return bytes <= cap ? rad_dmax(0.0, bytes - h->gather_touched[k]) : bytes;
