@@ -25,15 +25,18 @@
  *    for a cube); a receiving cluster gathers the moments of the directions
  *    its links arrive from, weighted by what each brings, and each triangle
  *    below takes the middle of their bracket of sum_k c_k max(n.w_k, 0) for
- *    its own normal n (exact for links from one direction).  An element end
- *    emits and receives with its own normal.
+ *    its own normal n (exact for links from one direction); a small cluster
+ *    (CLUSTER_SMALL triangles or fewer) emits and receives exactly, each
+ *    triangle with its own normal.  An element end emits and receives with
+ *    its own normal.
  *  - ISO: a cluster emits a quarter of sum A B towards every direction and
  *    gives every triangle below a quarter of what arrives head-on (the mean
  *    of max(cos, 0) over directions: Cauchy), whatever their orientation.
  * Whatever the model, the point form factor F(x, Y) of any point x of X
  * lies in [0, F_X] with
  *     F_X = min(C_X U_Y / (pi gap^2), (R_Y / (r - R_X))^2, 1),
- * gap = r - R_X - R_Y, C_X the largest cosine X's normals make with a
+ * gap the distance between the ends' bounding boxes (at least the spheres'
+ * gap r - R_X - R_Y), C_X the largest cosine X's normals make with a
  * direction towards Y's sphere, U_Y the largest projected area of Y towards
  * X's sphere (from its cone, or its area), the second term the solid angle
  * of Y's sphere.  The error of a point's F is bounded: ISO by
@@ -108,6 +111,7 @@ static int end_of(const rad_hier *h, int cluster)
 /* What a link reads of an end. */
 typedef struct end_view {
     rad_vec3 c, N, axis;
+    rad_vec3 mid, half;    /* its bounding box: centre and half extents */
     double radius, area, alpha;
     int elem;              /* the element, or -1 for a cluster */
     const hier_clus *cl;   /* the cluster, or NULL */
@@ -117,15 +121,28 @@ static void view(const rad_hier *h, int id, end_view *v)
 {
     if (id >= 0) {
         const hier_clus *x = &h->cl[id];
-        *v = (end_view){x->c, x->N, x->axis, x->radius, x->area, x->alpha, -1, x};
+        *v = (end_view){x->c, x->N, x->axis, x->c, x->half, x->radius, x->area, x->alpha, -1, x};
         return;
     }
     const hier_elem *e = &h->el[-1 - id];
     double r = 0.0;
-    for (int k = 0; k < 3; k++)
+    rad_vec3 lo = e->p[0], hi = e->p[0];
+    for (int k = 0; k < 3; k++) {
         r = rad_dmax(r, rad_vec3_norm(rad_vec3_sub(e->p[k], e->c)));
+        lo = rad_vec3_make(rad_dmin(lo.x, e->p[k].x), rad_dmin(lo.y, e->p[k].y), rad_dmin(lo.z, e->p[k].z));
+        hi = rad_vec3_make(rad_dmax(hi.x, e->p[k].x), rad_dmax(hi.y, e->p[k].y), rad_dmax(hi.z, e->p[k].z));
+    }
     rad_vec3 n = h->normal[e->face];
-    *v = (end_view){e->c, rad_vec3_scale(n, e->area), n, r, e->area, 0.0, -1 - id, NULL};
+    *v = (end_view){e->c,
+                    rad_vec3_scale(n, e->area),
+                    n,
+                    rad_vec3_scale(rad_vec3_add(lo, hi), 0.5),
+                    rad_vec3_scale(rad_vec3_sub(hi, lo), 0.5),
+                    r,
+                    e->area,
+                    0.0,
+                    -1 - id,
+                    NULL};
 }
 
 static void dir_add(hier_dir *g, double c, rad_vec3 w)
@@ -216,6 +233,18 @@ static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, do
     *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
 }
 
+/* The distance between the ends' bounding boxes (0 where they meet). */
+static double box_gap(const end_view *x, const end_view *y)
+{
+    double d[3] = {fabs(y->mid.x - x->mid.x) - x->half.x - y->half.x,
+                   fabs(y->mid.y - x->mid.y) - x->half.y - y->half.y,
+                   fabs(y->mid.z - x->mid.z) - x->half.z - y->half.z};
+    double s = 0.0;
+    for (int a = 0; a < 3; a++)
+        s += d[a] > 0.0 ? d[a] * d[a] : 0.0;
+    return sqrt(s);
+}
+
 /* A small cluster's triangles that face w (unit, from the cluster towards
  * the other end), in cluster order; none listed for an element or a larger
  * cluster. */
@@ -290,13 +319,16 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     out->a = ia;
     out->b = ib;
     rad_vec3 d = rad_vec3_sub(y.c, x.c);
-    double r = rad_vec3_norm(d), gap = r - x.radius - y.radius;
-    if (!(gap > 0.0)) {
+    double r = rad_vec3_norm(d), R = x.radius + y.radius;
+    if (!(r > R)) {
         out->overlap = 1;
         return 1;
     }
+    /* no two points of the ends lie nearer than their boxes' distance, at
+       least the spheres' gap r - R (each box lies in its sphere) */
+    double gap = rad_dmax(box_gap(&x, &y), r - R);
     rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
-    double beta = asin(rad_dmin(1.0, (x.radius + y.radius) / r));
+    double beta = asin(rad_dmin(1.0, R / r));
     double cx, ux, cy, uy;
     upper(&x, w, beta, &cx, &ux);
     upper(&y, mw, beta, &cy, &uy);
@@ -350,7 +382,7 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
        source's projected area, and visibility where the rays disagree (where
        they agree it is taken as they say: four rays are an estimate, not a
        bound) */
-    double R = x.radius + y.radius, near = r / (r - R);
+    double near = r / (r - R);
     double kern = near * near * (1.0 + sin(beta)) - 1.0;
     out->ea = Fa * rad_dmin(1.0, kern + rel_y + (mixed ? 1.0 : 0.0));
     out->eb = Fb * rad_dmin(1.0, kern + rel_x + (mixed ? 1.0 : 0.0));
@@ -765,8 +797,9 @@ rad_status hier_cluster_create(rad_hier *h)
     h->cl = calloc(h->ncl, sizeof *h->cl);
     h->corder = malloc(n * sizeof *h->corder);
     h->cemit = malloc(6 * n * sizeof *h->cemit);
+    h->crecv = calloc(3 * n, sizeof *h->crecv);
     h->cmom = malloc(3 * h->ncl * sizeof *h->cmom);
-    if (!h->cl || !h->corder || !h->cemit || !h->cmom) {
+    if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
@@ -778,7 +811,8 @@ rad_status hier_cluster_create(rad_hier *h)
         rad_vec3 lo = rad_vec3_make(m->lo[0], m->lo[1], m->lo[2]);
         rad_vec3 hi = rad_vec3_make(m->hi[0], m->hi[1], m->hi[2]);
         x->c = rad_vec3_scale(rad_vec3_add(lo, hi), 0.5);
-        x->radius = 0.5 * rad_vec3_norm(rad_vec3_sub(hi, lo));
+        x->half = rad_vec3_scale(rad_vec3_sub(hi, lo), 0.5);
+        x->radius = rad_vec3_norm(x->half);
         x->area = m->area;
         x->N = rad_vec3_scale(rad_vec3_make(m->normal[0], m->normal[1], m->normal[2]), m->area);
         double len = rad_vec3_norm(x->N);
@@ -848,6 +882,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->corder);
     free(h->cln);
     free(h->cemit);
+    free(h->crecv);
     free(h->celem);
     free(h->cmom);
     free(h->cinc_start);
@@ -1073,6 +1108,58 @@ static void push_node(rad_hier *h, size_t i, int nch)
             dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
 }
 
+/* Whether cluster end receives triangle by triangle (crecv): a small one,
+ * in the oriented model. */
+static int receives_exactly(const rad_hier *h, int end)
+{
+    return h->p.cluster_model != RAD_HIER_CLUSTER_ISO && h->cl[end].count <= CLUSTER_SMALL;
+}
+
+/* The links of the small clusters of subtree `top` (a small cluster whose
+ * parent is not), each triangle below taking max(n.w, 0) of what each link
+ * of each cluster above it brings; crecv of its triangles is rewritten. */
+static void receive_subtree(rad_hier *h, int top, int carry)
+{
+    int nch = channels(h, carry);
+    const hier_clus *t = &h->cl[top];
+    memset(h->crecv + 3 * (size_t)t->first, 0, 3 * (size_t)t->count * sizeof *h->crecv);
+    /* nodes are made depth-first: the subtree is the run of 2 count - 1 */
+    for (int j = top; j < top + 2 * t->count - 1; j++) {
+        const hier_clus *x = &h->cl[j];
+        for (size_t i = h->cinc_start[j]; i < h->cinc_start[j + 1]; i++) {
+            const hier_cinc *in = &h->cinc[i];
+            double v[3];
+            intensity(h, in, carry, rad_vec3_scale(in->dir, -1.0), v);
+            for (int m = x->first; m < x->first + x->count; m++) {
+                double d = rad_vec3_dot(h->normal[h->corder[m]], in->dir), a = 0.5 * (d + fabs(d));
+                for (int c = 0; c < nch; c++)
+                    h->crecv[3 * (size_t)m + (size_t)c] += v[c] * in->kv * a;
+            }
+        }
+    }
+}
+
+/* receive_subtree for every small subtree (in parallel: they are disjoint). */
+static void small_receive(rad_hier *h, int carry)
+{
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
+        return;
+    if (h->cl[0].count <= CLUSTER_SMALL) {
+        receive_subtree(h, 0, carry);
+        return;
+    }
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncl > 4096)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
+        const hier_clus *x = &h->cl[i];
+        if (x->count <= CLUSTER_SMALL)
+            continue;
+        for (int k = 0; k < 2; k++)
+            if (h->cl[x->child[k]].count <= CLUSTER_SMALL)
+                receive_subtree(h, x->child[k], carry);
+    }
+}
+
 /* Gather every link (elements' ends directly, clusters' by direction) and
  * push what the clusters gathered down their tree (parents come before
  * their children).  Each receiving end adds up its own links' ends in link
@@ -1091,8 +1178,11 @@ static rad_status gather_links(rad_hier *h, int carry)
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
     for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
         int end = r < (long long)h->ncl ? (int)r : -1 - (int)(r - (long long)h->ncl);
-        if (end >= 0)
+        if (end >= 0) {
             memset(h->cl[end].g, 0, sizeof h->cl[end].g);
+            if (receives_exactly(h, end))
+                continue; /* small_receive */
+        }
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
             intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
@@ -1101,6 +1191,7 @@ static rad_status gather_links(rad_hier *h, int carry)
             receive(h, end, carry, inc[i].dir, v);
         }
     }
+    small_receive(h, carry);
     /* parents before children: the nodes above the subtrees, then the
        subtrees on every thread */
     for (size_t k = 0; k < h->nctop; k++)
@@ -1134,7 +1225,8 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
             continue;
         double v[3], err;
         for (int c = 0; c < nch; c++)
-            v[c] = received(h, &x->g[c], h->normal[x->root], &err);
+            v[c] = received(h, &x->g[c], h->normal[x->root], &err) +
+                   h->crecv[3 * (size_t)x->first + (size_t)c];
         add_to_element(h, x->root, carry, v);
     }
     return RAD_OK;

@@ -82,6 +82,7 @@ typedef struct hier_dir {
  * children in the array. */
 typedef struct hier_clus {
     rad_vec3 c;            /* centre of its bounding box */
+    rad_vec3 half;         /* the box's half extents */
     double radius;         /* half the box's diagonal: its triangles lie in that sphere */
     double area;
     rad_vec3 N;            /* sum of area x unit normal over its triangles */
@@ -194,6 +195,11 @@ struct rad_hier {
        x unit normal, then the three channels carried), filled at each gather
        so that a small cluster's intensity reads one contiguous run */
     double *cemit;
+    /* what each input triangle received through the links of the small
+       clusters above it (3 channels each, in cluster order): a small
+       cluster hands each of its triangles its own share, max(n.w, 0) per
+       link, instead of gathering moments whose bracket is only a bound */
+    double *crecv;
     /* what each element emits (8 doubles each: unit normal, area, the three
        channels carried, one unused), filled at each gather so that a link's
        element end is one cache line */
