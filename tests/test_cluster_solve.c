@@ -756,3 +756,63 @@ TEST(cluster_link_kernel_between_the_projected_areas)
 {
     opposed_boxes_within(1.0, 3.0, 1e6, 0.15);
 }
+
+/* A unit cube lit only from above, by two emitting slabs at different
+ * angles (one over it, one over and beside it), eps so large that nothing
+ * is refined: every link reaching the cube arrives from above, so its
+ * bottom face (triangles 8 and 9) must receive nothing.  A small cluster
+ * receives triangle by triangle, max(n.w, 0) of each link; the moments of
+ * two directions would give the bottom the upper half of their bracket's
+ * width instead (for n = -z: sqrt(C c_z) - c_z > 0). */
+TEST(small_cluster_receives_nothing_from_behind_its_faces)
+{
+    double xyz[72];
+    int tri[108];
+    slab((double[3]){0, 0, 0}, (double[3]){1, 1, 1}, 0, xyz, tri);
+    slab((double[3]){0, 0, 4}, (double[3]){1, 1, 4.02}, 8, xyz + 24, tri + 36);
+    slab((double[3]){4, 0, 3}, (double[3]){5, 1, 3.02}, 16, xyz + 48, tri + 72);
+    double rho[108] = {0}, E[108] = {0};
+    for (int c = 0; c < 3; c++) {
+        for (int t = 0; t < 12; t++)
+            rho[t + 36 * c] = 0.5; /* the cube */
+        E[12 + 8 + 36 * c] = E[12 + 9 + 36 * c] = 1.0; /* the slabs' -z faces */
+        E[24 + 8 + 36 * c] = E[24 + 9 + 36 * c] = 1.0;
+    }
+    rad_vis *vis = NULL;
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(xyz, 24, tri, 36, &vp, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 1e6;
+    p.max_tighten = 0;
+    rad_hier *h = NULL;
+    CHECK(vis && rad_hier_create(xyz, 24, tri, 36, rho, E, vis, &p, &h) == RAD_OK);
+    if (h && rad_hier_solve(h) == RAD_OK) {
+        size_t n = rad_hier_leaf_count(h);
+        int *face = malloc(n * sizeof *face);
+        double *B = malloc(3 * n * sizeof *B);
+        rad_hier_leaves(h, face, NULL, NULL, B);
+        double top = 0.0, bottom = 0.0;
+        for (size_t k = 0; k < n; k++) {
+            if (face[k] == 10 || face[k] == 11)
+                top = rad_dmax(top, B[k]);
+            if (face[k] == 8 || face[k] == 9)
+                bottom = rad_dmax(bottom, B[k]);
+        }
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        printf("# cube lit from above through %zu cluster links: top %.4g, bottom %.3g\n",
+               st.links_cluster, top, bottom);
+        CHECK(st.links_cluster > 0);
+        CHECK(top > 0.01);
+        CHECK_MSG(bottom == 0.0, "the bottom face got %.3g", bottom);
+        free(face);
+        free(B);
+    } else {
+        CHECK_MSG(0, "solve: %s", rad_error_message());
+    }
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+}
