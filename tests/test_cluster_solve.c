@@ -645,6 +645,30 @@ static void slab(const double lo[3], const double hi[3], int base, double *xyz, 
     }
 }
 
+/* xyz (nv vertices) and tri (nt triangles) solved by cluster at eps with
+ * no tightening; NULL (after a failed check) when it could not be.  *vis
+ * is the scene's visibility, for the caller to destroy. */
+static rad_hier *cluster_solved(const double *xyz, size_t nv, const int *tri, size_t nt,
+                                const double *rho, const double *E, double eps, rad_vis **vis)
+{
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    CHECK(rad_vis_create(xyz, nv, tri, nt, &vp, vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = eps;
+    p.max_tighten = 0;
+    rad_hier *h = NULL;
+    CHECK(*vis && rad_hier_create(xyz, nv, tri, nt, rho, E, *vis, &p, &h) == RAD_OK);
+    if (h && rad_hier_solve(h) != RAD_OK) {
+        CHECK_MSG(0, "solve: %s", rad_error_message());
+        rad_hier_destroy(h);
+        h = NULL;
+    }
+    return h;
+}
+
 /* Two boxes (1 x 1 x t) face each other across D: the lower one's +z face
  * reflects 0.5, the upper one's -z face emits 1, nothing else reflects or
  * emits, so the reflector's mean radiosity is 0.5 F with F the opposed
@@ -684,17 +708,8 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok)
     double got = -1.0;
     *bound_ok = 0;
     rad_vis *vis = NULL;
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    CHECK(rad_vis_create(xyz, 16, tri, 24, &vp, &vis) == RAD_OK);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.cluster = 1;
-    p.eps = eps;
-    p.max_tighten = 0;
-    rad_hier *h = NULL;
-    CHECK(vis && rad_hier_create(xyz, 16, tri, 24, rho, E, vis, &p, &h) == RAD_OK);
-    if (h && rad_hier_solve(h) == RAD_OK) {
+    rad_hier *h = cluster_solved(xyz, 16, tri, 24, rho, E, eps, &vis);
+    if (h) {
         size_t n = rad_hier_leaf_count(h);
         int *face = malloc(n * sizeof *face);
         double *area = malloc(n * sizeof *area), *B = malloc(3 * n * sizeof *B);
@@ -718,8 +733,6 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok)
         free(face);
         free(area);
         free(B);
-    } else {
-        CHECK_MSG(0, "solve: %s", rad_error_message());
     }
     rad_hier_destroy(h);
     rad_vis_destroy(vis);
@@ -779,17 +792,8 @@ TEST(small_cluster_receives_nothing_from_behind_its_faces)
         E[24 + 8 + 36 * c] = E[24 + 9 + 36 * c] = 1.0;
     }
     rad_vis *vis = NULL;
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    CHECK(rad_vis_create(xyz, 24, tri, 36, &vp, &vis) == RAD_OK);
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.cluster = 1;
-    p.eps = 1e6;
-    p.max_tighten = 0;
-    rad_hier *h = NULL;
-    CHECK(vis && rad_hier_create(xyz, 24, tri, 36, rho, E, vis, &p, &h) == RAD_OK);
-    if (h && rad_hier_solve(h) == RAD_OK) {
+    rad_hier *h = cluster_solved(xyz, 24, tri, 36, rho, E, 1e6, &vis);
+    if (h) {
         size_t n = rad_hier_leaf_count(h);
         int *face = malloc(n * sizeof *face);
         double *B = malloc(3 * n * sizeof *B);
@@ -810,8 +814,6 @@ TEST(small_cluster_receives_nothing_from_behind_its_faces)
         CHECK_MSG(bottom == 0.0, "the bottom face got %.3g", bottom);
         free(face);
         free(B);
-    } else {
-        CHECK_MSG(0, "solve: %s", rad_error_message());
     }
     rad_hier_destroy(h);
     rad_vis_destroy(vis);
