@@ -797,22 +797,51 @@ TEST(small_cluster_receives_nothing_from_behind_its_faces)
         size_t n = rad_hier_leaf_count(h);
         int *face = malloc(n * sizeof *face);
         double *B = malloc(3 * n * sizeof *B);
-        rad_hier_leaves(h, face, NULL, NULL, B);
-        double top = 0.0, bottom = 0.0;
+        double *area = malloc(n * sizeof *area);
+        rad_hier_leaves(h, face, area, NULL, B);
+        double a = 0.0, ab = 0.0, bottom = 0.0;
         for (size_t k = 0; k < n; k++) {
-            if (face[k] == 10 || face[k] == 11)
-                top = rad_dmax(top, B[k]);
+            if (face[k] == 10 || face[k] == 11) {
+                a += area[k];
+                ab += area[k] * B[k];
+            }
             if (face[k] == 8 || face[k] == 9)
                 bottom = rad_dmax(bottom, B[k]);
         }
+        /* the top face sees both emitters whole and nothing else that
+           emits: its mean B is 0.5 F, F by rad_ff's exact rule */
+        double G = 0.0;
+        rad_ff_rule exact = {RAD_FF_EXACT, 0};
+        rad_ff_params fp;
+        rad_ff_params_default(&fp);
+        const int top[2] = {10, 11}, emit[4] = {20, 21, 32, 33};
+        for (int i = 0; i < 2; i++)
+            for (int j = 0; j < 4; j++) {
+                rad_vec3 ti[3], tj[3];
+                for (int k = 0; k < 3; k++) {
+                    const double *u = xyz + 3 * tri[3 * top[i] + k], *v = xyz + 3 * tri[3 * emit[j] + k];
+                    ti[k] = rad_vec3_make(u[0], u[1], u[2]);
+                    tj[k] = rad_vec3_make(v[0], v[1], v[2]);
+                }
+                rad_ff_result r;
+                CHECK(rad_ff_compute(ti, tj, exact, &fp, &r) == RAD_OK);
+                G += r.G;
+            }
+        double want = 0.5 * G, got = a > 0.0 ? ab / a : 0.0;
         rad_hier_stats st;
         rad_hier_get_stats(h, &st);
-        printf("# cube lit from above through %zu cluster links: top %.4g, bottom %.3g\n",
-               st.links_cluster, top, bottom);
+        double err = fabs(got - want) / st.reflected;
+        printf("# cube lit from above through %zu cluster links: top %.4g (exact %.4g, %+.1f%%), "
+               "error %.3g R, bound %.3g R, bottom %.3g\n",
+               st.links_cluster, got, want, 100.0 * (got / want - 1.0), err, st.bound_face_max,
+               bottom);
         CHECK(st.links_cluster > 0);
-        CHECK(top > 0.01);
+        CHECK_MSG(got > 0.0, "the top face got nothing (exact %.4g)", want);
+        CHECK_MSG(err <= st.bound_face_max, "top face %.4g, exact %.4g: error %.3g R past the "
+                  "bound %.3g R", got, want, err, st.bound_face_max);
         CHECK_MSG(bottom == 0.0, "the bottom face got %.3g", bottom);
         free(face);
+        free(area);
         free(B);
     }
     rad_hier_destroy(h);
