@@ -37,8 +37,9 @@
  *     F_X = min(C_X U_Y / (pi gap^2), (R_Y / (r - R_X))^2, 1),
  * gap the distance between the ends' bounding boxes (at least the spheres'
  * gap r - R_X - R_Y), C_X the largest cosine X's normals make with a
- * direction towards Y's sphere, U_Y the largest projected area of Y towards
- * X's sphere (from its cone, or its area), the second term the solid angle
+ * direction towards Y's sphere, U_Y the largest sum of area x cosine of Y's
+ * triangles towards X's sphere (from its cone, or its area and |N|: upper),
+ * the second term the solid angle
  * of Y's sphere.  The error of a point's F is bounded: ISO by
  * max(G / A_X, F_X - G / A_X) (anything in [0, F_X]); ORIENTED by F_X times
  * the kernel's variation over the spheres ((r / (r - R))^2 (1 + sin beta)
@@ -225,12 +226,17 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
 }
 
 /* The largest cosine any normal of x makes with a direction within beta of
- * w, and the largest projected area of x towards such a direction. */
+ * w, and the largest sum of area x cosine over x's triangles when each
+ * triangle sees its own direction u_i within beta of w: at most area x that
+ * cosine, and at most (area + |N|) / 2 + 2 sin(beta / 2) area, since
+ * sum a_i max(n_i.u, 0) = (sum a_i |n_i.u| + N.u) / 2 for one u and turning u
+ * to u_i raises each cosine by at most |u_i - u| <= 2 sin(beta / 2). */
 static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, double *proj)
 {
     double cmax = x->alpha <= RAD_PI ? cos_upper(x->axis, w, x->alpha + beta) : 1.0;
     *cosmax = rad_dmax(0.0, cmax);
-    *proj = rad_dmin(x->area * *cosmax, 0.5 * (x->area + rad_vec3_norm(x->N)));
+    double spread = 0.5 * (x->area + rad_vec3_norm(x->N)) + 2.0 * sin(0.5 * beta) * x->area;
+    *proj = rad_dmin(x->area * *cosmax, spread);
 }
 
 /* The distance between the ends' bounding boxes (0 where they meet). */
@@ -1144,6 +1150,7 @@ static void small_receive(rad_hier *h, int carry)
 {
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
         return;
+    hier_gather_touch(h, HIER_GATHER_CRECV, 3 * h->nroots * sizeof *h->crecv);
     if (h->cl[0].count <= CLUSTER_SMALL) {
         receive_subtree(h, 0, carry);
         return;

@@ -155,6 +155,12 @@ typedef struct hier_cinc {
 } hier_cinc;
 enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
 
+/* The gather's arrays, built at solve time: element-link ends, cluster-link
+ * ends, their receivers' starts, the sources' rows, the elements' emitters,
+ * the small clusters' triangles' irradiance (memory.c counts them). */
+enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
+       HIER_GATHER_SRC, HIER_GATHER_CELEM, HIER_GATHER_CRECV, HIER_GATHER_ARRAYS };
+
 struct rad_hier {
     rad_hier_params p;
     const rad_vis *vis;
@@ -235,7 +241,7 @@ struct rad_hier {
     /* the bytes each of the gather's arrays has touched (HIER_GATHER_*):
        what is resident of them, which a forecast of their next build
        subtracts (memory.c) */
-    double gather_touched[6];
+    double gather_touched[HIER_GATHER_ARRAYS];
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
@@ -246,10 +252,6 @@ struct rad_hier {
  * elems elements (and what the gather's arrays will hold for them) would
  * take the process past its share of the machine's memory. */
 rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, size_t elems);
-/* The gather's arrays, built at solve time: element-link ends, cluster-link
- * ends, their receivers' starts, the sources' rows, the elements' emitters. */
-enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
-       HIER_GATHER_SRC, HIER_GATHER_CELEM };
 /* Array k of the gather now holds `bytes` (written from its start). */
 void hier_gather_touch(rad_hier *h, int k, size_t bytes);
 
