@@ -180,6 +180,8 @@ struct rad_hier {
     int stepped;
     double last_change;       /* relative */
     double last_bmax;         /* the largest leaf B of the last step */
+    double T_tail;            /* what the error transport's last step leaves of its
+                                 fixed point (absolute; solve.c) */
     double iter_err;          /* what the last step's change leaves of the fixed point
                                  (absolute; solve.c) */
     /* the cluster layer (cluster.c); ncl = 0 without clustering */

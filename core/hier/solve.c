@@ -38,7 +38,8 @@
  *    uncapped sum).  The sources' variations add as independent errors, so
  *    a leaf's local error is q + sqrt(d); T = q + sqrt(d) + rho K T carries
  *    it through every bounce, solved by the same gather / push-pull (to
- *    bound_tol), in a sealed scene too: there an error only moves light
+ *    bound_tol, plus what its last step leaves of the fixed point, as
+ *    for B), in a sealed scene too: there an error only moves light
  *    between receivers, but where two surfaces face each other across a
  *    narrow gap the light it moves into the gap crosses it again and again,
  *    as the transport does.  A leaf's bound per channel is
@@ -481,16 +482,17 @@ double hier_weight(const rad_hier *h, const hier_elem *r, const hier_elem *s, in
     return fabs(s->B[c] - (r->B[c] - h->E[f + c * n]) / rho);
 }
 
-/* T is the transported local error (q + sqrt(d)). */
+/* T is the transported local error (q + sqrt(d)), within T_tail of the
+ * transport's fixed point. */
 double hier_leaf_bound(const rad_hier *h, const hier_elem *x, int c)
 {
     double damp = 1.0 / (1.0 - 0.5 * h->rho_max);
-    return x->T[c] + x->dr[c] * damp + h->iter_err;
+    return x->T[c] + h->T_tail + x->dr[c] * damp + h->iter_err;
 }
 
 double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
 {
-    return x->T[c] + h->iter_err;
+    return x->T[c] + h->T_tail + h->iter_err;
 }
 
 /* The iteration stopped at a step change delta (absolute): a step contracts
@@ -651,6 +653,7 @@ rad_status hier_error_estimate(rad_hier *h)
         }
     }
     int it;
+    double last = 0.0;
     for (it = 0; it < h->p.max_iterations; it++) {
         rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
         for (size_t e = 0; e < h->nel; e++)
@@ -666,9 +669,14 @@ rad_status hier_error_estimate(rad_hier *h)
             break;
         }
         hier_working(h, "bounding", (size_t)it + 1);
+        last = change;
         if (change <= h->p.bound_tol * tmax)
             break;
     }
+    /* the step contracts as the solve's does (iteration_error): the fixed
+       point lies within last q / (1 - q) above or below the last step */
+    double qc = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    h->T_tail = qc < 1.0 ? last * qc / (1.0 - qc) : 0.0;
     if (st == RAD_OK && it == h->p.max_iterations)
         st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
                        h->p.max_iterations);

@@ -647,6 +647,7 @@ rad_status hp_estimate_error(rad_hierp *h)
     for (size_t e = 0; e < h->nel; e++) /* a parent comes before its children */
         if (h->el[e].parent >= 0)
             rowT[e] += rowT[h->el[e].parent];
+    double last = 0.0; /* the transport's last step change */
     for (int it = 0;; it++) {
         if (it >= h->p.max_iterations) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
@@ -695,6 +696,7 @@ rad_status hp_estimate_error(rad_hierp *h)
             st = RAD_ERROR(RAD_ENUMERIC, "hier: the error estimate is not finite");
             break;
         }
+        last = change;
         if (change <= h->p.bound_tol * tmax)
             break;
     }
@@ -706,9 +708,9 @@ rad_status hp_estimate_error(rad_hierp *h)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
     /* the iteration stopped at a step change delta: a step contracts the
        error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2, so the
-       fixed point lies within delta q / (1 - q) */
+       fixed point lies within delta q / (1 - q); so does the transport's */
     double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
-    double iter = q < 1.0 ? h->last_change * h->last_vmax * q / (1.0 - q) : 0.0;
+    double iter = q < 1.0 ? (h->last_change * h->last_vmax + last) * q / (1.0 - q) : 0.0;
     double leaf_max = 0.0, sum = 0.0, total = 0.0;
     for (size_t e = 0; e < h->nel; e++) {
         const hp_elem *x = &h->el[e];
