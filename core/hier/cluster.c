@@ -539,18 +539,27 @@ static void dir_one(hier_dir *g, double a, rad_vec3 n)
     dir_add(g, a, n);
 }
 
+/* The channels a gather carries: the rows one, B and T h->cchannels. */
+static int channels(const rad_hier *h, int carry)
+{
+    return carry == CLUSTER_ONE ? 1 : h->cchannels;
+}
+
 /* Cluster i's source moments of what is carried (B, T or 1), and with B
  * its mean, var, H range and threshold scale, from its children (or its
  * triangle). */
 static void pull_node(rad_hier *h, size_t i, int carry)
 {
     hier_clus *x = &h->cl[i];
+    size_t nch = (size_t)channels(h, carry);
+    hier_dir *src = h->cmom + nch * i;
     if (x->root >= 0) {
         const hier_elem *e = &h->el[x->root];
         x->scale = h->face_scale[x->root];
         for (int c = 0; c < 3; c++) {
             double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-            dir_one(&x->src[c], e->area * v, h->normal[x->root]);
+            if ((size_t)c < nch)
+                dir_one(&src[c], e->area * v, h->normal[x->root]);
             if (carry == CLUSTER_T) {
                 x->T[c] = e->T[c];
             } else if (carry == CLUSTER_B) {
@@ -565,8 +574,10 @@ static void pull_node(rad_hier *h, size_t i, int carry)
     double a = u->area + v->area;
     x->scale = rad_dmin(u->scale, v->scale);
     for (int c = 0; c < 3; c++) {
-        x->src[c] = u->src[c];
-        dir_sum(&x->src[c], &v->src[c]);
+        if ((size_t)c < nch) {
+            src[c] = h->cmom[nch * (size_t)x->child[0] + (size_t)c];
+            dir_sum(&src[c], &h->cmom[nch * (size_t)x->child[1] + (size_t)c]);
+        }
         if (carry == CLUSTER_T) {
             x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
             continue;
@@ -897,12 +908,6 @@ void hier_cluster_destroy(rad_hier *h)
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* The channels a gather carries: the rows one, B and T h->cchannels. */
-static int channels(const rad_hier *h, int carry)
-{
-    return carry == CLUSTER_ONE ? 1 : h->cchannels;
-}
-
 /* Add v to what element e gathered: B (Bg), T (Tg) or the row (Bg[0]); with
  * one channel carried, v[0] is each channel's. */
 static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
@@ -924,18 +929,14 @@ static double carried(const hier_elem *e, int carry, int c)
 }
 
 /* The sources' compact rows of what is carried: cemit for the input
- * triangles in cluster order, celem for the elements, cmom for the
- * clusters' moments (pulled); 0 when out of memory. */
+ * triangles in cluster order, celem for the elements (the clusters'
+ * moments, cmom, are written by the pull); 0 when out of memory. */
 static int fill_emitters(rad_hier *h, int carry)
 {
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
         return 0;
     hier_gather_touch(h, HIER_GATHER_CELEM, 8 * h->nel * sizeof *h->celem);
-    int nch = channels(h, carry);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
-    for (size_t i = 0; i < h->ncl; i++)
-        memcpy(h->cmom + (size_t)nch * i, h->cl[i].src, (size_t)nch * sizeof *h->cmom);
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
     for (size_t i = 0; i < h->nroots; i++) {
         const hier_elem *e = &h->el[h->corder[i]];

@@ -98,9 +98,6 @@ typedef struct hier_clus {
     double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
     double T[3];           /* area-mean of the transported error */
     hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried) */
-    hier_dir src[3];       /* as a source: the moments of a_j = A_j x (B, T or 1) over
-                              its triangles' normals n_j, whose bracket gives the
-                              intensity sum_j a_j max(n_j.w, 0) towards w */
     hier_dir geo;          /* the same of its areas: projected areas */
     double q[3], qb[3];    /* the errors e of F of its links (and ancestors'), summed,
                               and summed times their sources' B ... */
@@ -213,8 +210,11 @@ struct rad_hier {
        element end is one cache line */
     double *celem;
     size_t celem_cap;
-    /* each cluster's source moments of what is carried (cchannels hier_dir
-       each), copied out of the clusters at each gather */
+    /* each cluster's source moments of what is carried (B, T or 1; the
+       carried channels' hier_dir each, written by its pull): the moments of
+       a_j = A_j x what is carried over its triangles' normals n_j, whose
+       bracket gives the intensity sum_j a_j max(n_j.w, 0) towards w; kept
+       out of hier_clus so that the gather reads them from one short row */
     hier_dir *cmom;
     /* each receiving end's cluster-link ends, in link order: clusters
        0 .. ncl - 1, then the elements (cluster.c's parallel gather); built
