@@ -394,6 +394,50 @@ TEST(cluster_preview_furnaces_near_exact_on_average)
         unsealed_furnace_case((furnace_case){scenes[k], 1, 0.5, 1.0, 0.5, 0.08, -1.0, 0}, NULL);
 }
 
+/* The error transport T = q + rho K T stops at a step change of bound_tol
+ * of its largest T; what the last step leaves of the fixed point (a step
+ * contracts by (1 + rho_max) / 2 at most) is added to the bound.  So a
+ * transport stopped early must still report at least what one run to
+ * convergence reports, on the same hierarchy (no tightening, so the bound
+ * does not steer the refinement): the Cornell box at reflectance 0.9,
+ * bound_tol 0.5 against 1e-10.  Without the tail the early stop reports
+ * less (it iterates from below). */
+TEST(hier_error_transport_stopped_early_still_bounds)
+{
+    scene_arrays s;
+    if (!load("scenes/cornell/cornell.obj", &s))
+        return;
+    for (int i = 0; i < 3 * s.n; i++)
+        s.rho[i] = 0.9;
+    rad_vis *vis = scene_vis(&s);
+    double face[2] = {0, 0}, leaf[2] = {0, 0}, mean[2] = {0, 0};
+    const double tol[2] = {0.5, 1e-10};
+    for (int k = 0; k < 2 && vis; k++) {
+        rad_hier_params p;
+        rad_hier_params_default(&p);
+        p.cluster = 1;
+        p.max_tighten = 0;
+        p.bound_tol = tol[k];
+        rad_hier *h = run(&s, vis, &p);
+        if (h) {
+            rad_hier_stats st;
+            rad_hier_get_stats(h, &st);
+            face[k] = st.bound_face_max;
+            leaf[k] = st.bound_leaf_max;
+            mean[k] = st.bound_mean;
+        }
+        rad_hier_destroy(h);
+    }
+    printf("# Cornell rho 0.9, bound_tol 0.5 against 1e-10: worst face %.4g / %.4g, leaf %.4g / "
+           "%.4g, mean %.4g / %.4g\n", face[0], face[1], leaf[0], leaf[1], mean[0], mean[1]);
+    CHECK(face[1] > 0.0 && leaf[1] > 0.0 && mean[1] > 0.0);
+    CHECK_MSG(face[0] >= face[1] && leaf[0] >= leaf[1] && mean[0] >= mean[1],
+              "stopped early: %.4g %.4g %.4g below the converged %.4g %.4g %.4g", face[0],
+              leaf[0], mean[0], face[1], leaf[1], mean[1]);
+    rad_vis_destroy(vis);
+    unload(&s);
+}
+
 /* A round that refines fewer than round_min of the links ends the rounds
  * (then the bound is computed and the thresholds tightened, as after a round
  * that refines nothing): with round_min 0.3 the room of 27 boxes skips the
