@@ -4,8 +4,9 @@
  * plus the new items and what the gather's arrays will hold for the larger
  * hierarchy (built at solve time: two ends per link, per element its
  * sources' row, emitter and start, a cluster-link build's copy of the
- * clusters' rows, and the small clusters' per-triangle irradiance, allocated
- * with the clusters but first written by the solve) beyond what they have touched so far is held against
+ * clusters' rows, and the oriented model's per-triangle irradiance of small
+ * clusters, allocated with the clusters but first written by the solve)
+ * beyond what they have touched so far is held against
  * RAD_SYS_MEMORY_SHARE of the machine's memory.  The message says what the
  * hierarchy holds and what would make it smaller.  Shared among processes
  * (rad_hier_exchange) the check is left out: each process would decide
@@ -53,8 +54,10 @@ rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, siz
                pending(h, HIER_GATHER_CELEM, 8.0 * ne * sizeof(double),
                        (double)h->celem_cap * sizeof(double)) +
                (double)h->ncl * sizeof(hier_cinc) +
-               rad_dmax(0.0, 3.0 * (double)h->nroots * sizeof(double) -
-                                 h->gather_touched[HIER_GATHER_CRECV]);
+               (h->p.cluster_model == RAD_HIER_CLUSTER_ISO
+                    ? 0.0
+                    : pending(h, HIER_GATHER_CRECV, 3.0 * (double)h->nroots * sizeof(double),
+                              3.0 * (double)h->nroots * sizeof(double)));
     double would, have;
     if (rad_sys_memory_allows(add, &would, &have))
         return RAD_OK;

@@ -495,13 +495,19 @@ double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
     return x->T[c] + h->T_tail + h->iter_err;
 }
 
-/* The iteration stopped at a step change delta (absolute): a step contracts
- * the error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2 (rows
- * capped there), so the fixed point lies within delta q / (1 - q). */
-static double iteration_error(const rad_hier *h)
+/* What an iteration of gather / push-pull (of B or of T) stopped at a step
+ * change delta (absolute) leaves of its fixed point: a step contracts the
+ * error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2 (rows capped
+ * there), so the fixed point lies within delta q / (1 - q). */
+static double fixed_point_tail(const rad_hier *h, double delta)
 {
     double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
-    return h->stepped && q < 1.0 ? h->last_change * h->last_bmax * q / (1.0 - q) : 0.0;
+    return q < 1.0 ? delta * q / (1.0 - q) : 0.0;
+}
+
+static double iteration_error(const rad_hier *h)
+{
+    return h->stepped ? fixed_point_tail(h, h->last_change * h->last_bmax) : 0.0;
 }
 
 /* Push the local errors down: a leaf's q and d become the sums over the
@@ -673,10 +679,7 @@ rad_status hier_error_estimate(rad_hier *h)
         if (change <= h->p.bound_tol * tmax)
             break;
     }
-    /* the step contracts as the solve's does (iteration_error): the fixed
-       point lies within last q / (1 - q) above or below the last step */
-    double qc = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
-    h->T_tail = qc < 1.0 ? last * qc / (1.0 - qc) : 0.0;
+    h->T_tail = fixed_point_tail(h, last);
     if (st == RAD_OK && it == h->p.max_iterations)
         st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
                        h->p.max_iterations);
