@@ -1,7 +1,8 @@
 /* rad_cluster: the hierarchy's invariants checked by brute force over its
  * triangles (every triangle once, ranges nested, boxes holding their
- * triangles, areas summing, cones holding every normal), its depth
- * ceil(log2 n), determinism, and bad input refused. */
+ * triangles, areas summing, cones holding every normal), each split leaving
+ * both sides an eighth at least, determinism, objects kept whole where
+ * planes separate them, and bad input refused. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,10 +80,21 @@ static void check_tree(const rad_cluster_tree *t, const double *xyz, const int *
     CHECK_MSG(bad_box == 0 && bad_area == 0 && bad_cone == 0 && bad_nest == 0,
               "boxes %d, areas %d, cones %d, nesting %d", bad_box, bad_area, bad_cone, bad_nest);
     CHECK((size_t)leaves == (nn + 1) / 2);
-    /* balanced: depth ceil(log2(n / leaf_size)) */
-    int want = (int)ceil(log2((double)n / leaf_size) - 1e-12);
-    CHECK_MSG(rad_cluster_max_depth(t) == (want > 0 ? want : 0), "depth %d, want %d",
-              rad_cluster_max_depth(t), want);
+    /* each side of a split keeps at least an eighth of the node, so the
+       depth stays within log_{8/7} n */
+    int lopsided = 0, depth = 0;
+    for (size_t k = 0; k < nn; k++) {
+        const rad_cluster_node *x = &nd[k];
+        depth = depth > x->depth ? depth : x->depth;
+        if (x->child[0] >= 0) {
+            int l = nd[x->child[0]].count, r = nd[x->child[1]].count;
+            lopsided += (l < r ? l : r) < x->count / 8;
+        }
+    }
+    CHECK_MSG(lopsided == 0, "%d splits leave one side less than an eighth", lopsided);
+    CHECK_MSG(depth == rad_cluster_max_depth(t) &&
+                  depth <= (int)ceil(log((double)n / leaf_size + 1.0) / log(8.0 / 7.0)) + 1,
+              "depth %d (reported %d) for %zu triangles", depth, rad_cluster_max_depth(t), n);
 }
 
 TEST(cluster_hierarchy_invariants_on_random_soups)
@@ -139,6 +151,40 @@ TEST(cluster_normals_and_cones)
                 flat += fabs(x->cone_cos - 1.0) < 1e-12;
         }
         CHECK(flat == (int)n);
+    }
+    rad_cluster_destroy(t);
+    rad_scene_destroy(s);
+}
+
+/* A room of 64 cubes on a 4 x 4 x 4 grid, none touching: each split is made
+ * at a plane between the cubes (cutting only the room's walls), so every
+ * cube's 12 triangles are one node, whose box is the cube's own.  A median
+ * split cuts cubes in two: their halves' boxes overlap the neighbours'. */
+TEST(cluster_keeps_separated_objects_whole)
+{
+    rad_scene *s = harness_scene_load("scenes/many_objects/many_64.obj", NULL);
+    if (!s)
+        return;
+    size_t n = (size_t)rad_scene_triangle_count(s);
+    CHECK(n == 12 + 64 * 12);
+    rad_cluster_tree *t = NULL;
+    CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
+                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+    if (t) {
+        check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
+        const rad_cluster_node *nd = rad_cluster_nodes(t);
+        const int *order = rad_cluster_order(t);
+        int whole = 0;
+        for (size_t k = 0; k < rad_cluster_node_count(t); k++) {
+            const rad_cluster_node *x = &nd[k];
+            if (x->count != 12 || order[x->first] < 12)
+                continue;
+            int cube = (order[x->first] - 12) / 12, same = 1;
+            for (int i = x->first; i < x->first + x->count; i++)
+                same &= order[i] >= 12 && (order[i] - 12) / 12 == cube;
+            whole += same;
+        }
+        CHECK_MSG(whole == 64, "%d of 64 cubes are one node each", whole);
     }
     rad_cluster_destroy(t);
     rad_scene_destroy(s);

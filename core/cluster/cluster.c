@@ -1,9 +1,11 @@
-/* rad_cluster: the median-split bounding-volume hierarchy (rad_cluster.h).
+/* rad_cluster: the bounding-volume hierarchy (rad_cluster.h), split where
+ * the sides' boxes are apart nearest the median, else at the median.
  * Nodes are made depth-first (a node's left subtree directly follows it),
  * keys sorted with ties broken by triangle index, so the tree depends on the
  * input alone. */
 #include "rad_cluster.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,6 +75,54 @@ static void summarize(rad_cluster_node *nd, const tri_info *ti, const int *order
     }
 }
 
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Where to split count triangles sorted by centroid along axis (order, key):
+ * at the plane between two consecutive centroids that cuts the fewest
+ * triangles, the one nearest the median among those, within the middle
+ * three quarters (SPLIT_SHARE: each side keeps at least an eighth, so the
+ * depth stays within log_{8/7} n).  A plane that cuts none leaves the
+ * sides' boxes apart; one that cuts only a room's walls keeps the objects
+ * between them whole.  The median where no plane separates two centroids
+ * or memory is short. */
+enum { SPLIT_SHARE = 8 };
+static int split_at(const tri_info *ti, const keyed *key, int count, int axis)
+{
+    int half = count / 2, first = count / SPLIT_SHARE, last = count - count / SPLIT_SHARE;
+    if (first < 1)
+        return half;
+    double *lo = malloc(2 * (size_t)count * sizeof *lo), *hi = lo + count;
+    if (!lo)
+        return half;
+    for (int i = 0; i < count; i++) {
+        lo[i] = ti[key[i].tri].lo[axis];
+        hi[i] = ti[key[i].tri].hi[axis];
+    }
+    qsort(lo, (size_t)count, sizeof *lo, by_value);
+    qsort(hi, (size_t)count, sizeof *hi, by_value);
+    int best = -1, best_cut = INT_MAX, nlo = 0, nhi = 0;
+    for (int i = first; i <= last; i++) {
+        if (!(key[i - 1].key < key[i].key))
+            continue;
+        double plane = 0.5 * (key[i - 1].key + key[i].key);
+        while (nlo < count && lo[nlo] < plane)
+            nlo++;
+        while (nhi < count && hi[nhi] <= plane)
+            nhi++;
+        int cut = nlo - nhi; /* lo < plane < hi */
+        if (cut < best_cut || (cut == best_cut && abs(i - half) < abs(best - half))) {
+            best_cut = cut;
+            best = i;
+        }
+    }
+    free(lo);
+    return best > 0 ? best : half;
+}
+
 static rad_status add_node(rad_cluster_tree *t, int *index)
 {
     if (t->nnodes == t->cap) {
@@ -125,7 +175,7 @@ static rad_status build(rad_cluster_tree *t, const tri_info *ti, keyed *scratch,
     qsort(scratch, (size_t)count, sizeof *scratch, by_key);
     for (int i = 0; i < count; i++)
         t->order[first + i] = scratch[i].tri;
-    int half = count / 2, left, right;
+    int half = split_at(ti, scratch, count, axis), left, right;
     if ((st = build(t, ti, scratch, first, half, k, depth + 1, leaf_size, &left)) != RAD_OK ||
         (st = build(t, ti, scratch, first + half, count - half, k, depth + 1, leaf_size,
                     &right)) != RAD_OK)

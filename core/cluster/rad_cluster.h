@@ -4,16 +4,18 @@
  * leaf).
  *
  * A binary bounding-volume hierarchy built top-down: a node's triangles are
- * split at the median of their centroids along the longest axis of the
- * centroids' bounding box, until a node holds at most leaf_size triangles.
- * Why this choice: the median split is deterministic (the same tree for the
- * same input, whatever the thread count), balanced (depth ceil(log2 n)), and
- * O(n log^2 n); a cluster link's error grows with the cluster's extent over
- * its distance, and the median split along the longest axis keeps sibling
- * clusters compact where objects are spread evenly.  Where objects are
- * clumped, a surface-area heuristic would give tighter boxes; the node's
- * bounds and normal cone are what the transfer bounds will read, so a
- * better split only tightens them.
+ * sorted by centroid along the longest axis of the centroids' bounding box
+ * and split at the plane between two consecutive centroids that cuts the
+ * fewest triangles, nearest the median among those, each side keeping at
+ * least an eighth of the node; until a node holds at most leaf_size
+ * triangles.  Why this choice: it is deterministic (the same tree for the
+ * same input, whatever the thread count), its depth stays within
+ * log_{8/7} n, and it costs O(n log^2 n).  A plane that cuts no triangle
+ * leaves the two sides' boxes apart, so separate objects stay whole, each
+ * one node with its own box, and sibling clusters do not overlap; a median
+ * split cuts objects in two wherever the median falls, and the halves'
+ * boxes overlap their neighbours'.  Where boxes overlap, a cluster link has
+ * no bound and is refined whatever eps asks (papers/clustering.md §2).
  *
  * Each node keeps what a cluster transfer needs: its bounding box, total
  * area, area-weighted mean normal (length 1 for a flat cluster, less as

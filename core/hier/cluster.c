@@ -3,15 +3,17 @@
  *
  * Without it rad_hier links every pair of input triangles first: n^2 work
  * before any refinement.  With it (params.cluster), the input triangles are
- * the leaves of a binary bounding-volume hierarchy (rad_cluster: median
- * split, one triangle per leaf), and linking starts from the sibling pairs
+ * the leaves of a binary bounding-volume hierarchy (rad_cluster: split
+ * between objects where a plane can be, one triangle per leaf), and linking
+ * starts from the sibling pairs
  * of that tree: every pair of triangles lies below exactly one pair of
  * siblings (its lowest common ancestor's children), so the sibling links
  * cover all interactions with n - 1 links.
  *
  * A link with a cluster at one end (the other a cluster or an element)
- * carries light both ways between the ends' bounding spheres (centres c,
- * radii R, distance r, w = (c_Y - c_X) / r): a point of X facing w receives
+ * carries light both ways between the ends (the centres c of their
+ * bounding boxes, the radii R of the boxes' spheres, distance r,
+ * w = (c_Y - c_X) / r): a point of X facing w receives
  *     kv I_Y(-w),   kv = V / (pi d^2),
  * I_Y the intensity of Y towards X (sum_j A_j B_j max(n_j.(-w), 0) over its
  * triangles), V the share of open segments between four pairs of sample
@@ -40,7 +42,11 @@
  * direction towards Y's sphere, U_Y the largest sum of area x cosine of Y's
  * triangles towards X's sphere (from its cone, or its area and |N|: upper),
  * the second term the solid angle
- * of Y's sphere.  The error of a point's F is bounded: ISO by
+ * of Y's sphere.  Where the spheres meet but the boxes do not, only
+ *     F_X = min(A_Y / (pi gap^2), 1)
+ * holds (a direction between them may be any), and the link's error is the
+ * whole bracket, max(F_X, what a point of X receives).  The error of a
+ * point's F is bounded where the spheres are apart: ISO by
  * max(G / A_X, F_X - G / A_X) (anything in [0, F_X]); ORIENTED by F_X times
  * the kernel's variation over the spheres ((r / (r - R))^2 (1 + sin beta)
  * - 1 for distance and direction, R = R_X + R_Y), plus the bracket's
@@ -58,8 +64,10 @@
  * source of the receiver whose term is the larger share of its threshold,
  * or the larger where the kernel's variation dominates, is split (an
  * element only against a larger group of triangles, split_link); two
- * elements become an element link (link.c).  Where the spheres meet there
- * is no bound: such a link is refined at once, at creation.
+ * elements become an element link (link.c).  Where the spheres meet, the
+ * larger end is split; where the boxes meet there is no bound at all: such
+ * a link is refined at once, at creation.  A link is not made where the
+ * other end's box lies behind an element's plane.
  *
  * In the solve the clusters pull their moments from the roots, and what the
  * cluster links bring is added to what the receiving elements gather, a
@@ -314,8 +322,52 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, const facing_
                         rad_vec3_scale(e->p[2], b[2]));
 }
 
+/* Whether every corner of y's box lies on or behind the plane of element x
+ * (then nothing of y lies in front of x). */
+static int box_behind(const rad_hier *h, const end_view *x, const end_view *y)
+{
+    if (x->elem < 0)
+        return 0;
+    rad_vec3 p = h->el[x->elem].p[0];
+    for (int k = 0; k < 8; k++) {
+        rad_vec3 c = rad_vec3_make(y->mid.x + (k & 1 ? y->half.x : -y->half.x),
+                                   y->mid.y + (k & 2 ? y->half.y : -y->half.y),
+                                   y->mid.z + (k & 4 ? y->half.z : -y->half.z));
+        if (rad_vec3_dot(x->axis, rad_vec3_sub(c, p)) > 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+/* The share of CLUSTER_RAYS segments between sample points of x and y
+ * (w: unit, from x towards y) that nothing blocks (*mixed: some do, some
+ * do not). */
+static double sampled_visibility(const rad_hier *h, const end_view *x, const end_view *y,
+                                 rad_vec3 w, int *mixed, unsigned long long *rays)
+{
+    *mixed = 0;
+    if (!h->use_vis)
+        return 1.0;
+    rad_vec3 mw = rad_vec3_scale(w, -1.0);
+    facing_set fx, fy;
+    facing_of(h, x, w, &fx);
+    facing_of(h, y, mw, &fy);
+    int open = 0;
+    for (int k = 0; k < CLUSTER_RAYS; k++) {
+        int ta, tb;
+        rad_vec3 p = sample_point(h, x, &fx, k, w, &ta);
+        rad_vec3 q = sample_point(h, y, &fy, (k + 1) % CLUSTER_RAYS, mw, &tb);
+        double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
+        open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
+    }
+    *rays += CLUSTER_RAYS;
+    *mixed = open > 0 && open < CLUSTER_RAYS;
+    return (double)open / CLUSTER_RAYS;
+}
+
 /* Estimate the link of ends a and b; 0 when nothing of one can reach the
- * other (every normal of one turned away from the other's sphere). */
+ * other (every normal of one turned away from the other's sphere, or the
+ * other's box behind an element's plane). */
 static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned long long *rays)
 {
     end_view x, y;
@@ -326,41 +378,35 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     out->b = ib;
     rad_vec3 d = rad_vec3_sub(y.c, x.c);
     double r = rad_vec3_norm(d), R = x.radius + y.radius;
-    if (!(r > R)) {
-        out->overlap = 1;
-        return 1;
-    }
     /* no two points of the ends lie nearer than their boxes' distance, at
        least the spheres' gap r - R (each box lies in its sphere) */
+    int apart = r > R;
     double gap = rad_dmax(box_gap(&x, &y), r - R);
-    rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
-    double beta = asin(rad_dmin(1.0, R / r));
-    double cx, ux, cy, uy;
-    upper(&x, w, beta, &cx, &ux);
-    upper(&y, mw, beta, &cy, &uy);
-    if (!(cx > 0.0) || !(cy > 0.0))
-        return 0;
-    double sa = y.radius / (r - x.radius), sb = x.radius / (r - y.radius);
-    double Fa = rad_dmin(1.0, rad_dmin(cx * uy / (RAD_PI * gap * gap), sa * sa));
-    double Fb = rad_dmin(1.0, rad_dmin(cy * ux / (RAD_PI * gap * gap), sb * sb));
-    double V = 1.0;
-    int mixed = 0;
-    if (h->use_vis) {
-        int open = 0;
-        facing_set fx, fy;
-        facing_of(h, &x, w, &fx);
-        facing_of(h, &y, mw, &fy);
-        for (int k = 0; k < CLUSTER_RAYS; k++) {
-            int ta, tb;
-            rad_vec3 p = sample_point(h, &x, &fx, k, w, &ta);
-            rad_vec3 q = sample_point(h, &y, &fy, (k + 1) % CLUSTER_RAYS, mw, &tb);
-            double pa[3] = {p.x, p.y, p.z}, qa[3] = {q.x, q.y, q.z};
-            open += !rad_vis_segment_blocked(h->vis, pa, qa, ta, tb);
-        }
-        *rays += CLUSTER_RAYS;
-        V = (double)open / CLUSTER_RAYS;
-        mixed = open > 0 && open < CLUSTER_RAYS;
+    if (!(gap > 0.0) || !(r > 0.0)) {
+        out->overlap = 1; /* the boxes meet: no bound */
+        return 1;
     }
+    if (box_behind(h, &x, &y) || box_behind(h, &y, &x))
+        return 0;
+    rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
+    double Fa, Fb, cx = 1.0, cy = 1.0, ux = x.area, uy = y.area, beta = 0.0;
+    if (apart) {
+        beta = asin(rad_dmin(1.0, R / r));
+        upper(&x, w, beta, &cx, &ux);
+        upper(&y, mw, beta, &cy, &uy);
+        if (!(cx > 0.0) || !(cy > 0.0))
+            return 0;
+        double sa = y.radius / (r - x.radius), sb = x.radius / (r - y.radius);
+        Fa = rad_dmin(1.0, rad_dmin(cx * uy / (RAD_PI * gap * gap), sa * sa));
+        Fb = rad_dmin(1.0, rad_dmin(cy * ux / (RAD_PI * gap * gap), sb * sb));
+    } else {
+        /* the spheres meet, the boxes do not: a direction between the ends
+           may be any, so every cosine is at most 1 */
+        Fa = rad_dmin(1.0, uy / (RAD_PI * gap * gap));
+        Fb = rad_dmin(1.0, ux / (RAD_PI * gap * gap));
+    }
+    int mixed;
+    double V = sampled_visibility(h, &x, &y, w, &mixed, rays);
     double rel_x, rel_y;
     rad_vec3 at_x, at_y;
     double px = projected(h, &x, w, &rel_x, &at_x), py = projected(h, &y, mw, &rel_y, &at_y);
@@ -375,6 +421,16 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     out->Fb = Fb;
     out->w = w;
     out->kv = V / (RAD_PI * r2);
+    if (!apart) {
+        /* no bound of the kernel's variation: a point of x gets kv times
+           at most U_Y, the truth lies in [0, F_X], and the oracle splits
+           the larger end until the spheres part or eps is met */
+        out->kv = px * py > 0.0 ? G / (px * py) : 0.0;
+        out->ea = out->va = rad_dmax(Fa, out->kv * uy);
+        out->eb = out->vb = rad_dmax(Fb, out->kv * ux);
+        out->by_size = 1;
+        return 1;
+    }
     if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
         /* every point of a cluster gets the mean: anything in [0, F] is possible */
         out->ea = rad_dmax(G / x.area, Fa - G / x.area);

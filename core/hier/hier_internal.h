@@ -121,7 +121,7 @@ typedef struct hier_clink {
     rad_vec3 w;            /* unit direction from a's centre to b's */
     double kv;             /* V / (pi r^2): a point facing the source head-on receives
                               kv times the source's intensity (sum A B max(cos, 0)) */
-    unsigned char overlap; /* the bounding spheres meet: no bound, refine */
+    unsigned char overlap; /* the bounding boxes meet: no bound, refine */
     unsigned char by_size; /* the kernel's variation over the spheres dominates the
                               error: split the larger end, not the source */
 } hier_clink;
