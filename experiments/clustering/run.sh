@@ -34,15 +34,17 @@
 #    TARGET_BOXES boxes (10 000: 120 012 triangles, issue 17's "120k
 #    triangles in under 2 minutes and 6 GB"; 30 000: 360 012 triangles, the
 #    largest this 24 GB machine runs on the way to the goal's 1.2M), part
-#    "target", data/target.dat (about 7 minutes, 7 GB at the largest), with
+#    "target", data/target.dat (about 4 minutes, 4 GB at the largest), with
 #    --max-links TARGET_MAX_LINKS (past the default cap, so that the
 #    machine's memory decides).  A size radkit refuses (exit 2: the links'
 #    cap or the machine's memory) is a comment row with its time and
 #    message; TARGET_BOXES="10000 30000 100000" adds the goal's 1.2M
-#    triangles at the preview (refused on 24 GB after about 12 minutes).
+#    triangles at the preview (not run since the tree splits between
+#    objects; refused on 24 GB after about 12 minutes before).
 #    Then cluster-coarse: COARSE_BOXES (100 000 boxes, the goal's 1.2M
-#    triangles) at eps COARSE_EPS (10), --max-tighten 0, the setting at
-#    which they fit here (about 6 minutes, 12 GB).
+#    triangles) at eps COARSE_EPS (3), --max-tighten 0, the coarsest
+#    setting with a usable answer (16% L1 on 1 000 boxes; about 5
+#    minutes, 8.4 GB).
 # 7. When the layer pays (the effects plan's choice for --method hier):
 #    hier without and with clusters on the spheres of 320 and 1 280
 #    triangles and rooms of PAYS_BOXES boxes at eps 0.1 (the defaults) and,
@@ -63,7 +65,7 @@ EPS=${EPS:-0.1}
 EPS_ACC=${EPS_ACC:-"0.1 0.03"}
 EPS_FINE=${EPS_FINE:-0.01} # many_64 with cluster (oriented) only: the issue's target
 EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (oriented) only
-EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
+EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 3:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
 TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
 EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
@@ -73,7 +75,7 @@ LOOSE_REPEAT=${LOOSE_REPEAT:-3} # the preview's runs per size: the fastest is ke
 TARGET_BOXES=${TARGET_BOXES:-"10000 30000"}
 TARGET_MAX_LINKS=${TARGET_MAX_LINKS:-200000000} # past the default cap: the machine's memory decides
 COARSE_BOXES=${COARSE_BOXES:-100000} # the goal's 1.2M triangles at a coarse setting
-COARSE_EPS=${COARSE_EPS:-10}
+COARSE_EPS=${COARSE_EPS:-3}
 PAYS_BOXES=${PAYS_BOXES:-"125 216 343 512"}
 PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
