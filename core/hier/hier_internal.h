@@ -77,7 +77,7 @@ typedef struct hier_dir {
     double M[6];
 } hier_dir;
 
-/* A node of the cluster hierarchy (cluster.c; the median-split tree of
+/* A node of the cluster hierarchy (cluster.c; the tree of
  * rad_cluster with one input triangle per leaf).  Parents come before their
  * children in the array. */
 typedef struct hier_clus {
