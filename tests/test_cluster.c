@@ -129,17 +129,27 @@ TEST(cluster_hierarchy_invariants_on_random_soups)
 /* A flat cluster: the normals agree, the mean normal has length 1 and the
  * cone is a line; a closed cube: the mean normal vanishes (cone_cos -1),
  * while each face's pair of triangles is flat. */
+/* The tree of scene s, one triangle per leaf, its invariants checked;
+ * NULL after a failed check. */
+static rad_cluster_tree *scene_tree(const rad_scene *s)
+{
+    size_t n = (size_t)rad_scene_triangle_count(s);
+    rad_cluster_tree *t = NULL;
+    CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
+                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+    if (t)
+        check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
+    return t;
+}
+
 TEST(cluster_normals_and_cones)
 {
     rad_scene *s = harness_scene_load("scenes/furnace_cube/cube.obj", NULL);
     if (!s)
         return;
     size_t n = (size_t)rad_scene_triangle_count(s);
-    rad_cluster_tree *t = NULL;
-    CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
-                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+    rad_cluster_tree *t = scene_tree(s);
     if (t) {
-        check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
         const rad_cluster_node *root = rad_cluster_nodes(t);
         double len = sqrt(root->normal[0] * root->normal[0] + root->normal[1] * root->normal[1] +
                           root->normal[2] * root->normal[2]);
@@ -165,13 +175,9 @@ TEST(cluster_keeps_separated_objects_whole)
     rad_scene *s = harness_scene_load("scenes/many_objects/many_64.obj", NULL);
     if (!s)
         return;
-    size_t n = (size_t)rad_scene_triangle_count(s);
-    CHECK(n == 12 + 64 * 12);
-    rad_cluster_tree *t = NULL;
-    CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
-                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+    CHECK(rad_scene_triangle_count(s) == 12 + 64 * 12);
+    rad_cluster_tree *t = scene_tree(s);
     if (t) {
-        check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
         const rad_cluster_node *nd = rad_cluster_nodes(t);
         const int *order = rad_cluster_order(t);
         int whole = 0;
