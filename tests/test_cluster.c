@@ -126,9 +126,6 @@ TEST(cluster_hierarchy_invariants_on_random_soups)
     }
 }
 
-/* A flat cluster: the normals agree, the mean normal has length 1 and the
- * cone is a line; a closed cube: the mean normal vanishes (cone_cos -1),
- * while each face's pair of triangles is flat. */
 /* The tree of scene s, one triangle per leaf, its invariants checked;
  * NULL after a failed check. */
 static rad_cluster_tree *scene_tree(const rad_scene *s)
@@ -141,6 +138,10 @@ static rad_cluster_tree *scene_tree(const rad_scene *s)
         check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
     return t;
 }
+
+/* A flat cluster: the normals agree, the mean normal has length 1 and the
+ * cone is a line; a closed cube: the mean normal vanishes (cone_cos -1),
+ * while each face's pair of triangles is flat. */
 
 TEST(cluster_normals_and_cones)
 {

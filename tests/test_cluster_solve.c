@@ -423,8 +423,7 @@ static void room_close(room *r)
  * boxes meet, which the tree's splits between objects leave rare: the
  * links made at creation grow no faster than the triangles (8 to 216
  * boxes: 108 to 2604 triangles), where hier's initial linking couples
- * every pair that faces.  (A median tree, refined wherever spheres met,
- * made 11, 9 and 17 per triangle.) */
+ * every pair that faces. */
 TEST(cluster_links_start_linear_in_triangles)
 {
     double per[3] = {0, 0, 0};
@@ -780,7 +779,7 @@ TEST(cluster_link_kernel_between_the_projected_areas)
  * min(A / (pi gap^2), 1)), its error the whole bracket, and the reported
  * bound covers the reflector's error (the point kernel across the gap,
  * 1 / (pi 0.5^2) = 1.27 towards a unit face, against the exact 0.415).
- * Where spheres met, a link used to be split at once. */
+ * A link refined wherever spheres meet would make more than one. */
 TEST(cluster_link_between_meeting_spheres_is_bounded_by_the_gap)
 {
     int bound_ok = 0;

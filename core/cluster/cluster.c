@@ -1,5 +1,5 @@
-/* rad_cluster: the bounding-volume hierarchy (rad_cluster.h), split where
- * the sides' boxes are apart nearest the median, else at the median.
+/* rad_cluster: the bounding-volume hierarchy (rad_cluster.h), each node
+ * split at the plane that cuts the fewest triangles, nearest the median.
  * Nodes are made depth-first (a node's left subtree directly follows it),
  * keys sorted with ties broken by triangle index, so the tree depends on the
  * input alone. */

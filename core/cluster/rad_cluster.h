@@ -15,7 +15,7 @@
  * one node with its own box, and sibling clusters do not overlap; a median
  * split cuts objects in two wherever the median falls, and the halves'
  * boxes overlap their neighbours'.  Where boxes overlap, a cluster link has
- * no bound and is refined whatever eps asks (papers/clustering.md §2).
+ * no bound and is refined whatever eps asks (papers/clustering.md §3).
  *
  * Each node keeps what a cluster transfer needs: its bounding box, total
  * area, area-weighted mean normal (length 1 for a flat cluster, less as

@@ -389,8 +389,9 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     if (box_behind(h, &x, &y) || box_behind(h, &y, &x))
         return 0;
     rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
-    double Fa, Fb, cx = 1.0, cy = 1.0, ux = x.area, uy = y.area, beta = 0.0;
+    double Fa, Fb, ux = x.area, uy = y.area, beta = 0.0;
     if (apart) {
+        double cx, cy;
         beta = asin(rad_dmin(1.0, R / r));
         upper(&x, w, beta, &cx, &ux);
         upper(&y, mw, beta, &cy, &uy);
