@@ -575,8 +575,9 @@ TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
             for (int k = 0; k < ns * ns; k++) {
                 rad_vec3 d = rad_vec3_make(to[3 * k] - from[3 * k], to[3 * k + 1] - from[3 * k + 1],
                                            to[3 * k + 2] - from[3 * k + 2]);
-                if (!(rad_vec3_dot(ni, d) > 0.0) || !(rad_vec3_dot(nj, d) < 0.0))
-                    continue; /* zero kernel: visibility does not matter */
+                double tol = 1e-9 * rad_vec3_norm(d);
+                if (!(rad_vec3_dot(ni, d) > tol) || !(rad_vec3_dot(nj, d) < -tol))
+                    continue; /* zero kernel (within the shaft's tolerance): visibility does not matter */
                 carrying++;
                 wrong += blocked[k];
             }
@@ -626,7 +627,9 @@ TEST(vis_shaft_test_is_conservative_on_the_cornell_box)
 }
 
 /* In an L-shaped room the walls of the inner corner are not on the hull: they
- * must stay blockers, and a pair seen across the corner must be blocked. */
+ * must stay blockers, and a pair seen across the corner must be blocked.  The
+ * receivers are turned towards each other (the kernel between them is
+ * positive). */
 TEST(vis_inner_corner_walls_still_block)
 {
     /* Floor plan: the L = [0,2]x[0,1] u [0,1]x[1,2], height 1; the two walls of
@@ -640,7 +643,7 @@ TEST(vis_inner_corner_walls_still_block)
         0.7, 1.7, 0.05, 0.9, 1.8, 1.0, 0.7, 1.9, 0.05, /* receiver j, upright */
         0, 0, -0.5, 3, 0, -0.5, 0, 3, -0.5,          /* a floor far below: one plane */
     };
-    int tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+    int tri[] = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7, 8, 10, 9, 11, 13, 12, 14, 15, 16};
     rad_vis *vis = NULL;
     CHECK(rad_vis_create(xyz, 17, tri, 7, NULL, &vis) == RAD_OK);
     CHECK(rad_vis_pair_can_block(vis, 4, 5) == 1);
@@ -649,6 +652,69 @@ TEST(vis_inner_corner_walls_still_block)
     CHECK(rad_vis_pair_fraction(vis, 4, 5, &frac, &st) == RAD_OK);
     CHECK_MSG(frac < 0.5, "fraction across the inner corner = %g", frac);
     rad_vis_destroy(vis);
+}
+
+/* A triangle behind the plane of one end blocks only segments along which
+ * the kernel vanishes: a floor triangle i (z = 0, facing up) and a wall
+ * triangle j (x = 2, facing -x) reaching below the floor, with a blocker k
+ * below the floor inside their hull.  The shaft test clears the pair (no
+ * blockers listed), every sample segment of positive kernel is free when
+ * traced, and some of zero kernel are blocked (k does lie in the shaft); the
+ * same blocker above the floor is found. */
+TEST(vis_blockers_behind_an_end_carry_nothing)
+{
+    for (int above = 0; above < 2; above++) {
+        double zk = above ? 0.3 : -0.3;
+        double xyz[] = {0, 0, 0, 1, 0, 0, 0, 1, 0,                  /* i: floor, +z */
+                        2, 0, -1, 2, 0, 1, 2, 1, 0,                 /* j: wall, -x */
+                        1.2, 0, zk, 1.8, 0, zk, 1.5, 1, zk};        /* k */
+        int tri[] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+        rad_vis *vis = NULL;
+        CHECK(rad_vis_create(xyz, 9, tri, 3, NULL, &vis) == RAD_OK);
+        if (!vis)
+            return;
+        int blk[4];
+        rad_vec3 a[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, b[3] = {{2, 0, -1}, {2, 0, 1}, {2, 1, 0}};
+        CHECK(rad_vis_pair_can_block(vis, 0, 1) == above);
+        CHECK(rad_vis_blockers(vis, a, 0, b, 1, blk, 4) == above);
+        int ns = rad_vis_sample_count(vis);
+        double *si = malloc(3 * (size_t)ns * sizeof *si), *sj = malloc(3 * (size_t)ns * sizeof *sj);
+        double *from = malloc(3 * (size_t)ns * ns * sizeof *from);
+        double *to = malloc(3 * (size_t)ns * ns * sizeof *to);
+        unsigned char *blocked = malloc((size_t)ns * ns);
+        rad_vis_triangle_samples(vis, 0, si);
+        rad_vis_triangle_samples(vis, 1, sj);
+        for (int p = 0; p < ns; p++)
+            for (int q = 0; q < ns; q++) {
+                memcpy(from + 3 * (p * ns + q), si + 3 * p, 3 * sizeof *si);
+                memcpy(to + 3 * (p * ns + q), sj + 3 * q, 3 * sizeof *sj);
+            }
+        rad_vis_stats st = {0, 0, 0};
+        CHECK(rad_vis_occluded_between(vis, 0, 1, (size_t)ns * ns, from, to, blocked, &st) == RAD_OK);
+        long carrying_blocked = 0, idle_blocked = 0;
+        for (int k = 0; k < ns * ns; k++) {
+            /* the kernel is positive where j's point lies above the floor
+               (i's normal +z) and i's point in front of the wall (always) */
+            if (to[3 * k + 2] > 0.0)
+                carrying_blocked += blocked[k];
+            else
+                idle_blocked += blocked[k];
+        }
+        if (above) {
+            CHECK_MSG(carrying_blocked > 0, "the blocker above the floor blocks %ld segments",
+                      carrying_blocked);
+        } else {
+            CHECK_MSG(carrying_blocked == 0 && idle_blocked > 0,
+                      "below the floor: %ld segments of positive kernel blocked, %ld of zero",
+                      carrying_blocked, idle_blocked);
+        }
+        free(si);
+        free(sj);
+        free(from);
+        free(to);
+        free(blocked);
+        rad_vis_destroy(vis);
+    }
 }
 
 /* rad_vis_point_visible_limited: a point 2 above the unit square z = 0 sees it

@@ -76,7 +76,7 @@ rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double 
     if (!vis || !fraction || i >= vis->ntris || j >= vis->ntris)
         return RAD_ERROR(RAD_EINVAL, "visibility: bad pair (%zu, %zu)", i, j);
     *fraction = 1.0;
-    if (vis->unoccluded || !rad_vis_pair_can_block(vis, i, j)) {
+    if (vis->unoccluded || !vis_pair_segments_can_block(vis, i, j)) {
         if (stats)
             stats->pairs_skipped++;
         return RAD_OK;

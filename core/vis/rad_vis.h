@@ -140,12 +140,15 @@ rad_status rad_vis_triangle_samples(const rad_vis *vis, size_t t, double *pts);
 int rad_vis_sample_count(const rad_vis *vis);
 
 /* Conservative test: 0 when no triangle other than i and j can cross any
- * segment joining an interior point of triangle i to an interior point of j,
- * 1 when one might.  Such a segment lies in the convex hull of the two
- * triangles (the shaft); a triangle k can cross it only if k reaches into the
- * hull, so k is dismissed when all its vertices lie outside (or on) one face
- * plane of the hull, tested through a bounding-volume hierarchy of triangle
- * boxes.  Conservative: a dismissed triangle provably cannot cross such a
+ * segment joining an interior point of triangle i to an interior point of j
+ * along which the form-factor kernel is positive, 1 when one might.  Such a
+ * segment lies in the convex hull of the two triangles (the shaft) and, its
+ * ends each strictly in front of the other's plane, in front of both planes;
+ * a triangle k can cross it only if k reaches into the hull, so k is
+ * dismissed when all its vertices lie outside (or on) one face plane of the
+ * hull or on or behind the plane of i or j, tested through a
+ * bounding-volume hierarchy of triangle boxes.  (Segments of zero kernel
+ * carry nothing: every user weighs visibility by the kernel.)  Conservative: a dismissed triangle provably cannot cross such a
  * segment (up to the tolerance tol = shaft_tol_rel * L, i.e. geometry reaching
  * into the hull by less than tol is ignored); a triangle that is not dismissed
  * may still miss every segment (the test never looks at k's interior against
@@ -160,8 +163,9 @@ uint64_t rad_vis_pair_key(const rad_vec3 a[3], const rad_vec3 b[3]);
 
 /* Visible fraction of the pair (i, j): the share of the strata_per_edge^4
  * sample segments (every sample of i to every sample of j) that no triangle
- * other than i and j blocks.  1 without tracing when rad_vis_is_unoccluded or
- * !rad_vis_pair_can_block.  Hits on i and j themselves are ignored (by
+ * other than i and j blocks, whatever the kernel along it.  1 without
+ * tracing when rad_vis_is_unoccluded or nothing can cross any segment (the
+ * shaft test without the planes of i and j).  Hits on i and j themselves are ignored (by
  * primitive id in the geometry's occlusion filter, and by the epsilon). */
 rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double *fraction,
                                  rad_vis_stats *stats);
@@ -183,9 +187,11 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
  * hemisphere, so rows of form factors built on it sum to 1 up to the outer
  * quadrature's error: energy is conserved where rays would only sample it. */
 
-/* The triangles that may block a segment between triangle a (lying on input
- * triangle face_a of the vis scene, or -1) and triangle b (on face_b): the
- * shaft test's survivors, face_a and face_b excluded.  Up to max indices
+/* The triangles that may block a segment of positive kernel between
+ * triangle a (lying on input triangle face_a of the vis scene, or -1) and
+ * triangle b (on face_b): the shaft test's survivors (with the planes of
+ * face_a and face_b, as rad_vis_pair_can_block), face_a and face_b
+ * excluded.  Up to max indices
  * into out; returns their count, max + 1 when there are more than max. */
 int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
                      int face_b, int *out, int max);

@@ -256,7 +256,7 @@ typedef struct plane {
     double d;   /* signed distance of x: dot(n, x) - d */
 } plane;
 
-enum { MAX_PLANES = 20 };
+enum { MAX_PLANES = 22 };
 
 /* Try the plane through a, b, c as a face of the hull of pts[6]. */
 static void try_plane(rad_vec3 a, rad_vec3 b, rad_vec3 c, const rad_vec3 pts[6], double tol,
@@ -351,12 +351,33 @@ static int triangle_outside(const rad_vis *vis, size_t k, const plane *pl, int c
     return 0;
 }
 
+/* Add the plane of input triangle t as a shaft plane whose outside is t's
+ * back: where the kernel is positive, the other end lies strictly in front
+ * of t's plane, so the open segment does too, and a triangle on or behind
+ * that plane cannot cross it. */
+static void add_support_plane(const rad_vis *vis, size_t t, plane *pl, int *count)
+{
+    if (t >= vis->ntris)
+        return;
+    rad_vec3 v0 = vis_vertex(vis, t, 0);
+    rad_vec3 n = rad_vec3_cross(rad_vec3_sub(vis_vertex(vis, t, 1), v0),
+                                rad_vec3_sub(vis_vertex(vis, t, 2), v0));
+    double len = rad_vec3_norm(n);
+    if (!(len > 0.0))
+        return;
+    n = rad_vec3_scale(n, -1.0 / len);
+    pl[(*count)++] = (plane){n, rad_vec3_dot(n, v0)};
+}
+
 /* Walk the hierarchy for the shaft of pts[0..2] and pts[3..5]: the triangles
  * other than ignore0 and ignore1 that the test does not dismiss, up to max of
- * them into out (out may be NULL with max 0: stop at the first).  Returns
- * their count (at most max + 1: more than max), or -1 for a flat hull. */
+ * them into out (out may be NULL with max 0: stop at the first).  With
+ * kernel set, the ends lie on input triangles ignore0 and ignore1 (where
+ * those are indices) and only segments along which the kernel is positive
+ * count, so their planes dismiss what lies behind them too.  Returns their
+ * count (at most max + 1: more than max), or -1 for a flat hull. */
 static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0, size_t ignore1,
-                      int *out, int max)
+                      int kernel, int *out, int max)
 {
     if (vis->unoccluded || vis->nnodes == 0)
         return 0; /* nothing in the scene can block */
@@ -378,6 +399,10 @@ static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0,
     int count = shaft_planes(vis, pts, pl);
     if (count < 0)
         return -1;
+    if (kernel) {
+        add_support_plane(vis, ignore0, pl, &count);
+        add_support_plane(vis, ignore1, pl, &count);
+    }
     int stack[128], top = 0, found = 0;
     stack[top++] = 0;
     while (top > 0) {
@@ -410,6 +435,18 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     return can_block;
 }
 
+int vis_pair_segments_can_block(const rad_vis *vis, size_t i, size_t j)
+{
+    if (!vis || i >= vis->ntris || j >= vis->ntris)
+        return 1;
+    rad_vec3 pts[6];
+    for (int v = 0; v < 3; v++) {
+        pts[v] = vis_vertex(vis, i, v);
+        pts[3 + v] = vis_vertex(vis, j, v);
+    }
+    return shaft_walk(vis, pts, i, j, 0, NULL, 0) != 0;
+}
+
 int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int max,
                           int *can_block)
 {
@@ -421,7 +458,7 @@ int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int 
         pts[v] = vis_vertex(vis, i, v);
         pts[3 + v] = vis_vertex(vis, j, v);
     }
-    int n = shaft_walk(vis, pts, i, j, out, max);
+    int n = shaft_walk(vis, pts, i, j, 1, out, max);
     *can_block = n != 0;
     return n < 0 ? 0 : n;
 }
@@ -466,6 +503,6 @@ int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const 
         return -1;
     rad_vec3 pts[6] = {a[0], a[1], a[2], b[0], b[1], b[2]};
     size_t ia = face_a < 0 ? (size_t)-1 : (size_t)face_a, ib = face_b < 0 ? (size_t)-1 : (size_t)face_b;
-    int n = shaft_walk(vis, pts, ia, ib, out, max);
+    int n = shaft_walk(vis, pts, ia, ib, 1, out, max);
     return n < 0 ? 0 : n; /* a flat pair: the kernel vanishes, nothing to block */
 }

@@ -102,6 +102,11 @@ int vis_bvh_build(rad_vis *vis);
 /* The triangles in[0..n) that the shaft of triangles a and b does not dismiss,
  * in order, into out (which may be in); returns their count (0 for a flat
  * pair, whose kernel vanishes). */
+/* Whether a triangle can block some segment between input triangles i and
+ * j, whatever the kernel along it (rad_vis_pair_fraction's unweighted
+ * share); rad_vis_pair_can_block counts only segments of positive kernel. */
+int vis_pair_segments_can_block(const rad_vis *vis, size_t i, size_t j);
+
 int vis_shaft_filter(const rad_vis *vis, const rad_vec3 a[3], const rad_vec3 b[3], const int *in,
                      int n, int *out);
 
