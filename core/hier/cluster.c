@@ -48,8 +48,9 @@
  * whole bracket, max(F_X, what a point of X receives).  The error of a
  * point's F is bounded where the spheres are apart: ISO by
  * max(G / A_X, F_X - G / A_X) (anything in [0, F_X]); ORIENTED by F_X times
- * the kernel's variation over the spheres ((r / (r - R))^2 (1 + sin beta)
- * - 1 for distance and direction, R = R_X + R_Y), plus the bracket's
+ * the kernel's variation between the ends (kernel_spread: distance between
+ * the gap and the boxes' farthest corners, direction within beta, sin beta
+ * = (R_X + R_Y) / r), plus the bracket's
  * relative width of the source's projected area, plus 1 where the rays
  * disagree (where all four agree they are taken at their word: the one part
  * of the estimate that is sampled, not bounded).  The directions' bracket
@@ -339,6 +340,26 @@ static int box_behind(const rad_hier *h, const end_view *x, const end_view *y)
     return 1;
 }
 
+/* How far, relative to F_X, the point kernel of the estimate (at distance
+ * sqrt(r2) between where the projected areas lie) may lie from the kernel
+ * between any two points of the ends: their distance d lies between gap and
+ * the boxes' farthest corners' dmax, and each cosine moves by at most
+ * sin beta, so the truth lies within [(r2 / dmax^2)(1 - sin beta),
+ * (r2 / gap^2)(1 + sin beta)] times the estimate, itself at most F_X. */
+static double kernel_spread(const end_view *x, const end_view *y, double r2, double gap,
+                            double sin_beta)
+{
+    double far2 = 0.0;
+    const double d[3] = {fabs(y->mid.x - x->mid.x) + x->half.x + y->half.x,
+                         fabs(y->mid.y - x->mid.y) + x->half.y + y->half.y,
+                         fabs(y->mid.z - x->mid.z) + x->half.z + y->half.z};
+    for (int a = 0; a < 3; a++)
+        far2 += d[a] * d[a];
+    double up = r2 / (gap * gap) * (1.0 + sin_beta) - 1.0;
+    double down = 1.0 - r2 / far2 * (1.0 - sin_beta);
+    return rad_dmax(up, down);
+}
+
 /* The share of CLUSTER_RAYS segments between sample points of x and y
  * (w: unit, from x towards y) that nothing blocks (*mixed: some do, some
  * do not). */
@@ -445,8 +466,7 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
        source's projected area, and visibility where the rays disagree (where
        they agree it is taken as they say: four rays are an estimate, not a
        bound) */
-    double near = r / (r - R);
-    double kern = near * near * (1.0 + sin(beta)) - 1.0;
+    double kern = kernel_spread(&x, &y, r2, gap, sin(beta));
     out->ea = Fa * rad_dmin(1.0, kern + rel_y + (mixed ? 1.0 : 0.0));
     out->eb = Fb * rad_dmin(1.0, kern + rel_x + (mixed ? 1.0 : 0.0));
     /* the sources' intensity follows their triangles' own B: what is left
@@ -596,10 +616,40 @@ static void dir_one(hier_dir *g, double a, rad_vec3 n)
     dir_add(g, a, n);
 }
 
+/* Whether the gather reads a cluster of count triangles as a source from
+ * its moments (every cluster in the isotropic model; in the oriented one
+ * those above CLUSTER_SMALL: a small one's triangles are read one by one). */
+static int reads_moments(const rad_hier *h, int count)
+{
+    return h->p.cluster_model == RAD_HIER_CLUSTER_ISO || count > CLUSTER_SMALL;
+}
+
 /* The channels a gather carries: the rows one, B and T h->cchannels. */
 static int channels(const rad_hier *h, int carry)
 {
     return carry == CLUSTER_ONE ? 1 : h->cchannels;
+}
+
+/* What element e carries, channel c: B, T or 1. */
+static double carried(const hier_elem *e, int carry, int c)
+{
+    return carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
+}
+
+/* Channel c of the source moments of cluster i: its row of cmom, or, where
+ * it has none, summed over its triangles. */
+static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int c, hier_dir *g)
+{
+    const hier_clus *x = &h->cl[i];
+    if (x->mom >= 0) {
+        *g = h->cmom[nch * (size_t)x->mom + (size_t)c];
+        return;
+    }
+    memset(g, 0, sizeof *g);
+    for (int m = x->first; m < x->first + x->count; m++) {
+        const hier_elem *e = &h->el[h->corder[m]];
+        dir_add(g, e->area * carried(e, carry, c), h->normal[e->face]);
+    }
 }
 
 /* Cluster i's source moments of what is carried (B, T or 1), and with B
@@ -609,13 +659,13 @@ static void pull_node(rad_hier *h, size_t i, int carry)
 {
     hier_clus *x = &h->cl[i];
     size_t nch = (size_t)channels(h, carry);
-    hier_dir *src = h->cmom + nch * i;
+    hier_dir *src = x->mom >= 0 ? h->cmom + nch * (size_t)x->mom : NULL;
     if (x->root >= 0) {
         const hier_elem *e = &h->el[x->root];
         x->scale = h->face_scale[x->root];
         for (int c = 0; c < 3; c++) {
-            double v = carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-            if ((size_t)c < nch)
+            double v = carried(e, carry, c);
+            if (src && (size_t)c < nch)
                 dir_one(&src[c], e->area * v, h->normal[x->root]);
             if (carry == CLUSTER_T) {
                 x->T[c] = e->T[c];
@@ -631,9 +681,11 @@ static void pull_node(rad_hier *h, size_t i, int carry)
     double a = u->area + v->area;
     x->scale = rad_dmin(u->scale, v->scale);
     for (int c = 0; c < 3; c++) {
-        if ((size_t)c < nch) {
-            src[c] = h->cmom[nch * (size_t)x->child[0] + (size_t)c];
-            dir_sum(&src[c], &h->cmom[nch * (size_t)x->child[1] + (size_t)c]);
+        if (src && (size_t)c < nch) {
+            child_moments(h, x->child[0], nch, carry, c, &src[c]);
+            hier_dir more;
+            child_moments(h, x->child[1], nch, carry, c, &more);
+            dir_sum(&src[c], &more);
         }
         if (carry == CLUSTER_T) {
             x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
@@ -872,13 +924,16 @@ rad_status hier_cluster_create(rad_hier *h)
     h->corder = malloc(n * sizeof *h->corder);
     h->cemit = malloc(6 * n * sizeof *h->cemit);
     h->crecv = calloc(3 * n, sizeof *h->crecv);
-    h->cmom = malloc(3 * h->ncl * sizeof *h->cmom);
+    const rad_cluster_node *nd = rad_cluster_nodes(tree);
+    size_t nmom = 0;
+    for (size_t i = 0; h->cl && i < h->ncl; i++)
+        h->cl[i].mom = reads_moments(h, nd[i].count) ? (int)nmom++ : -1;
+    h->cmom = malloc(3 * (nmom ? nmom : 1) * sizeof *h->cmom);
     if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
     memcpy(h->corder, rad_cluster_order(tree), n * sizeof *h->corder);
-    const rad_cluster_node *nd = rad_cluster_nodes(tree);
     for (size_t i = 0; i < h->ncl; i++) {
         hier_clus *x = &h->cl[i];
         const rad_cluster_node *m = &nd[i];
@@ -979,12 +1034,6 @@ static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
         g[c] += v[h->cchannels == 1 ? 0 : c];
 }
 
-/* What element e carries, channel c: B, T or 1. */
-static double carried(const hier_elem *e, int carry, int c)
-{
-    return carry == CLUSTER_T ? e->T[c] : carry == CLUSTER_ONE ? 1.0 : e->B[c];
-}
-
 /* The sources' compact rows of what is carried: cemit for the input
  * triangles in cluster order, celem for the elements (the clusters'
  * moments, cmom, are written by the pull); 0 when out of memory. */
@@ -1071,7 +1120,7 @@ static hier_cinc source_of(const rad_hier *h, int id)
         x.src = h->cl[id].first;
         x.kind = h->cl[id].count;
     } else {
-        x.src = id;
+        x.src = h->cl[id].mom;
     }
     return x;
 }

@@ -91,6 +91,8 @@ typedef struct hier_clus {
     int child[2];          /* -1 for a leaf */
     int root;              /* a leaf's input triangle (its root element), else -1 */
     int first, count;      /* its triangles: rad_cluster_order()[first .. first + count) */
+    int mom;               /* its row of cmom, or -1 where a gather reads its
+                              triangles instead (a small cluster, oriented) */
     double rho[3];         /* the largest reflectance below */
     double scale;          /* the smallest threshold scale (face_scale) below */
     double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
@@ -214,7 +216,8 @@ struct rad_hier {
        carried channels' hier_dir each, written by its pull): the moments of
        a_j = A_j x what is carried over its triangles' normals n_j, whose
        bracket gives the intensity sum_j a_j max(n_j.w, 0) towards w; kept
-       out of hier_clus so that the gather reads them from one short row */
+       out of hier_clus so that the gather reads them from one short row,
+       and only for the clusters whose gather reads them (hier_clus.mom) */
     hier_dir *cmom;
     /* each receiving end's cluster-link ends, in link order: clusters
        0 .. ncl - 1, then the elements (cluster.c's parallel gather); built
