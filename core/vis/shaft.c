@@ -395,14 +395,18 @@ static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0,
     }
     if (boxes_apart(vis->nodes[0].lo, vis->nodes[0].hi, lo, hi, vis->tol))
         return 0;
+    /* the ends' own planes first: they dismiss the ends' own objects, the
+       triangles a walk meets most */
     plane pl[MAX_PLANES];
-    int count = shaft_planes(vis, pts, pl);
-    if (count < 0)
-        return -1;
+    int count = 0;
     if (kernel) {
         add_support_plane(vis, ignore0, pl, &count);
         add_support_plane(vis, ignore1, pl, &count);
     }
+    int hull = shaft_planes(vis, pts, pl + count);
+    if (hull < 0)
+        return -1;
+    count += hull;
     int stack[128], top = 0, found = 0;
     stack[top++] = 0;
     while (top > 0) {
