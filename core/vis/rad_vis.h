@@ -148,7 +148,8 @@ int rad_vis_sample_count(const rad_vis *vis);
  * dismissed when all its vertices lie outside (or on) one face plane of the
  * hull or on or behind the plane of i or j, tested through a
  * bounding-volume hierarchy of triangle boxes.  (Segments of zero kernel
- * carry nothing: every user weighs visibility by the kernel.)  Conservative: a dismissed triangle provably cannot cross such a
+ * carry nothing: every user weighs visibility by the kernel.)
+ * Conservative: a dismissed triangle provably cannot cross such a
  * segment (up to the tolerance tol = shaft_tol_rel * L, i.e. geometry reaching
  * into the hull by less than tol is ignored); a triangle that is not dismissed
  * may still miss every segment (the test never looks at k's interior against
@@ -165,8 +166,8 @@ uint64_t rad_vis_pair_key(const rad_vec3 a[3], const rad_vec3 b[3]);
  * sample segments (every sample of i to every sample of j) that no triangle
  * other than i and j blocks, whatever the kernel along it.  1 without
  * tracing when rad_vis_is_unoccluded or nothing can cross any segment (the
- * shaft test without the planes of i and j).  Hits on i and j themselves are ignored (by
- * primitive id in the geometry's occlusion filter, and by the epsilon). */
+ * shaft test without the planes of i and j).  Hits on i and j themselves
+ * are ignored (by primitive id in the geometry's occlusion filter, and by the epsilon). */
 rad_status rad_vis_pair_fraction(const rad_vis *vis, size_t i, size_t j, double *fraction,
                                  rad_vis_stats *stats);
 
@@ -191,8 +192,8 @@ rad_status rad_vis_intersect(const rad_vis *vis, size_t n, const double *org, co
  * triangle a (lying on input triangle face_a of the vis scene, or -1) and
  * triangle b (on face_b): the shaft test's survivors (with the planes of
  * face_a and face_b, as rad_vis_pair_can_block), face_a and face_b
- * excluded.  Up to max indices
- * into out; returns their count, max + 1 when there are more than max. */
+ * excluded.  Up to max indices into out; returns their count, max + 1 when
+ * there are more than max. */
 int rad_vis_blockers(const rad_vis *vis, const rad_vec3 a[3], int face_a, const rad_vec3 b[3],
                      int face_b, int *out, int max);
 

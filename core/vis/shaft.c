@@ -16,6 +16,12 @@
  *    then no plane is kept and the test answers 1).  So a
  *    triangle k whose three vertices lie on or outside one kept plane (signed
  *    distance >= -tol) cannot cross the open segment: it is dismissed.
+ *    Only segments along which the form-factor kernel is positive matter to
+ *    the callers: such a segment's ends lie strictly in front of each
+ *    other's plane, so the open segment lies in front of both, and the
+ *    planes of i and j (outside = behind) are kept too, first: they dismiss
+ *    i's and j's own objects, which a walk meets most.  (rad_vis_pair_fraction
+ *    counts every segment and walks without them.)
  * 3. Walk a bounding-volume hierarchy of the boxes of the potential blockers
  *    (below; median split on the longest axis, leaves of at most 4): a node
  *    whose box lies on or outside one kept plane is skipped whole; the first
