@@ -956,6 +956,15 @@ rad_status hier_cluster_create(rad_hier *h)
         x->count = m->count;
         x->root = m->child[0] < 0 ? h->corder[m->first] : -1;
     }
+    /* each small cluster's nearest ancestor that is not small (parents
+       come first) */
+    for (size_t i = 0; i < h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        if (i == 0)
+            x->above = -1;
+        for (int k = 0; k < 2 && x->root < 0; k++)
+            h->cl[x->child[k]].above = x->count > CLUSTER_SMALL ? (int)i : x->above;
+    }
     /* the largest reflectance below each cluster and its area moments
        (children follow parents) */
     for (size_t i = h->ncl; i-- > 0;) {
@@ -1211,21 +1220,34 @@ static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double 
 }
 
 /* What cluster i gathered, added to its children's. */
+/* Whether cluster end receives triangle by triangle (crecv): a small one,
+ * in the oriented model. */
+static int receives_exactly(const rad_hier *h, int end)
+{
+    return h->p.cluster_model != RAD_HIER_CLUSTER_ISO && h->cl[end].count <= CLUSTER_SMALL;
+}
+
+/* What cluster i gathered, added to its children's; not to a small one's
+ * (oriented), whose triangles read it at the nearest ancestor that is not
+ * small (pushed_to). */
 static void push_node(rad_hier *h, size_t i, int nch)
 {
     const hier_clus *x = &h->cl[i];
     if (x->root >= 0)
         return;
     for (int k = 0; k < 2; k++)
-        for (int c = 0; c < nch; c++)
-            dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
+        if (!receives_exactly(h, x->child[k]))
+            for (int c = 0; c < nch; c++)
+                dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
 }
 
-/* Whether cluster end receives triangle by triangle (crecv): a small one,
- * in the oriented model. */
-static int receives_exactly(const rad_hier *h, int end)
+/* What the links of the clusters above leaf x brought it (the directions'
+ * moments, channel c), or NULL for nothing. */
+static const hier_dir *pushed_to(const rad_hier *h, const hier_clus *x, int c)
 {
-    return h->p.cluster_model != RAD_HIER_CLUSTER_ISO && h->cl[end].count <= CLUSTER_SMALL;
+    if (!receives_exactly(h, (int)(x - h->cl)))
+        return &x->g[c];
+    return x->above >= 0 ? &h->cl[x->above].g[c] : NULL;
 }
 
 /* The links of the small clusters of subtree `top` (a small cluster whose
@@ -1293,9 +1315,9 @@ static rad_status gather_links(rad_hier *h, int carry)
     for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
         int end = r < (long long)h->ncl ? (int)r : -1 - (int)(r - (long long)h->ncl);
         if (end >= 0) {
-            memset(h->cl[end].g, 0, sizeof h->cl[end].g);
             if (receives_exactly(h, end))
                 continue; /* small_receive */
+            memset(h->cl[end].g, 0, sizeof h->cl[end].g);
         }
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
@@ -1322,6 +1344,8 @@ static rad_status gather_links(rad_hier *h, int carry)
 static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, double *err)
 {
     *err = 0.0;
+    if (!g)
+        return 0.0;
     return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval(g, n, err);
 }
 
@@ -1339,7 +1363,7 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
             continue;
         double v[3], err;
         for (int c = 0; c < nch; c++)
-            v[c] = received(h, &x->g[c], h->normal[x->root], &err) +
+            v[c] = received(h, pushed_to(h, x, c), h->normal[x->root], &err) +
                    h->crecv[3 * (size_t)x->first + (size_t)c];
         add_to_element(h, x->root, carry, v);
     }
@@ -1363,7 +1387,7 @@ rad_status hier_cluster_local(rad_hier *h)
         hier_elem *e = &h->el[x->root];
         for (int c = 0; c < 3; c++) {
             double err;
-            received(h, &x->g[c < nch ? c : 0], h->normal[x->root], &err);
+            received(h, pushed_to(h, x, c < nch ? c : 0), h->normal[x->root], &err);
             e->q[c] += h->rho[(size_t)x->root + (size_t)c * n] * err;
         }
     }

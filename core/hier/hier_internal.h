@@ -93,13 +93,17 @@ typedef struct hier_clus {
     int first, count;      /* its triangles: rad_cluster_order()[first .. first + count) */
     int mom;               /* its row of cmom, or -1 where a gather reads its
                               triangles instead (a small cluster, oriented) */
+    int above;             /* a small cluster's (oriented) nearest ancestor that
+                              is not small, whose g its triangles receive (-1:
+                              none); its own g is never written */
     double rho[3];         /* the largest reflectance below */
     double scale;          /* the smallest threshold scale (face_scale) below */
     double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
                               element's B strays from it */
     double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
     double T[3];           /* area-mean of the transported error */
-    hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried) */
+    hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried),
+                              with what its ancestors pushed down */
     hier_dir geo;          /* the same of its areas: projected areas */
     double q[3], qb[3];    /* the errors e of F of its links (and ancestors'), summed,
                               and summed times their sources' B ... */
