@@ -652,47 +652,44 @@ static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int c
     }
 }
 
-/* Cluster i's source moments of what is carried (B, T or 1), and with B
- * its mean, var, H range and threshold scale, from its children (or its
- * triangle). */
-static void pull_node(rad_hier *h, size_t i, int carry)
+/* Cluster i's source moments of what is carried (B, T or 1), if it keeps a
+ * row of them; with values (and B carried) also its mean B, var, H range
+ * and threshold scale, which the oracle and the bound read, from its
+ * children (or its triangle). */
+static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
 {
     hier_clus *x = &h->cl[i];
     size_t nch = (size_t)channels(h, carry);
     hier_dir *src = x->mom >= 0 ? h->cmom + nch * (size_t)x->mom : NULL;
+    with_values = with_values && carry == CLUSTER_B;
+    if (!src && !with_values)
+        return;
     if (x->root >= 0) {
         const hier_elem *e = &h->el[x->root];
+        for (size_t c = 0; src && c < nch; c++)
+            dir_one(&src[c], e->area * carried(e, carry, (int)c), h->normal[x->root]);
+        if (!with_values)
+            return;
         x->scale = h->face_scale[x->root];
         for (int c = 0; c < 3; c++) {
-            double v = carried(e, carry, c);
-            if (src && (size_t)c < nch)
-                dir_one(&src[c], e->area * v, h->normal[x->root]);
-            if (carry == CLUSTER_T) {
-                x->T[c] = e->T[c];
-            } else if (carry == CLUSTER_B) {
-                x->B[c] = e->B[c];
-                x->var[c] = e->var[c];
-                x->Hlo[c] = x->Hhi[c] = element_H(h, e, c);
-            }
+            x->B[c] = e->B[c];
+            x->var[c] = e->var[c];
+            x->Hlo[c] = x->Hhi[c] = element_H(h, e, c);
         }
         return;
     }
+    for (size_t c = 0; src && c < nch; c++) {
+        child_moments(h, x->child[0], nch, carry, (int)c, &src[c]);
+        hier_dir more;
+        child_moments(h, x->child[1], nch, carry, (int)c, &more);
+        dir_sum(&src[c], &more);
+    }
+    if (!with_values)
+        return;
     const hier_clus *u = &h->cl[x->child[0]], *v = &h->cl[x->child[1]];
     double a = u->area + v->area;
     x->scale = rad_dmin(u->scale, v->scale);
     for (int c = 0; c < 3; c++) {
-        if (src && (size_t)c < nch) {
-            child_moments(h, x->child[0], nch, carry, c, &src[c]);
-            hier_dir more;
-            child_moments(h, x->child[1], nch, carry, c, &more);
-            dir_sum(&src[c], &more);
-        }
-        if (carry == CLUSTER_T) {
-            x->T[c] = a > 0.0 ? (u->area * u->T[c] + v->area * v->T[c]) / a : 0.0;
-            continue;
-        }
-        if (carry != CLUSTER_B)
-            continue;
         double m = a > 0.0 ? (u->area * u->B[c] + v->area * v->B[c]) / a : 0.0;
         x->B[c] = m;
         x->var[c] = rad_dmax(fabs(u->B[c] - m) + u->var[c], fabs(v->B[c] - m) + v->var[c]);
@@ -702,22 +699,23 @@ static void pull_node(rad_hier *h, size_t i, int carry)
 }
 
 /* Every cluster's, children before parents: the subtrees on every thread,
- * then the nodes above them. */
-static void pull(rad_hier *h, int carry)
+ * then the nodes above them.  The gather needs only the moments; the
+ * oracle and the bound need the values too. */
+static void pull(rad_hier *h, int carry, int with_values)
 {
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (size_t k = 0; k < h->ncsub; k++)
         for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
-            pull_node(h, i, carry);
+            pull_node(h, i, carry, with_values);
     for (size_t k = h->nctop; k-- > 0;)
-        pull_node(h, (size_t)h->ctop[k], carry);
+        pull_node(h, (size_t)h->ctop[k], carry, with_values);
 }
 
 /* What an end offers as a source, channel c: B, var; as a receiver: its
  * largest reflectance, its threshold scale and its irradiance range. */
 typedef struct end_values {
-    double B[3], var[3], T[3], rho[3], Hlo[3], Hhi[3], scale;
+    double B[3], var[3], rho[3], Hlo[3], Hhi[3], scale;
 } end_values;
 
 static void values(const rad_hier *h, int id, end_values *v)
@@ -727,7 +725,6 @@ static void values(const rad_hier *h, int id, end_values *v)
         for (int c = 0; c < 3; c++) {
             v->B[c] = x->B[c];
             v->var[c] = x->var[c];
-            v->T[c] = x->T[c];
             v->rho[c] = x->rho[c];
             v->Hlo[c] = x->Hlo[c];
             v->Hhi[c] = x->Hhi[c];
@@ -739,7 +736,6 @@ static void values(const rad_hier *h, int id, end_values *v)
     for (int c = 0; c < 3; c++) {
         v->B[c] = e->B[c];
         v->var[c] = e->var[c];
-        v->T[c] = e->T[c];
         v->rho[c] = h->rho[(size_t)e->face + (size_t)c * h->nroots];
         v->Hlo[c] = v->Hhi[c] = element_H(h, e, c);
     }
@@ -799,7 +795,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
     rad_status st = RAD_OK;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     if (target > 0.0)
-        pull(h, CLUSTER_B);
+        pull(h, CLUSTER_B, 1);
     size_t begin = 0, end = h->ncln;
     while (begin < end && st == RAD_OK) {
         cj.n = sj.n = 0;
@@ -1303,7 +1299,7 @@ static void small_receive(rad_hier *h, int carry)
  * thread count. */
 static rad_status gather_links(rad_hier *h, int carry)
 {
-    pull(h, carry);
+    pull(h, carry, 0);
     if (!fill_emitters(h, carry) || !cluster_incidence(h))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
                          h->ncln);
@@ -1376,6 +1372,7 @@ rad_status hier_cluster_local(rad_hier *h)
         return RAD_OK;
     size_t n = h->nroots;
     /* what the directions' bracket leaves open, at each root */
+    pull(h, CLUSTER_B, 1);
     rad_status st = gather_links(h, CLUSTER_B);
     if (st != RAD_OK)
         return st;

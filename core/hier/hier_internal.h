@@ -101,7 +101,6 @@ typedef struct hier_clus {
     double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
                               element's B strays from it */
     double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
-    double T[3];           /* area-mean of the transported error */
     hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried),
                               with what its ancestors pushed down */
     hier_dir geo;          /* the same of its areas: projected areas */
