@@ -445,7 +445,9 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
     return can_block;
 }
 
-int vis_pair_segments_can_block(const rad_vis *vis, size_t i, size_t j)
+/* The shaft walk of the pair of input triangles i and j (shaft_walk's
+ * answer; 1, as for a possible blocker, for a bad pair). */
+static int pair_walk(const rad_vis *vis, size_t i, size_t j, int kernel, int *out, int max)
 {
     if (!vis || i >= vis->ntris || j >= vis->ntris)
         return 1;
@@ -454,7 +456,12 @@ int vis_pair_segments_can_block(const rad_vis *vis, size_t i, size_t j)
         pts[v] = vis_vertex(vis, i, v);
         pts[3 + v] = vis_vertex(vis, j, v);
     }
-    return shaft_walk(vis, pts, i, j, 0, NULL, 0) != 0;
+    return shaft_walk(vis, pts, i, j, kernel, out, max);
+}
+
+int vis_pair_segments_can_block(const rad_vis *vis, size_t i, size_t j)
+{
+    return pair_walk(vis, i, j, 0, NULL, 0) != 0;
 }
 
 int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int max,
@@ -463,12 +470,7 @@ int rad_vis_pair_blockers(const rad_vis *vis, size_t i, size_t j, int *out, int 
     *can_block = 1;
     if (!vis || i >= vis->ntris || j >= vis->ntris || max < 0 || (max > 0 && !out))
         return 0;
-    rad_vec3 pts[6];
-    for (int v = 0; v < 3; v++) {
-        pts[v] = vis_vertex(vis, i, v);
-        pts[3 + v] = vis_vertex(vis, j, v);
-    }
-    int n = shaft_walk(vis, pts, i, j, 1, out, max);
+    int n = pair_walk(vis, i, j, 1, out, max);
     *can_block = n != 0;
     return n < 0 ? 0 : n;
 }
