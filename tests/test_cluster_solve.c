@@ -790,6 +790,110 @@ TEST(cluster_link_between_meeting_spheres_is_bounded_by_the_gap)
     CHECK(bound_ok);
 }
 
+/* A square of side a centred on (0, 0, z), facing +z (up) or -z, as two
+ * triangles, or as four around its centre (fan), into xyz (4 or 5
+ * vertices, from base) and tri. */
+static void square(double a, double z, int up, int fan, int base, double *xyz, int *tri)
+{
+    for (int v = 0; v < 5; v++) {
+        xyz[3 * v] = v == 4 ? 0.0 : (v == 1 || v == 2 ? 0.5 : -0.5) * a;
+        xyz[3 * v + 1] = v == 4 ? 0.0 : (v >= 2 ? 0.5 : -0.5) * a;
+        xyz[3 * v + 2] = z;
+    }
+    static const int two[6] = {0, 1, 2, 0, 2, 3}, four[12] = {4, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0};
+    int n = fan ? 12 : 6;
+    for (int k = 0; k < n; k += 3)
+        for (int j = 0; j < 3; j++)
+            tri[k + j] = base + (fan ? four : two)[k + (up ? j : 2 - j)];
+}
+
+/* A cluster link whose point kernel is taken farther than the ends'
+ * centres: X is a column 2.1 tall holding a square of side 0.2 at its foot
+ * and one of side 0.02 at its top, both facing up; Y, 40 above the top, a
+ * square of side 0.05 facing down that emits 1.  X's projected area lies
+ * almost all at its foot, so the link takes the kernel at rho = 42.08,
+ * while the centres lie r = 41.05 apart and the small square sees Y from
+ * the gap, 40: it receives 10% more than the link brings.  Nothing else
+ * reflects, so the small square's B is 0.5 F towards Y exactly (F by
+ * rad_ff's exact rule), and the reported bound of its leaves must cover
+ * that error: a kernel spread taken at the centres' distance,
+ * (r / (r - R))^2 (1 + sin beta) - 1 = 8.4%, would not; the one at rho,
+ * (rho / gap)^2 (1 + sin beta) - 1 = 13.6%, does.  eps is so large that
+ * the one link between X and Y stands. */
+TEST(cluster_link_kernel_spread_covers_a_kernel_taken_beyond_the_centres)
+{
+    double xyz[39];
+    int tri[24];
+    square(0.2, -2.1, 1, 0, 0, xyz, tri);          /* X's foot: triangles 0, 1 */
+    square(0.02, 0.0, 1, 0, 4, xyz + 12, tri + 6);  /* X's top: triangles 2, 3 */
+    square(0.05, 40.0, 0, 1, 8, xyz + 24, tri + 12); /* Y: triangles 4 to 7 */
+    double rho[24] = {0}, E[24] = {0};
+    for (int c = 0; c < 3; c++) {
+        rho[2 + 8 * c] = rho[3 + 8 * c] = 0.5;
+        for (int j = 4; j < 8; j++)
+            E[j + 8 * c] = 1.0;
+    }
+    rad_ff_rule exact = {RAD_FF_EXACT, 0};
+    rad_ff_params fp;
+    rad_ff_params_default(&fp);
+    double truth[2] = {0.0, 0.0};
+    rad_vec3 t[8][3];
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++) {
+            const double *v = xyz + 3 * tri[3 * i + k];
+            t[i][k] = rad_vec3_make(v[0], v[1], v[2]);
+        }
+    for (int i = 0; i < 2; i++)
+        for (int j = 4; j < 8; j++) {
+            rad_ff_result r;
+            CHECK(rad_ff_compute(t[2 + i], t[j], exact, &fp, &r) == RAD_OK);
+            truth[i] += 0.5 * r.G / rad_geom_triangle_area(t[2 + i][0], t[2 + i][1], t[2 + i][2]);
+        }
+    /* the final solve to convergence (final_share 0), so that the bound is
+       the link's terms, not what eps 1e6 lets the iteration leave */
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, 13, tri, 8, &vp, &vis) == RAD_OK);
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.eps = 1e6;
+    p.max_tighten = 0;
+    p.final_share = 0.0;
+    rad_hier *h = NULL;
+    CHECK(vis && rad_hier_create(xyz, 13, tri, 8, rho, E, vis, &p, &h) == RAD_OK);
+    CHECK(h && rad_hier_solve(h) == RAD_OK);
+    if (h) {
+        rad_hier_stats st;
+        rad_hier_get_stats(h, &st);
+        CHECK_MSG(st.links == 1 && st.links_cluster == 1, "%zu links", st.links);
+        size_t n = rad_hier_leaf_count(h);
+        int *face = malloc(n * sizeof *face);
+        double *B = malloc(3 * n * sizeof *B), *bound = malloc(3 * n * sizeof *bound);
+        rad_hier_leaves(h, face, NULL, NULL, B);
+        rad_hier_leaf_bounds(h, bound);
+        int seen = 0;
+        for (size_t k = 0; k < n; k++) {
+            if (face[k] != 2 && face[k] != 3)
+                continue;
+            seen++;
+            double want = truth[face[k] - 2], err = fabs(B[k] - want);
+            printf("# small square, triangle %d: B %.6g, exact %.6g (%+.1f%%), bound %.6g\n",
+                   face[k], B[k], want, 100.0 * (B[k] / want - 1.0), bound[k]);
+            CHECK_MSG(err >= 0.08 * want, "the link should bring %.1f%% too little",
+                      100.0 * (1.0 - B[k] / want));
+            CHECK_MSG(err <= bound[k], "error %.4g above the bound %.4g", err, bound[k]);
+        }
+        CHECK(seen == 2);
+        free(face);
+        free(B);
+        free(bound);
+    }
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+}
+
 /* A unit cube lit only from above, by two emitting slabs at different
  * angles (one over it, one over and beside it), eps so large that nothing
  * is refined: every link reaching the cube arrives from above, so its
