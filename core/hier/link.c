@@ -18,16 +18,10 @@
  *    gradient the gather pushes down, solve.c, and, over the same element as
  *    a source, the kernel's variation) with its largest residual.  With an explicit rule the unoccluded G
  *    comes from rad_ff and the point values give the visible fraction.
- * 5. Fallback: where the clipping needs too many blockers (more than
- *    LINK_MAX_BLOCKERS), pieces or work (a pair seen between many
- *    objects), each point's open value is scaled by the kernel-weighted
- *    share of open rays to 16 points of the other element
- *    (side_values_rays): a fixed cost, whatever the scene holds.  The
- *    clipping costs about blockers x pieces at each node, and the pieces
- *    grow with the blockers, while the rays cost the same for any count:
- *    past a few dozen blockers (a wall's element seen from a box through
- *    a crowd of others) the rays are the cheaper, and the shaft walk stops
- *    there too.
+ * 5. Fallback: where the clipping needs too many blockers, pieces or work
+ *    (a pair seen between many objects), each point's open value is scaled
+ *    by the kernel-weighted share of open rays to 16 points of the other
+ *    element (side_values_rays): a fixed cost, whatever the scene holds.
  * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
  * each job into its own slot: the result does not depend on the thread count.
  * Shared among processes (rad_hier_exchange), each estimates a share of the
@@ -42,7 +36,7 @@
 
 #include "rad_sys.h"
 
-enum { LINK_MAX_BLOCKERS = 24, LINK_RAY_STRATA = 4 };
+enum { LINK_MAX_BLOCKERS = 256, LINK_RAY_STRATA = 4 };
 
 int hier_pair_can_block(const rad_hier *h, int r, int s)
 {
