@@ -670,6 +670,28 @@ static rad_hier *cluster_solved(const double *xyz, size_t nv, const int *tri, si
     return h;
 }
 
+/* The area-weighted mean B (channel 0) of h's leaves on input triangles f0
+ * and f1. */
+static double faces_mean_B(const rad_hier *h, int f0, int f1)
+{
+    size_t n = rad_hier_leaf_count(h);
+    int *face = malloc(n * sizeof *face);
+    double *area = malloc(n * sizeof *area), *B = malloc(3 * n * sizeof *B);
+    double a = 0.0, ab = 0.0;
+    if (face && area && B) {
+        rad_hier_leaves(h, face, area, NULL, B);
+        for (size_t k = 0; k < n; k++)
+            if (face[k] == f0 || face[k] == f1) {
+                a += area[k];
+                ab += area[k] * B[k];
+            }
+    }
+    free(face);
+    free(area);
+    free(B);
+    return a > 0.0 ? ab / a : 0.0;
+}
+
 /* Two boxes (1 x 1 x t) face each other across D: the lower one's +z face
  * reflects 0.5, the upper one's -z face emits 1, nothing else reflects or
  * emits, so the reflector's mean radiosity is 0.5 F with F the opposed
@@ -711,19 +733,9 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok, size_
     rad_vis *vis = NULL;
     rad_hier *h = cluster_solved(xyz, 16, tri, 24, rho, E, eps, &vis);
     if (h) {
-        size_t n = rad_hier_leaf_count(h);
-        int *face = malloc(n * sizeof *face);
-        double *area = malloc(n * sizeof *area), *B = malloc(3 * n * sizeof *B);
-        rad_hier_leaves(h, face, area, NULL, B);
-        double a = 0.0, ab = 0.0;
-        for (size_t k = 0; k < n; k++)
-            if (face[k] == 10 || face[k] == 11) {
-                a += area[k];
-                ab += area[k] * B[k];
-            }
         rad_hier_stats st;
         rad_hier_get_stats(h, &st);
-        got = ab / a / 0.5;
+        got = faces_mean_B(h, 10, 11) / 0.5;
         double err = 0.5 * fabs(got - F) / st.reflected;
         *bound_ok = err <= st.bound_face_max;
         printf("# boxes 1 x 1 x %g across %g, eps %g: F %.5f, through %zu links (%zu cluster): "
@@ -733,9 +745,6 @@ static double opposed_boxes(double t, double D, double eps, int *bound_ok, size_
         CHECK(st.links_cluster > 0);
         if (links)
             *links = st.links;
-        free(face);
-        free(area);
-        free(B);
     }
     rad_hier_destroy(h);
     rad_vis_destroy(vis);
@@ -989,26 +998,13 @@ TEST(hier_links_seen_through_a_crowd_stay_accurate)
             rad_hier_destroy(h);
             continue;
         }
-        size_t n = rad_hier_leaf_count(h);
-        int *face = malloc(n * sizeof *face);
-        double *area = malloc(n * sizeof *area), *B = malloc(3 * n * sizeof *B);
-        rad_hier_leaves(h, face, area, NULL, B);
-        double a = 0.0, ab = 0.0;
-        for (size_t k = 0; k < n; k++)
-            if (face[k] == 0 || face[k] == 1) {
-                a += area[k];
-                ab += area[k] * B[k];
-            }
         rad_hier_stats st;
         rad_hier_get_stats(h, &st);
-        double got = ab / a / 0.5;
+        double got = faces_mean_B(h, 0, 1) / 0.5;
         printf("# %s at its defaults under nine cubes: F_vis %.5f (midpoints, slab test), "
                "solved %.5f (%+.2f%%), %zu links, %llu rays\n",
                cl ? "cluster" : "hier", F, got, 100.0 * (got / F - 1.0), st.links, st.rays);
         CHECK_MSG(fabs(got / F - 1.0) <= 0.005, "F_vis %.5f, solved %.5f", F, got);
-        free(face);
-        free(area);
-        free(B);
         rad_hier_destroy(h);
     }
     rad_vis_destroy(vis);
