@@ -932,6 +932,13 @@ TEST(hier_rejects_bad_parameters)
     p.far_ratio = -1.0;
     CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
     CHECK(strstr(rad_error_message(), "far_ratio") != NULL);
+    const int bad_clip[2] = {-1, RAD_HIER_CLIP_BLOCKERS_MAX + 1};
+    for (int k = 0; k < 2; k++) {
+        rad_hier_params_default(&p);
+        p.clip_blockers = bad_clip[k];
+        CHECK(rad_hier_create(xyz, 3, tri, 1, rho, E, NULL, &p, &h) == RAD_EINVAL);
+        CHECK(strstr(rad_error_message(), "clip_blockers") != NULL);
+    }
     /* the shares that must lie in [0, 1) */
     const double bad_share[3] = {-0.01, 1.0, NAN};
     const char *share_name[2] = {"final_share", "round_min"};

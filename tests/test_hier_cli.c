@@ -57,10 +57,18 @@ TEST(hier_cli_rejects_bad_options)
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--max-links", "-5", NULL}, "--max-links");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--max-links", "1e6", NULL}, "--max-links");
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "mc", "--max-links", "100", NULL}, "--method hier or cluster");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--clip-blockers", "257", NULL}, "--clip-blockers");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "cluster", "--clip-blockers", "-1", NULL}, "--clip-blockers");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "hier", "--clip-blockers", "8x", NULL}, "--clip-blockers");
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--method", "dense", "--clip-blockers", "8", NULL}, "--method hier or cluster");
     /* the largest K is taken (the cube's bound meets eps before any tightening) */
     char *out = NULL, *err = NULL, buf[64];
     CHECK(harness_radkit_run("solve", (const char *[]){cube, "--method", "hier", "--max-tighten", "30", "--quiet", NULL}, &out, &err) == 0);
     CHECK(out && harness_header(out, "max_tighten", buf, sizeof buf) && atoi(buf) == 30);
+    free(out);
+    free(err);
+    CHECK(harness_radkit_run("solve", (const char *[]){cube, "--method", "cluster", "--clip-blockers", "0", "--quiet", NULL}, &out, &err) == 0);
+    CHECK(out && harness_header(out, "clip_blockers", buf, sizeof buf) && atoi(buf) == 0);
     free(out);
     free(err);
     HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){cube, "--eps", "1e-3", NULL}, "--method hier");

@@ -17,7 +17,7 @@
 static const char help_head[] =
     "usage: radkit solve SCENE [--method dense|hier|cluster|mc] [--rule RULE] [--tol T]\n"
     "                    [--solver S] [--oracle bf|error] [--eps E] [--min-area A]\n"
-    "                    [--max-tighten K]\n"
+    "                    [--max-tighten K] [--clip-blockers N]\n"
     "                    [--cluster-model oriented|iso] [--edges]\n"
     "                    [--samples N] [--seed S]\n"
     "                    [--refine K] [--basis p0|p1|p2] [--threads N] [--out faces.tsv]\n"
@@ -88,6 +88,13 @@ static const char help_head[] =
     "                   costs: see papers/clustering.md for links, time and error\n"
     "                   against K.  The error estimate bounds the error whatever\n"
     "                   K; a smaller K leaves it further above --eps\n"
+    "  --clip-blockers N  hier, cluster: an element link whose shaft holds at\n"
+    "                   most N triangles clips each point's view of the other\n"
+    "                   element exactly; past N (or the clipping's work budget)\n"
+    "                   16 rays a point sample it, and their sampling error\n"
+    "                   joins the link's error (a whole number 0-256, default\n"
+    "                   256; 0: rays only).  Rays cost the same whatever the\n"
+    "                   crowd; clipping is exact but grows with it\n"
     "  --max-links N    hier, cluster: refuse (exit 2) a hierarchy of more than N\n"
     "                   links, element links and cluster links each (default\n"
     "                   50000000); whatever N, a hierarchy that would outgrow\n"
@@ -229,6 +236,7 @@ int solve_option_table(solve_options *o, cli_option *table)
         {"--eps", &o->eps, NULL, NULL},
         {"--min-area", &o->min_area, NULL, NULL},
         {"--max-tighten", &o->max_tighten, NULL, NULL},
+        {"--clip-blockers", &o->clip_blockers, NULL, NULL},
         {"--max-links", &o->max_links, NULL, NULL},
         {"--oracle", &o->oracle, NULL, NULL},
         {"--cluster-model", &o->cluster_model, NULL, NULL},

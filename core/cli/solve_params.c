@@ -41,6 +41,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--vis-strata", o->strata, "d"},   {"--eps", o->eps, "hc"},
         {"--min-area", o->min_area, "hc"},  {"--oracle", o->oracle, "h"},
         {"--max-tighten", o->max_tighten, "hc"}, {"--max-links", o->max_links, "hc"},
+        {"--clip-blockers", o->clip_blockers, "hc"},
         {"--samples", o->samples, "m"},     {"--seed", o->seed, "m"},
         {"--basis", o->basis, "dh"},        {"--cluster-model", o->cluster_model, "c"},
     };
@@ -127,6 +128,13 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
         if (hp->oracle != RAD_HIER_ORACLE_ERROR) /* BF compares no bound with eps */
             return RAD_ERROR(RAD_EINVAL, "solve: --max-tighten applies to --oracle error only");
         hp->max_tighten = (int)v;
+    }
+    if (o->clip_blockers) {
+        unsigned long long v;
+        if ((st = parse_count("--clip-blockers", o->clip_blockers, 0, RAD_HIER_CLIP_BLOCKERS_MAX,
+                              &v)) != RAD_OK)
+            return st;
+        hp->clip_blockers = (int)v;
     }
     if (o->max_links) {
         unsigned long long v;

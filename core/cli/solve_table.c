@@ -27,9 +27,11 @@ static void print_params(FILE *out, const rad_solution *s)
     case RAD_SOLVE_CLUSTER:
         rad_ff_rule_format(u->hier.rule, rule, sizeof rule);
         fprintf(out, "# oracle = %s\n# rule = %s\n# tol = %g\n# eps = %g\n# min_area = %g\n"
-                     "# max_tighten = %d\n# max_links = %zu\n# solver_tol = %g\n",
+                     "# max_tighten = %d\n# max_links = %zu\n# clip_blockers = %d\n"
+                     "# solver_tol = %g\n",
                 rad_hier_oracle_name(u->hier.oracle), rule, u->hier.ff.tol, u->hier.eps,
-                u->hier.min_area, u->hier.max_tighten, u->hier.max_links, u->hier.tol);
+                u->hier.min_area, u->hier.max_tighten, u->hier.max_links, u->hier.clip_blockers,
+                u->hier.tol);
         fprintf(out, "# basis = p%d\n# faces = %d\n# elements = %zu\n# nodes = %zu\n"
                      "# max_depth = %d\n",
                 u->basis, s->faces, s->hier.elements, s->hier.nodes, s->hier.max_depth);
@@ -145,6 +147,7 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"min_area", s->used.hier.min_area},
         {"max_tighten", s->used.hier.max_tighten},
         {"max_links", (double)s->used.hier.max_links},
+        {"clip_blockers", s->used.hier.clip_blockers},
         {"oracle_error", s->used.hier.oracle == RAD_HIER_ORACLE_ERROR},
         {"error_estimate", hs->bound_face_max},
         {"error_estimate_l1", hs->bound_mean},

@@ -21,7 +21,8 @@
  * 5. Fallback: where the clipping needs too many blockers, pieces or work
  *    (a pair seen between many objects), each point's open value is scaled
  *    by the kernel-weighted share of open rays to 16 points of the other
- *    element (side_values_rays): a fixed cost, whatever the scene holds.
+ *    element, drawn afresh for each point (side_values_rays): a fixed
+ *    cost, whatever the scene holds; the rays' sampling error joins dG.
  * Estimates only read the hierarchy, so a batch runs in parallel (OpenMP),
  * each job into its own slot: the result does not depend on the thread count.
  * Shared among processes (rad_hier_exchange), each estimates a share of the
@@ -36,7 +37,7 @@
 
 #include "rad_sys.h"
 
-enum { LINK_MAX_BLOCKERS = 256, LINK_RAY_STRATA = 4 };
+enum { LINK_MAX_BLOCKERS = RAD_HIER_CLIP_BLOCKERS_MAX, LINK_RAY_STRATA = 4 };
 
 int hier_pair_can_block(const rad_hier *h, int r, int s)
 {
@@ -104,46 +105,58 @@ static int side_values(const rad_hier *h, const hier_elem *e, const hier_elem *t
  * (too many blockers, pieces or clipping work: a pair seen between many
  * objects): at each node x, the open closed form times the kernel-weighted
  * share of open rays from x to one point in each of t's LINK_RAY_STRATA^2
- * equal cells, jittered within its cell by a hash of the pair's corners (the
- * same pair gives the same points on any thread or process).  Points at one
- * place in every cell would line up with a regular scene (a grid of boxes
- * shadows them alike from link to link, a bias that does not average out)
- * and, at the cells' corners or edges, would end on t's boundary, where the
- * faces that meet t there can catch the ray.  A fixed cost, whatever the
- * scene holds; a shadow narrower than a cell is missed, as by any sampled
- * visibility, and the link's error terms see only what its points see. */
-static void side_values_rays(const rad_hier *h, const hier_elem *e, const hier_elem *t,
-                             double *F, double *Fo, work_count *wc)
+ * equal cells, jittered within its cell by a hash of the pair's corners and
+ * the node (the same pair gives the same points on any thread or process).
+ * Points at one place in every cell would line up with a regular scene (a
+ * grid of boxes shadows them alike from link to link, a bias that does not
+ * average out) and, at the cells' corners or edges, would end on t's
+ * boundary, where the faces that meet t there can catch the ray; points
+ * shared by every node would let a shadow narrower than a cell slip past
+ * all of them at once.  A fixed cost, whatever the scene holds.
+ *
+ * Returns the sampling error of e's G (the rule's weighted sum of each
+ * node's standard error, A_e sum w_k F_k^o s_k): a link whose rays all
+ * passed may still hide a shadow narrower than a cell, and without this
+ * term the oracle would keep exactly those links and refine the ones whose
+ * rays saw the shadow, a bias upwards.  s_k is the standard error of the
+ * blocked share p from the rays' effective count m (kernel weights:
+ * (sum w)^2 / sum w^2), with p (1 - p) taken no less than 1 / m, the
+ * uncertainty left when all m rays agree. */
+static double side_values_rays(const rad_hier *h, const hier_elem *e, const hier_elem *t,
+                               double *F, double *Fo, work_count *wc)
 {
     enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA };
     rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
     uint64_t key = rad_vis_pair_key(e->p, t->p);
-    double q[CELLS][3];
-    for (int j = 0; j < CELLS; j++) {
-        double s, u;
-        rad_geom_triangle_stratum(LINK_RAY_STRATA, j, rad_sys_hash_unit(key + 2 * (uint64_t)j),
-                                  rad_sys_hash_unit(key + 2 * (uint64_t)j + 1), &s, &u);
-        rad_vec3 y = rad_geom_triangle_point(t->p[0], t->p[1], t->p[2], s, u);
-        q[j][0] = y.x;
-        q[j][1] = y.y;
-        q[j][2] = y.z;
-    }
+    double err = 0.0;
     for (int k = 0; k < h->nodes; k++) {
         rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
-        double p[3] = {x.x, x.y, x.z}, all = 0.0, open = 0.0;
+        double p[3] = {x.x, x.y, x.z}, all = 0.0, all2 = 0.0, open = 0.0;
+        uint64_t node = key + 2 * CELLS * (uint64_t)k;
         for (int j = 0; j < CELLS; j++) {
-            double w = rad_ff_kernel(x, ne, rad_vec3_make(q[j][0], q[j][1], q[j][2]), nt, NULL);
+            double s, u;
+            rad_geom_triangle_stratum(LINK_RAY_STRATA, j, rad_sys_hash_unit(node + 2 * (uint64_t)j),
+                                      rad_sys_hash_unit(node + 2 * (uint64_t)j + 1), &s, &u);
+            rad_vec3 y = rad_geom_triangle_point(t->p[0], t->p[1], t->p[2], s, u);
+            double w = rad_ff_kernel(x, ne, y, nt, NULL);
             if (!(w > 0.0))
                 continue;
             all += w;
+            all2 += w * w;
             wc->rays++;
-            if (!rad_vis_segment_blocked(h->vis, p, q[j], e->face, t->face))
+            double q[3] = {y.x, y.y, y.z};
+            if (!rad_vis_segment_blocked(h->vis, p, q, e->face, t->face))
                 open += w;
         }
         Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
         F[k] = all > 0.0 ? Fo[k] * (open / all) : Fo[k];
         wc->evals += 1 + CELLS;
+        if (all > 0.0) {
+            double m = all * all / all2, pb = 1.0 - open / all;
+            err += h->rw[k] * Fo[k] * sqrt(rad_dmax(pb * (1.0 - pb), 1.0 / m) / m);
+        }
     }
+    return e->area * err;
 }
 
 /* The weighted least-squares linear fit m + g (x - c) of the point values
@@ -208,12 +221,13 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     int first = !pre && h->pairs && ia == ea->face && ib == eb->face &&
                 !rad_hier_pairs_known(h->pairs, ia, ib);
     if (first) {
-        nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, LINK_MAX_BLOCKERS);
+        nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk,
+                              h->p.clip_blockers);
         blocked = rad_hier_pairs_get(h->pairs, ia, ib, nb != 0) & RAD_HIER_PAIR_CAN_BLOCK;
     } else if (!pre && !h->pairs && h->use_vis && ia == ea->face && ib == eb->face) {
         /* no table (the cluster layer): a pair of input triangles walks its
            shaft once for both answers */
-        nb = rad_vis_pair_blockers(h->vis, (size_t)ia, (size_t)ib, blk, LINK_MAX_BLOCKERS,
+        nb = rad_vis_pair_blockers(h->vis, (size_t)ia, (size_t)ib, blk, h->p.clip_blockers,
                                    &blocked);
     } else {
         blocked = hier_pair_can_block(h, ea->face, eb->face);
@@ -221,9 +235,9 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
             nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
         else if (blocked)
             nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk,
-                                  LINK_MAX_BLOCKERS);
+                                  h->p.clip_blockers);
     }
-    too_many = nb > LINK_MAX_BLOCKERS;
+    too_many = nb > h->p.clip_blockers;
     if (too_many)
         nb = 0;
     int far = 0;
@@ -233,6 +247,7 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     double Fa[RAD_HIER_MAX_NODES], Fao[RAD_HIER_MAX_NODES];
     double Fb[RAD_HIER_MAX_NODES], Fbo[RAD_HIER_MAX_NODES];
     int given = blocked && pre && pre->Fb;
+    double sampled = 0.0; /* the rays' sampling error of G, where they are used */
     if (given) {
         memcpy(Fb, pre->Fb, (size_t)h->nodes * sizeof *Fb);
         memcpy(Fbo, pre->Fbo, (size_t)h->nodes * sizeof *Fbo);
@@ -242,8 +257,8 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
         rad_status st = rad_vis_prepare_rays(h->vis);
         if (st != RAD_OK)
             return st;
-        side_values_rays(h, ea, eb, Fa, Fao, wc);
-        side_values_rays(h, eb, ea, Fb, Fbo, wc);
+        sampled = rad_dmax(side_values_rays(h, ea, eb, Fa, Fao, wc),
+                           side_values_rays(h, eb, ea, Fb, Fbo, wc));
     }
     double ma = 0.0, mb = 0.0, mao = 0.0, mbo = 0.0;
     for (int k = 0; k < h->nodes; k++) {
@@ -264,7 +279,8 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     vb *= eb->area / ea->area;
     /* dG: the two sides' disagreement, and no less than what the better side's
        residual says of its rule (linear functions it integrates exactly; a
-       shadow or a peak that both sides miss alike shows in the residuals) */
+       shadow or a peak that both sides miss alike shows in the residuals)
+       or than the rays' sampling error */
     /* G: the two sides' estimates, the smaller element's weighted up (a
        rule's error grows like a power of its element's size over the scale
        on which the other element's form factor varies: a small element near
@@ -273,6 +289,7 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     double ra2 = ea->area / eb->area, wb = ra2 * ra2 * ra2 * ra2;
     double G = isfinite(wb) ? (Ga + wb * Gb) / (1.0 + wb) : Ga;
     double dG = rad_dmax(0.5 * fabs(Ga - Gb), 0.25 * rad_dmin(ra * ea->area, rb * eb->area));
+    dG = rad_dmax(dG, sampled);
     unsigned char vis = 0;
     if (blocked) {
         int all_open = 1, all_hidden = 1;
@@ -373,7 +390,7 @@ static void estimate_split(const rad_hier *h, const hier_job *job, rad_status *s
             memcpy(parts + 3 * i, h->el[job[i].a].p, 3 * sizeof *parts);
         long ev = 0;
         have = rad_vis_split_values(h->vis, eo->p, eo->face, y, h->nodes, h->normal[eo->face], ep->p,
-                                    ep->face, parts, blk, LINK_MAX_BLOCKERS,
+                                    ep->face, parts, blk, h->p.clip_blockers,
                                     &nb, RAD_VIS_LINK_POINT_WORK, F[0], Fo[0], RAD_HIER_MAX_NODES,
                                     &ev);
         wc->evals += ev;

@@ -127,6 +127,8 @@ typedef struct rad_hier_exchange {
     int split_gather;     /* 1: share the gather too (see above); default 0 */
 } rad_hier_exchange;
 
+enum { RAD_HIER_CLIP_BLOCKERS_MAX = 256 };
+
 typedef struct rad_hier_params {
     rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_ERROR */
     int cluster;          /* 1: link through a cluster hierarchy over the input triangles
@@ -184,6 +186,11 @@ typedef struct rad_hier_params {
     int max_tighten;      /* ERROR: an input triangle whose bound still exceeds eps when
                              no link wants refining has its thresholds quartered, at most
                              this many times (default 3: 64-fold) */
+    int clip_blockers;    /* an element link whose shaft holds at most this many blockers
+                             clips each point's view of the other element exactly; beyond
+                             it (or past the clipping's work budget) the view is sampled
+                             by rays, whose sampling error joins the link's; 0: always
+                             rays.  0..RAD_HIER_CLIP_BLOCKERS_MAX, the default */
     int singular;         /* 1 (default): elements that touch get their unoccluded F from
                              a singular-aware rule (ss:5 where they share a vertex or an
                              edge, exact where one touches the other); 0: from point

@@ -50,6 +50,7 @@ void rad_hier_params_default(rad_hier_params *params)
     rad_ff_params_default(&params->ff);
     params->link_share = 0.5;
     params->far_ratio = 3.0;
+    params->clip_blockers = RAD_HIER_CLIP_BLOCKERS_MAX;
     params->singular = 1;
     params->round_tol = 0.1;
     params->final_share = 0.01;
@@ -84,6 +85,9 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
     if (!(p->far_ratio >= 0.0) || !isfinite(p->far_ratio))
         return RAD_ERROR(RAD_EINVAL, "hier: far_ratio must be a finite number >= 0 (got %g)",
                          p->far_ratio);
+    if (p->clip_blockers < 0 || p->clip_blockers > RAD_HIER_CLIP_BLOCKERS_MAX)
+        return RAD_ERROR(RAD_EINVAL, "hier: clip_blockers must lie in 0..%d (got %d)",
+                         RAD_HIER_CLIP_BLOCKERS_MAX, p->clip_blockers);
     if (!(p->tol > 0.0) || !isfinite(p->tol) || !(p->bound_tol > 0.0) || !isfinite(p->bound_tol))
         return RAD_ERROR(RAD_EINVAL, "hier: tol and bound_tol must be finite numbers > 0");
     if (p->max_iterations < 1 || p->max_rounds < 0)
