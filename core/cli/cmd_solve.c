@@ -93,7 +93,7 @@ static const char help_head[] =
     "                   element exactly; past N (or the clipping's work budget)\n"
     "                   16 rays a point sample it, and their sampling error\n"
     "                   joins the link's error (a whole number 0-256, default\n"
-    "                   256; 0: rays only).  Rays cost the same whatever the\n"
+    "                   24; 0: rays only).  Rays cost the same whatever the\n"
     "                   crowd; clipping is exact but grows with it\n"
     "  --max-links N    hier, cluster: refuse (exit 2) a hierarchy of more than N\n"
     "                   links, element links and cluster links each (default\n"

@@ -50,7 +50,7 @@ void rad_hier_params_default(rad_hier_params *params)
     rad_ff_params_default(&params->ff);
     params->link_share = 0.5;
     params->far_ratio = 3.0;
-    params->clip_blockers = RAD_HIER_CLIP_BLOCKERS_MAX;
+    params->clip_blockers = 24;
     params->singular = 1;
     params->round_tol = 0.1;
     params->final_share = 0.01;
