@@ -928,11 +928,11 @@ static int segment_hits_box(const double p[3], const double q[3], const double l
  * 0.5 F_vis exactly, F_vis computed here without radkit's visibility: the
  * kernel at 48 x 48 midpoints of each square, each segment tested against
  * the cubes as boxes (slab test; within 0.05% of finer grids).  hier and
- * cluster must come within 0.5% of it at their defaults, which sample such
- * a shaft by rays (108 blockers, more than clip_blockers), and when they
- * clip it exactly (clip_blockers at its maximum): a link whose rays all
- * miss a narrow shadow must not be kept for that (papers/clustering.md
- * §3). */
+ * cluster must come within 0.5% of it at their defaults (108 blockers, more
+ * than clip_blockers: rays, then clipping where the oracle would refine),
+ * with rays only (clip_blockers 0: a link whose rays all miss a narrow
+ * shadow must not be kept for that) and clipping every shaft exactly
+ * (clip_blockers at its maximum); papers/clustering.md §3. */
 TEST(hier_links_seen_through_a_crowd_stay_accurate)
 {
     double xyz[3 * (8 + 9 * 8)];
@@ -979,14 +979,15 @@ TEST(hier_links_seen_through_a_crowd_stay_accurate)
     rad_vis_params_default(&vp);
     rad_vis *vis = NULL;
     CHECK(rad_vis_create(xyz, nv, tri, nt, &vp, &vis) == RAD_OK);
-    for (int run = 0; run < 4 && vis; run++) {
-        int cl = run & 1, clipped = run >> 1;
+    static const char *mode[3] = {"at its defaults", "with rays only", "clipping exactly"};
+    for (int run = 0; run < 6 && vis; run++) {
+        int cl = run & 1, m = run >> 1;
         rad_hier_params p;
         rad_hier_params_default(&p);
         p.cluster = cl;
-        CHECK(clipped || p.clip_blockers < 108);
-        if (clipped)
-            p.clip_blockers = RAD_HIER_CLIP_BLOCKERS_MAX;
+        CHECK(p.clip_blockers < 108);
+        if (m > 0)
+            p.clip_blockers = m == 1 ? 0 : RAD_HIER_CLIP_BLOCKERS_MAX;
         rad_hier *h = NULL;
         CHECK(rad_hier_create(xyz, nv, tri, nt, rho, E, vis, &p, &h) == RAD_OK);
         if (!h || rad_hier_solve(h) != RAD_OK) {
@@ -999,7 +1000,7 @@ TEST(hier_links_seen_through_a_crowd_stay_accurate)
         double got = faces_mean_B(h, 0, 1) / 0.5;
         printf("# %s %s under nine cubes: F_vis %.5f (midpoints, slab test), "
                "solved %.5f (%+.2f%%), %zu links, %llu rays\n",
-               cl ? "cluster" : "hier", clipped ? "clipping exactly" : "at its defaults", F, got,
+               cl ? "cluster" : "hier", mode[m], F, got,
                100.0 * (got / F - 1.0), st.links, st.rays);
         CHECK_MSG(fabs(got / F - 1.0) <= 0.005, "F_vis %.5f, solved %.5f", F, got);
         rad_hier_destroy(h);

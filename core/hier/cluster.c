@@ -535,7 +535,7 @@ static rad_status push_job(job_list *l, int a, int b)
 {
     if (!rad_sys_grow((void **)&l->j, &l->cap, l->n, l->n + 1, sizeof *l->j, 256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link jobs", l->n + 1);
-    l->j[l->n++] = (hier_job){a, b};
+    l->j[l->n++] = (hier_job){a, b, 0};
     return RAD_OK;
 }
 

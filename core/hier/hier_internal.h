@@ -63,6 +63,11 @@ typedef struct hier_link {
     unsigned char unknown; /* G is 0 although the pair faces: refine while possible */
     unsigned char vis;     /* 0: nothing can block, 1: blockers, all open, 2: partly
                               hidden, 3: hidden at every point value */
+    unsigned char clip;    /* 1: estimated clipping up to RAD_HIER_CLIP_BLOCKERS_MAX
+                              blockers (refine.c: a sampled link the oracle would
+                              refine), as its children are; 0: up to clip_blockers */
+    unsigned char sampled; /* 1: more blockers than the estimate's cap, rays sampled
+                              the view (link.c) */
 } hier_link;
 
 /* Weights c_k on unit directions w_k, as moments: C = sum c_k,
@@ -272,6 +277,7 @@ rad_status hier_split(rad_hier *h, int e);
 /* ---- link.c ---- */
 typedef struct hier_job {
     int a, b;
+    int clip; /* hier_link's clip for the new link */
 } hier_job;
 /* Estimate jobs[0..n) (pairs) in parallel and append the facing ones to the
  * links in job order (the result does not depend on the thread count).

@@ -53,6 +53,12 @@ int hier_pair_may_touch(const rad_hier *h, int r, int s)
     return !h->pairs || (rad_hier_pairs_get(h->pairs, r, s, -1) & RAD_HIER_PAIR_MAY_TOUCH);
 }
 
+/* The most blockers a link clips: clip_blockers, or all it may (clip). */
+static int link_cap(const rad_hier *h, int clip)
+{
+    return clip ? RAD_HIER_CLIP_BLOCKERS_MAX : h->p.clip_blockers;
+}
+
 /* Work counters of estimates made on one thread. */
 typedef struct work_count {
     long long evals;
@@ -206,8 +212,8 @@ typedef struct link_pre {
 /* Estimate the link between elements a and b (both directions); *facing = 0
  * when there is nothing to link.  pre: see link_pre, or NULL.  Reads h only
  * (re-entrant); its work goes to *wc. */
-static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pre, int *facing,
-                           hier_link *out, work_count *wc)
+static rad_status estimate(const rad_hier *h, int ia, int ib, int clip, const link_pre *pre,
+                           int *facing, hier_link *out, work_count *wc)
 {
     const hier_elem *ea = &h->el[ia], *eb = &h->el[ib];
     if (!rad_ff_facing(ea->p, eb->p, &h->p.ff)) {
@@ -216,28 +222,26 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     }
     *facing = 1;
     int blk[LINK_MAX_BLOCKERS], nb = 0, too_many = 0, blocked;
+    int cap = link_cap(h, clip);
     /* the initial link of two input triangles walks their shaft for its
        blockers and tells the pair table what it found */
     int first = !pre && h->pairs && ia == ea->face && ib == eb->face &&
                 !rad_hier_pairs_known(h->pairs, ia, ib);
     if (first) {
-        nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk,
-                              h->p.clip_blockers);
+        nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, cap);
         blocked = rad_hier_pairs_get(h->pairs, ia, ib, nb != 0) & RAD_HIER_PAIR_CAN_BLOCK;
     } else if (!pre && !h->pairs && h->use_vis && ia == ea->face && ib == eb->face) {
         /* no table (the cluster layer): a pair of input triangles walks its
            shaft once for both answers */
-        nb = rad_vis_pair_blockers(h->vis, (size_t)ia, (size_t)ib, blk, h->p.clip_blockers,
-                                   &blocked);
+        nb = rad_vis_pair_blockers(h->vis, (size_t)ia, (size_t)ib, blk, cap, &blocked);
     } else {
         blocked = hier_pair_can_block(h, ea->face, eb->face);
         if (blocked && pre && pre->nb >= 0)
             nb = rad_vis_blockers_within(h->vis, ea->p, eb->p, pre->blk, pre->nb, blk);
         else if (blocked)
-            nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk,
-                                  h->p.clip_blockers);
+            nb = rad_vis_blockers(h->vis, ea->p, ea->face, eb->p, eb->face, blk, cap);
     }
-    too_many = nb > h->p.clip_blockers;
+    too_many = nb > cap;
     if (too_many)
         nb = 0;
     int far = 0;
@@ -365,6 +369,8 @@ static rad_status estimate(const rad_hier *h, int ia, int ib, const link_pre *pr
     out->va = va;
     out->vb = vb;
     out->vis = vis;
+    out->clip = (unsigned char)clip;
+    out->sampled = (unsigned char)too_many;
     /* A pair that faces but whose point values are all 0 straddles a plane;
      * what it carries is unknown, so it is refined while it can be. */
     out->unknown = !(G > 0.0) && vis != 3;
@@ -390,14 +396,15 @@ static void estimate_split(const rad_hier *h, const hier_job *job, rad_status *s
             memcpy(parts + 3 * i, h->el[job[i].a].p, 3 * sizeof *parts);
         long ev = 0;
         have = rad_vis_split_values(h->vis, eo->p, eo->face, y, h->nodes, h->normal[eo->face], ep->p,
-                                    ep->face, parts, blk, h->p.clip_blockers,
+                                    ep->face, parts, blk, link_cap(h, job[0].clip),
                                     &nb, RAD_VIS_LINK_POINT_WORK, F[0], Fo[0], RAD_HIER_MAX_NODES,
                                     &ev);
         wc->evals += ev;
     }
     for (int i = 0; i < 4; i++) {
         link_pre pre = {blk, nb, have ? F[i] : NULL, have ? Fo[i] : NULL};
-        st[i] = estimate(h, job[i].a, job[i].b, nb >= 0 ? &pre : NULL, &facing[i], &out[i], wc);
+        st[i] = estimate(h, job[i].a, job[i].b, job[i].clip, nb >= 0 ? &pre : NULL, &facing[i],
+                         &out[i], wc);
     }
 }
 
@@ -432,7 +439,8 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
         if (unit == 4)
             estimate_split(hc, jobs + k, est, facing, out + k, &wc);
         else
-            est[0] = estimate(hc, jobs[k].a, jobs[k].b, NULL, &facing[0], &out[k], &wc);
+            est[0] = estimate(hc, jobs[k].a, jobs[k].b, jobs[k].clip, NULL, &facing[0], &out[k],
+                              &wc);
         evals += wc.evals;
         rays += wc.rays;
         for (size_t i = 0; i < unit; i++)
@@ -462,7 +470,8 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
         work_count wc = {0, 0};
         int facing = 0;
         hier_link l;
-        st = estimate(h, jobs[failed].a, jobs[failed].b, NULL, &facing, &l, &wc);
+        st = estimate(h, jobs[failed].a, jobs[failed].b, jobs[failed].clip, NULL, &facing, &l,
+                      &wc);
         if (st == RAD_OK)
             st = RAD_ERROR(RAD_ENUMERIC, "hier: link %d, %d failed on a worker thread",
                            jobs[failed].a, jobs[failed].b);

@@ -189,9 +189,12 @@ typedef struct rad_hier_params {
     int clip_blockers;    /* an element link whose shaft holds at most this many blockers
                              clips each point's view of the other element exactly; beyond
                              it (or past the clipping's work budget) the view is sampled
-                             by rays, whose sampling error joins the link's; 0: always
-                             rays.  0..RAD_HIER_CLIP_BLOCKERS_MAX; default 24 (rays cost
-                             the same for any crowd, clipping about blockers x pieces) */
+                             by rays, whose sampling error joins the link's, until the
+                             oracle would refine the link: then it and the links split
+                             from it clip up to RAD_HIER_CLIP_BLOCKERS_MAX (refine.c).
+                             0: always rays.  0..RAD_HIER_CLIP_BLOCKERS_MAX; default 24
+                             (rays cost the same for any crowd, clipping about
+                             blockers x pieces) */
     int singular;         /* 1 (default): elements that touch get their unoccluded F from
                              a singular-aware rule (ss:5 where they share a vertex or an
                              edge, exact where one touches the other); 0: from point

@@ -20,7 +20,12 @@
  * rho F B, exceeds eps R.
  *
  * Either way a link whose point values are all 0 although its elements face
- * each other is refined while it can be.  A refined link is replaced by four,
+ * each other is refined while it can be.  A link that sampled its view by
+ * rays because its shaft held more than clip_blockers blockers is, the
+ * first time the oracle would refine it, estimated again clipping up to
+ * RAD_HIER_CLIP_BLOCKERS_MAX, it and the links split from it: rays are
+ * cheap where their sampling error is within the link's share, clipping
+ * where it is not.  A refined link is replaced by four,
  * between one element's children and the other (ERROR: the element whose
  * split reduces the contributions more; BF: the larger; the other one when
  * the first may not be split).  The new links are
@@ -117,6 +122,15 @@ static size_t drop_replaced(rad_hier *h, size_t from, size_t end)
     return kept;
 }
 
+/* Queue link l's pair to be estimated again clipping every blocker it may. */
+static rad_status push_upgrade(hier_job **up, size_t *n, size_t *cap, hier_link l)
+{
+    if (!rad_sys_grow((void **)up, cap, *n, *n + 1, sizeof **up, 256))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link estimates", *n + 1);
+    (*up)[(*n)++] = (hier_job){l.a, l.b, 1};
+    return RAD_OK;
+}
+
 rad_status rad_hier_refine(rad_hier *h, long long *refined)
 {
     double t0 = rad_sys_seconds();
@@ -126,8 +140,8 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_status st = RAD_OK;
     long long count = 0;
-    hier_job *jobs = NULL;
-    size_t capj = 0;
+    hier_job *jobs = NULL, *up = NULL;
+    size_t capj = 0, nup = 0, capup = 0;
     double target = h->p.eps * hier_reflected_scale(h);
     int error_oracle = h->p.oracle == RAD_HIER_ORACLE_ERROR;
     h->st.links_bound = 0;
@@ -154,6 +168,16 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
             }
             if (!(ca > la) && !(cb > lb) && !l.unknown)
                 continue;
+            if (l.sampled && !l.clip && h->p.clip_blockers > 0) {
+                /* its rays' sampling error may be what the oracle sees: the
+                   pair is estimated again clipping every blocker it may, at
+                   the same level, before it is split */
+                if ((st = push_upgrade(&up, &nup, &capup, l)) != RAD_OK)
+                    goto done;
+                h->ln[k].a = -1;
+                count++;
+                continue;
+            }
             int first_choice;
             if (h->p.oracle == RAD_HIER_ORACLE_ERROR && !l.unknown && sa != sb)
                 first_choice = sa > sb ? l.a : l.b;
@@ -182,10 +206,13 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
             h->ln[k].a = -1; /* the link is replaced */
             int first = h->el[target_elem].first_child, other = target_elem == l.a ? l.b : l.a;
             for (int c4 = 0; c4 < 4; c4++)
-                jobs[nj++] = (hier_job){first + c4, other};
+                jobs[nj++] = (hier_job){first + c4, other, l.clip};
             count++;
         }
         st = hier_estimate_batch(h, jobs, nj, 1);
+        if (st == RAD_OK)
+            st = hier_estimate_batch(h, up, nup, 0);
+        nup = 0;
         /* the generation's replaced links go before the next is examined, so
            the array holds the live links and one generation's new ones, not
            every link made */
@@ -197,6 +224,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     }
 done:
     free(jobs);
+    free(up);
     if (st != RAD_OK)
         drop_replaced(h, 0, 0); /* what an error left among the links */
     if (count > 0) {

@@ -321,7 +321,7 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
         size_t nj = 0;
         for (size_t r = 0; r < ntris; r++)
             for (size_t s = r + 1; s < ntris; s++)
-                jobs[nj++] = (hier_job){(int)r, (int)s};
+                jobs[nj++] = (hier_job){(int)r, (int)s, 0};
         st = hier_estimate_batch(h, jobs, nj, 0);
         free(jobs);
         if (st != RAD_OK)
