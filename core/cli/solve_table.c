@@ -70,9 +70,9 @@ static void print_work(FILE *out, const rad_solution *s)
             fprintf(out, "# links_cluster = %zu\n", hs->links_cluster);
         fprintf(out, "# links = %zu\n# links_leaf = %zu\n# links_clear = %zu\n"
                      "# links_visible = %zu\n# links_partial = %zu\n# links_blocked = %zu\n"
-                     "# links_unknown = %zu\n# links_constant = %zu\n",
+                     "# links_unknown = %zu\n# links_sampled = %zu\n# links_constant = %zu\n",
                 hs->links, hs->links_leaf, hs->links_clear, hs->links_visible, hs->links_partial,
-                hs->links_blocked, hs->links_unknown, hs->links_constant);
+                hs->links_blocked, hs->links_unknown, hs->links_sampled, hs->links_constant);
         fprintf(out, "# iterations = %lld\n# refinements = %lld\n# rounds = %d\n"
                      "# residual = %.3e\n",
                 hs->iterations, hs->refinements, hs->rounds, hs->residual);
@@ -139,6 +139,7 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"links_visible", (double)hs->links_visible},
         {"links_partial", (double)hs->links_partial},
         {"links_blocked", (double)hs->links_blocked},
+        {"links_sampled", (double)hs->links_sampled},
         {"links_unknown", (double)hs->links_unknown},
         {"links_constant", (double)hs->links_constant},
         {"refinements", (double)hs->refinements},

@@ -235,6 +235,8 @@ typedef struct rad_hier_stats {
      * every point value; and links whose point values are all 0 although
      * their elements face each other */
     size_t links_clear, links_visible, links_partial, links_blocked, links_unknown;
+    size_t links_sampled; /* live links whose view rays sampled: more blockers than
+                             clip_blockers (and not clipped again, refine.c) */
     size_t links_leaf;    /* live links joining two leaves */
     size_t links_constant;/* hier p1/p2: live links reduced to the constants' coupling
                              because a mode through them did not contract (hierp/solve.c) */

@@ -369,6 +369,7 @@ void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats)
     stats->elements = rad_hier_leaf_count(h);
     stats->links_clear = stats->links_visible = stats->links_partial = 0;
     stats->links_blocked = stats->links_unknown = stats->links_leaf = 0;
+    stats->links_sampled = 0;
     for (size_t k = 0; k < h->nln; k++) {
         const hier_link *l = &h->ln[k];
         if (l->unknown)
@@ -382,6 +383,7 @@ void rad_hier_get_stats(const rad_hier *h, rad_hier_stats *stats)
         else
             stats->links_blocked++;
         stats->links_leaf += h->el[l->a].first_child < 0 && h->el[l->b].first_child < 0;
+        stats->links_sampled += l->sampled;
     }
     stats->max_depth = 0;
     for (size_t e = 0; e < h->nel; e++)

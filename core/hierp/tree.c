@@ -461,7 +461,7 @@ void rad_hierp_get_stats(const rad_hierp *h, rad_hier_stats *stats)
     stats->links = h->nln;
     stats->links_clear = stats->links_visible = stats->links_partial = 0;
     stats->links_blocked = stats->links_unknown = stats->links_leaf = 0;
-    stats->links_constant = 0;
+    stats->links_constant = stats->links_sampled = 0;
     for (size_t k = 0; k < h->nln; k++) {
         const hp_link *l = &h->ln[k];
         size_t *count[4] = {&stats->links_clear, &stats->links_visible, &stats->links_partial,
