@@ -137,7 +137,9 @@ static double side_values_rays(const rad_hier *h, const hier_elem *e, const hier
     double err = 0.0;
     for (int k = 0; k < h->nodes; k++) {
         rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
-        double p[3] = {x.x, x.y, x.z}, all = 0.0, all2 = 0.0, open = 0.0;
+        double from[3 * CELLS], to[3 * CELLS], wj[CELLS];
+        unsigned char blocked[CELLS];
+        size_t nseg = 0;
         uint64_t node = key + 2 * CELLS * (uint64_t)k;
         for (int j = 0; j < CELLS; j++) {
             double s, u;
@@ -147,13 +149,23 @@ static double side_values_rays(const rad_hier *h, const hier_elem *e, const hier
             double w = rad_ff_kernel(x, ne, y, nt, NULL);
             if (!(w > 0.0))
                 continue;
-            all += w;
-            all2 += w * w;
-            wc->rays++;
-            double q[3] = {y.x, y.y, y.z};
-            if (!rad_vis_segment_blocked(h->vis, p, q, e->face, t->face))
-                open += w;
+            from[3 * nseg] = x.x, from[3 * nseg + 1] = x.y, from[3 * nseg + 2] = x.z;
+            to[3 * nseg] = y.x, to[3 * nseg + 1] = y.y, to[3 * nseg + 2] = y.z;
+            wj[nseg++] = w;
         }
+        /* one packet from the node (the rays share their origin); a query
+           that cannot run reads as blocked, as rad_vis_segment_blocked does */
+        if (nseg > 0 && rad_vis_occluded_between(h->vis, (size_t)e->face, (size_t)t->face, nseg,
+                                                 from, to, blocked, NULL) != RAD_OK)
+            memset(blocked, 1, nseg);
+        double all = 0.0, all2 = 0.0, open = 0.0;
+        for (size_t j = 0; j < nseg; j++) {
+            all += wj[j];
+            all2 += wj[j] * wj[j];
+            if (!blocked[j])
+                open += wj[j];
+        }
+        wc->rays += nseg;
         Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
         F[k] = all > 0.0 ? Fo[k] * (open / all) : Fo[k];
         wc->evals += 1 + CELLS;
