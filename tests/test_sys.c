@@ -30,6 +30,32 @@ TEST(sys_alloc_huge_gives_aligned_usable_memory)
     }
 }
 
+/* calloc's contract on huge pages: zeroed, even where the block reuses
+ * memory just freed with other bytes in it (the small sizes come from
+ * malloc's free lists); a count times size that overflows is refused. */
+TEST(sys_calloc_huge_gives_zeroed_memory)
+{
+    CHECK(rad_sys_calloc_huge(0, 8) == NULL);
+    CHECK(rad_sys_calloc_huge(SIZE_MAX / 4, 8) == NULL);
+    size_t sizes[3] = {96, 4000, 3 * RAD_SYS_HUGE_PAGE + 40};
+    for (int k = 0; k < 3; k++) {
+        unsigned char *dirty = malloc(sizes[k]);
+        if (dirty) {
+            memset(dirty, 0xA5, sizes[k]);
+            free(dirty);
+        }
+        unsigned char *p = rad_sys_calloc_huge(sizes[k] / 8, 8);
+        CHECK(p != NULL);
+        if (!p)
+            continue;
+        size_t nonzero = 0;
+        for (size_t i = 0; i < sizes[k]; i++)
+            nonzero += p[i] != 0;
+        CHECK(nonzero == 0);
+        free(p);
+    }
+}
+
 /* rad_sys_grow keeps the items in use through every doubling, small and
  * past RAD_SYS_HUGE_PAGE (where realloc remaps), leaves a large enough
  * array alone, and with none in use gives a fresh block of the capacity. */

@@ -11,12 +11,14 @@
 #include <string.h>
 
 #include "rad_geom.h"
+#include "rad_sys.h"
 
 struct rad_cluster_tree {
     rad_cluster_node *node;
     size_t nnodes, cap;
     int *order;
     int max_depth;
+    double *ends; /* while building: split_at's box ends, two per triangle */
 };
 
 typedef struct tri_info {
@@ -88,16 +90,14 @@ static int by_value(const void *a, const void *b)
  * depth stays within log_{8/7} n).  A plane that cuts none leaves the
  * sides' boxes apart; one that cuts only a room's walls keeps the objects
  * between them whole.  The median where no plane separates two centroids
- * or memory is short. */
+ * or memory is short (lo, room for 2 count box ends, NULL). */
 enum { SPLIT_SHARE = 8 };
-static int split_at(const tri_info *ti, const keyed *key, int count, int axis)
+static int split_at(const tri_info *ti, const keyed *key, int count, int axis, double *lo)
 {
     int half = count / 2, first = count / SPLIT_SHARE, last = count - count / SPLIT_SHARE;
-    if (first < 1)
+    if (first < 1 || !lo)
         return half;
-    double *lo = malloc(2 * (size_t)count * sizeof *lo), *hi = lo + count;
-    if (!lo)
-        return half;
+    double *hi = lo + count;
     for (int i = 0; i < count; i++) {
         lo[i] = ti[key[i].tri].lo[axis];
         hi[i] = ti[key[i].tri].hi[axis];
@@ -119,20 +119,13 @@ static int split_at(const tri_info *ti, const keyed *key, int count, int axis)
             best = i;
         }
     }
-    free(lo);
     return best > 0 ? best : half;
 }
 
 static rad_status add_node(rad_cluster_tree *t, int *index)
 {
-    if (t->nnodes == t->cap) {
-        size_t cap = t->cap ? 2 * t->cap : 64;
-        rad_cluster_node *n = realloc(t->node, cap * sizeof *n);
-        if (!n)
-            return RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", cap);
-        t->node = n;
-        t->cap = cap;
-    }
+    if (!rad_sys_grow((void **)&t->node, &t->cap, t->nnodes, t->nnodes + 1, sizeof *t->node, 64))
+        return RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", t->nnodes + 1);
     *index = (int)t->nnodes++;
     return RAD_OK;
 }
@@ -175,7 +168,7 @@ static rad_status build(rad_cluster_tree *t, const tri_info *ti, keyed *scratch,
     qsort(scratch, (size_t)count, sizeof *scratch, by_key);
     for (int i = 0; i < count; i++)
         t->order[first + i] = scratch[i].tri;
-    int half = split_at(ti, scratch, count, axis), left, right;
+    int half = split_at(ti, scratch, count, axis, t->ends), left, right;
     if ((st = build(t, ti, scratch, first, half, k, depth + 1, leaf_size, &left)) != RAD_OK ||
         (st = build(t, ti, scratch, first + half, count - half, k, depth + 1, leaf_size,
                     &right)) != RAD_OK)
@@ -193,11 +186,15 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
     if (!xyz || !tri || !out || ntris == 0 || ntris > (size_t)1 << 30 || leaf_size < 1)
         return RAD_ERROR(RAD_EINVAL, "cluster: bad arguments (%zu triangles, leaf size %d)",
                          ntris, leaf_size);
-    tri_info *ti = malloc(ntris * sizeof *ti);
-    keyed *scratch = malloc(ntris * sizeof *scratch);
+    /* on huge pages, and split_at's buffer made once: a large block's
+       4 KB pages fault on their first touch, every time it is allocated */
+    tri_info *ti = rad_sys_alloc_huge(ntris * sizeof *ti);
+    keyed *scratch = rad_sys_alloc_huge(ntris * sizeof *scratch);
     rad_cluster_tree *t = calloc(1, sizeof *t);
-    if (t)
-        t->order = malloc(ntris * sizeof *t->order);
+    if (t) {
+        t->order = rad_sys_alloc_huge(ntris * sizeof *t->order);
+        t->ends = rad_sys_alloc_huge(2 * ntris * sizeof *t->ends); /* NULL: median splits */
+    }
     rad_status st = RAD_OK;
     if (!ti || !scratch || !t || !t->order) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu triangles", ntris);
@@ -237,6 +234,8 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
         goto fail;
     free(ti);
     free(scratch);
+    free(t->ends);
+    t->ends = NULL;
     *out = t;
     return RAD_OK;
 fail:
@@ -252,6 +251,7 @@ void rad_cluster_destroy(rad_cluster_tree *t)
         return;
     free(t->node);
     free(t->order);
+    free(t->ends);
     free(t);
 }
 

@@ -897,8 +897,8 @@ rad_status hier_cluster_create(rad_hier *h)
         if (rays_ready != RAD_OK)
             return rays_ready;
     }
-    double *xyz = malloc(9 * n * sizeof *xyz);
-    int *tri = malloc(3 * n * sizeof *tri);
+    double *xyz = rad_sys_alloc_huge(9 * n * sizeof *xyz);
+    int *tri = rad_sys_alloc_huge(3 * n * sizeof *tri);
     rad_cluster_tree *tree = NULL;
     rad_status st = RAD_OK;
     if (!xyz || !tri) {
@@ -916,15 +916,17 @@ rad_status hier_cluster_create(rad_hier *h)
     if ((st = rad_cluster_build(xyz, 3 * n, tri, n, 1, &tree)) != RAD_OK)
         goto done;
     h->ncl = rad_cluster_node_count(tree);
-    h->cl = calloc(h->ncl, sizeof *h->cl);
-    h->corder = malloc(n * sizeof *h->corder);
-    h->cemit = malloc(6 * n * sizeof *h->cemit);
-    h->crecv = calloc(3 * n, sizeof *h->crecv);
+    /* on huge pages: the nodes alone are about 1.5 kB a triangle, and a
+       4 KB page's first touch is a fault */
+    h->cl = rad_sys_calloc_huge(h->ncl, sizeof *h->cl);
+    h->corder = rad_sys_alloc_huge(n * sizeof *h->corder);
+    h->cemit = rad_sys_alloc_huge(6 * n * sizeof *h->cemit);
+    h->crecv = rad_sys_calloc_huge(3 * n, sizeof *h->crecv);
     const rad_cluster_node *nd = rad_cluster_nodes(tree);
     size_t nmom = 0;
     for (size_t i = 0; h->cl && i < h->ncl; i++)
         h->cl[i].mom = reads_moments(h, nd[i].count) ? (int)nmom++ : -1;
-    h->cmom = malloc(3 * (nmom ? nmom : 1) * sizeof *h->cmom);
+    h->cmom = rad_sys_alloc_huge(3 * (nmom ? nmom : 1) * sizeof *h->cmom);
     if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;

@@ -73,6 +73,11 @@ double rad_sys_peak_rss_bytes(void);
 #define RAD_SYS_HUGE_PAGE ((size_t)2 << 20)
 void *rad_sys_alloc_huge(size_t bytes);
 
+/* rad_sys_alloc_huge for count items of size bytes, zeroed (calloc's
+ * contract; glibc's calloc maps a large block on 4 KB pages).  NULL when
+ * the size overflows, memory runs out or count is 0. */
+void *rad_sys_calloc_huge(size_t count, size_t size);
+
 /* Make *arr (`used` items of `item` bytes, capacity *cap) hold at least
  * `need` items: the capacity doubles (from `first`), so appends cost O(1)
  * on average.  The first `used` items are kept, by realloc, which moves a

@@ -92,6 +92,16 @@ void *rad_sys_alloc_huge(size_t bytes)
     return p;
 }
 
+void *rad_sys_calloc_huge(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+    void *p = rad_sys_alloc_huge(count * size);
+    if (p)
+        memset(p, 0, count * size);
+    return p;
+}
+
 int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first)
 {
     if (need <= *cap)
