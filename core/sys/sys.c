@@ -126,8 +126,9 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
         *cap = c;
         return 1;
     }
-    /* a block mapped on its own (glibc: any above 32 MB) is remapped, not
-       copied, so growing never holds two copies */
+    /* in place, remapped or copied: glibc's choice (rad_sys.h); a fresh
+       block and a copy made here would be on huge pages, but held beside
+       the old one every time, not only where realloc must copy */
     void *n = realloc(*arr, c * item);
     if (!n)
         return 0;
