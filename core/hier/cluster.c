@@ -917,11 +917,13 @@ rad_status hier_cluster_create(rad_hier *h)
         goto done;
     h->ncl = rad_cluster_node_count(tree);
     /* on huge pages: the nodes alone are about 1.5 kB a triangle, and a
-       4 KB page's first touch is a fault */
+       4 KB page's first touch is a fault.  crecv stays calloc's: the
+       solve writes it first, and the memory check counts its pages from
+       then (memory.c) */
     h->cl = rad_sys_calloc_huge(h->ncl, sizeof *h->cl);
     h->corder = rad_sys_alloc_huge(n * sizeof *h->corder);
     h->cemit = rad_sys_alloc_huge(6 * n * sizeof *h->cemit);
-    h->crecv = rad_sys_calloc_huge(3 * n, sizeof *h->crecv);
+    h->crecv = calloc(3 * n, sizeof *h->crecv);
     const rad_cluster_node *nd = rad_cluster_nodes(tree);
     size_t nmom = 0;
     for (size_t i = 0; h->cl && i < h->ncl; i++)
