@@ -368,8 +368,8 @@ TEST(hier_unsealed_rooms_near_contact)
 }
 
 /* The same through the cluster hierarchy (links start from sibling
- * clusters), and the room with 27 boxes, where cluster links stay between
- * the boxes. */
+ * clusters), and the room with 27 boxes, where at eps 1 cluster links stay
+ * between the boxes. */
 TEST(cluster_unsealed_furnaces_within_the_bound)
 {
     const char *scenes[3] = {"scenes/furnace_room/room_box.obj", "scenes/furnace_room/room_hair.obj",
@@ -383,10 +383,10 @@ TEST(cluster_unsealed_furnaces_within_the_bound)
        are: papers/accuracy.md), and the reported bound must still hold */
     unsealed_furnace(scenes[0], 1, 0.9, 0.1, 1.0);
     unsealed_furnace(scenes[0], 1, 0.99, 0.1, 1.0);
-    /* and where cluster links stay (the room with 27 boxes): their bounds
-       are amplified alike and must still hold */
+    /* and where cluster links stay (the room with 27 boxes at eps 1): their
+       bounds are amplified alike and must still hold */
     for (int k = 0; k < 2; k++)
-        unsealed_furnace_case((furnace_case){scenes[2], 1, k ? 0.99 : 0.9, 0.1, 1.0, INFINITY,
+        unsealed_furnace_case((furnace_case){scenes[2], 1, k ? 0.99 : 0.9, 1.0, 1.0, INFINITY,
                                              -1.0, -1, 1},
                               NULL);
 }
@@ -634,7 +634,7 @@ TEST(hier_links_grow_subquadratically)
  * and occluder: the receiver's power sum A_L B_L = 0.385 * A_e F_er (blocked),
  * A_e = 1.  Without visibility the same run gives the unblocked F (0.19982,
  * the closed form for unit squares at distance 1).  With visibility, the
- * element-pair sampling (4 x 4 jittered rays per link) converges as links
+ * element-pair sampling (jittered rays per link) converges as links
  * refine near the shadow.  Two things made this agree (0.09947 against Monte
  * Carlo's 0.09945): links not fully visible are refined on their unoccluded
  * transport, and the sample points are jittered; with centroid samples and

@@ -91,7 +91,7 @@ static const char help_head[] =
     "  --clip-blockers N  hier, cluster: an element link whose shaft holds at\n"
     "                   most N triangles clips each point's view of the other\n"
     "                   element exactly; past N (or the clipping's work budget)\n"
-    "                   16 rays a point sample it, and their sampling error\n"
+    "                   9 rays a point sample it, and their sampling error\n"
     "                   joins the link's error (a whole number 0-256, default\n"
     "                   24; 0: rays only).  Rays cost the same whatever the\n"
     "                   crowd; clipping is exact but grows with it\n"

@@ -68,7 +68,10 @@
  * elements become an element link (link.c).  Where the spheres meet, the
  * larger end is split; where the boxes meet there is no bound at all: such
  * a link is refined at once, at creation.  A link is not made where the
- * other end's box lies behind an element's plane.
+ * other end's box lies behind an element's plane, or behind the plane of
+ * every triangle of a small cluster (the faces of a convex object: their
+ * boxes meet, and would otherwise be split down to triangle pairs that
+ * face away).
  *
  * In the solve the clusters pull their moments from the roots, and what the
  * cluster links bring is added to what the receiving elements gather, a
@@ -323,18 +326,36 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, const facing_
                         rad_vec3_scale(e->p[2], b[2]));
 }
 
-/* Whether every corner of y's box lies on or behind the plane of element x
- * (then nothing of y lies in front of x). */
-static int box_behind(const rad_hier *h, const end_view *x, const end_view *y)
+/* Whether every corner of y's box lies on or behind the plane through p
+ * of normal n, within tol (the corners are rebuilt from the box's centre
+ * and half extents, which may round them past a plane they lie on). */
+static int behind_plane(rad_vec3 n, rad_vec3 p, const end_view *y, double tol)
 {
-    if (x->elem < 0)
-        return 0;
-    rad_vec3 p = h->el[x->elem].p[0];
     for (int k = 0; k < 8; k++) {
         rad_vec3 c = rad_vec3_make(y->mid.x + (k & 1 ? y->half.x : -y->half.x),
                                    y->mid.y + (k & 2 ? y->half.y : -y->half.y),
                                    y->mid.z + (k & 4 ? y->half.z : -y->half.z));
-        if (rad_vec3_dot(x->axis, rad_vec3_sub(c, p)) > 0.0)
+        if (rad_vec3_dot(n, rad_vec3_sub(c, p)) > tol)
+            return 0;
+    }
+    return 1;
+}
+
+/* Whether y's box lies behind the plane of element x, or of every triangle
+ * of x, a small cluster: then no triangle of x sees anything of y, nor
+ * anything of y a triangle of x.  The parts of a convex object (a box's
+ * faces) are such pairs; their boxes meet, so without this test they would
+ * be split at once down to their triangles, each pair of which faces away. */
+static int box_behind(const rad_hier *h, const end_view *x, const end_view *y)
+{
+    double tol = 1e-9 * (x->radius + y->radius);
+    if (x->elem >= 0)
+        return behind_plane(x->axis, h->el[x->elem].p[0], y, tol);
+    if (x->cl->count > CLUSTER_SMALL)
+        return 0;
+    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
+        const hier_elem *t = &h->el[h->corder[i]];
+        if (!behind_plane(h->normal[t->face], t->p[0], y, tol))
             return 0;
     }
     return 1;
@@ -403,12 +424,12 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
        least the spheres' gap r - R (each box lies in its sphere) */
     int apart = r > R;
     double gap = rad_dmax(box_gap(&x, &y), r - R);
+    if (box_behind(h, &x, &y) || box_behind(h, &y, &x))
+        return 0;
     if (!(gap > 0.0) || !(r > 0.0)) {
         out->overlap = 1; /* the boxes meet: no bound */
         return 1;
     }
-    if (box_behind(h, &x, &y) || box_behind(h, &y, &x))
-        return 0;
     rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
     double Fa, Fb, ux = x.area, uy = y.area, beta = 0.0;
     if (apart) {
@@ -1357,7 +1378,10 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
     if (st != RAD_OK)
         return st;
     int nch = channels(h, carry);
-    for (size_t i = 0; i < h->ncl; i++) {
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    /* each leaf adds to its own root element */
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
         const hier_clus *x = &h->cl[i];
         if (x->root < 0)
             continue;

@@ -64,6 +64,22 @@
 
 #include <omp.h>
 
+static int threads_of(const rad_hier *h)
+{
+    return h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+}
+
+/* The chunk of roots a thread takes at a time in the passes over the
+ * trees: one where the roots are few and their trees deep (a few input
+ * triangles refined far), many where they are many and mostly leaves (a
+ * scene of a million triangles, where handing them out one by one costs
+ * more than the work). */
+static int root_chunk(size_t roots, int threads)
+{
+    size_t c = roots / ((size_t)(threads > 0 ? threads : 1) * 64);
+    return c < 1 ? 1 : c > 4096 ? 4096 : (int)c;
+}
+
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
@@ -337,9 +353,10 @@ static rad_status fill_sources(rad_hier *h, int carry)
                       1024 * HIER_SRC))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' values", h->nel);
     hier_gather_touch(h, HIER_GATHER_SRC, h->nel * HIER_SRC * sizeof *h->src);
-    for (size_t e = 0; e < h->nel; e++) {
+#pragma omp parallel for schedule(static) num_threads(threads_of(h)) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
         const hier_elem *x = &h->el[e];
-        double *s = h->src + e * HIER_SRC;
+        double *s = h->src + (size_t)e * HIER_SRC;
         for (int c = 0; c < 3; c++) {
             s[c] = carry == CARRY_B ? x->B[c] : x->T[c];
             if (carry == CARRY_B) {
@@ -364,7 +381,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         carry == CARRY_B ? gather_link : gather_link_T;
     size_t lo = 0, hi = h->nroots;
     int split = hier_split_on(h);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = threads_of(h);
     rad_status st;
     if (split && (st = hier_split_plan(h)) != RAD_OK)
         return st;
@@ -385,7 +402,8 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
     if ((st = hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T)) != RAD_OK)
         return st;
     double ch = *change, vm = *vmax;
-#pragma omp parallel for schedule(dynamic, 1) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
+    int chunk = root_chunk(hi - lo, threads);
+#pragma omp parallel for schedule(dynamic, chunk) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
     for (long long t = (long long)lo; t < (long long)hi; t++)
         push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
     *change = ch;
@@ -398,9 +416,12 @@ rad_status rad_hier_step(rad_hier *h)
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    for (size_t t = 0; t < h->nroots; t++)
+    int threads = threads_of(h), chunk = root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
         pull_gradient(h, (int)t);
-    for (size_t e = 0; e < h->nel; e++)
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++)
         for (int c = 0; c < 3; c++) {
             h->el[e].Bg[c] = 0.0;
             h->el[e].Gg[c] = zero_v;
@@ -602,13 +623,16 @@ rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
     size_t n = h->nroots;
+    int threads = threads_of(h), chunk = root_chunk(n, threads);
     h->iter_err = iteration_error(h);
-    for (size_t t = 0; t < n; t++) {
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
+    for (long long t = 0; t < (long long)n; t++) {
         double lo[3], hi[3];
         pull_gradient(h, (int)t);
         spread(h, (int)t, lo, hi);
     }
-    for (size_t e = 0; e < h->nel; e++) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
         hier_elem *x = &h->el[e];
         for (int c = 0; c < 3; c++)
             x->q[c] = x->d[c] = x->dr[c] = 0.0;
@@ -635,7 +659,8 @@ rad_status hier_error_estimate(rad_hier *h)
     if (st != RAD_OK)
         return st;
     double zero[3] = {0, 0, 0};
-    for (size_t t = 0; t < n; t++)
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
+    for (long long t = 0; t < (long long)n; t++)
         push_local(h, (int)t, zero, zero, zero);
     /* the link terms bound the error of a leaf's irradiance before its cap:
        what a cap took off is charged to the leaf too */
@@ -649,7 +674,8 @@ rad_status hier_error_estimate(rad_hier *h)
     /* a leaf's local error is q + sqrt(d); T = q + rho K T, whose solution
        lies above q: start from q on the leaves, or from the last estimate's
        T where that is larger (a leaf made since has its parent's) */
-    for (size_t e = 0; e < h->nel; e++) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
         hier_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
@@ -662,7 +688,8 @@ rad_status hier_error_estimate(rad_hier *h)
     double last = 0.0;
     for (it = 0; it < h->p.max_iterations; it++) {
         rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
-        for (size_t e = 0; e < h->nel; e++)
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
+        for (long long e = 0; e < (long long)h->nel; e++)
             for (int c = 0; c < 3; c++) {
                 h->el[e].Tg[c] = 0.0;
                 h->el[e].TGg[c] = zv;

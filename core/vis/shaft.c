@@ -446,11 +446,19 @@ int rad_vis_pair_can_block(const rad_vis *vis, size_t i, size_t j)
 }
 
 /* The shaft walk of the pair of input triangles i and j (shaft_walk's
- * answer; 1, as for a possible blocker, for a bad pair). */
+ * answer; 1, as for a possible blocker, for a bad pair), from the lower
+ * index: the hull's planes are rounded differently from the two ends, and
+ * the pair's answer must not depend on which end asks (the pair table
+ * keeps one answer for both orders). */
 static int pair_walk(const rad_vis *vis, size_t i, size_t j, int kernel, int *out, int max)
 {
     if (!vis || i >= vis->ntris || j >= vis->ntris)
         return 1;
+    if (i > j) {
+        size_t k = i;
+        i = j;
+        j = k;
+    }
     rad_vec3 pts[6];
     for (int v = 0; v < 3; v++) {
         pts[v] = vis_vertex(vis, i, v);
