@@ -24,12 +24,12 @@ void hier_gather_touch(rad_hier *h, int k, size_t bytes)
 }
 
 /* What array k (cap bytes now) will add when it holds `bytes`: rebuilt
-   within its capacity it writes over the pages it has touched; past it, a
-   new block, counted whole (the old block, freed, may stay in the heap and
-   resident: glibc returns only blocks it mapped on their own). */
-static double pending(const rad_hier *h, int k, double bytes, double cap)
+   within its capacity it writes over the pages it has touched; past it,
+   rad_sys_grow frees the old block and hands its pages back before it
+   makes the new one, so again only what goes beyond them. */
+static double pending(const rad_hier *h, int k, double bytes)
 {
-    return bytes <= cap ? rad_dmax(0.0, bytes - h->gather_touched[k]) : bytes;
+    return rad_dmax(0.0, bytes - h->gather_touched[k]);
 }
 
 rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, size_t elems)
@@ -40,24 +40,17 @@ rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, siz
     double ne = (double)(h->nel + elems), word = sizeof(size_t);
     double add = (double)links * sizeof(hier_link) + (double)clinks * sizeof(hier_clink) +
                  (double)elems * sizeof(hier_elem) +
-                 pending(h, HIER_GATHER_INC, 2.0 * nl * sizeof(hier_end),
-                         (double)h->inc_cap * sizeof(hier_end)) +
-                 pending(h, HIER_GATHER_INC_START, (ne + 1.0) * word,
-                         (double)h->inc_start_cap * word) +
-                 pending(h, HIER_GATHER_SRC, ne * HIER_SRC * sizeof(double),
-                         (double)h->src_cap * sizeof(double));
+                 pending(h, HIER_GATHER_INC, 2.0 * nl * sizeof(hier_end)) +
+                 pending(h, HIER_GATHER_INC_START, (ne + 1.0) * word) +
+                 pending(h, HIER_GATHER_SRC, ne * HIER_SRC * sizeof(double));
     if (h->ncl)
-        add += pending(h, HIER_GATHER_CINC, 2.0 * ncl * sizeof(hier_cinc),
-                       (double)h->cinc_cap * sizeof(hier_cinc)) +
-               pending(h, HIER_GATHER_CINC_START, ((double)h->ncl + ne + 1.0) * word,
-                       (double)h->cinc_start_cap * word) +
-               pending(h, HIER_GATHER_CELEM, 8.0 * ne * sizeof(double),
-                       (double)h->celem_cap * sizeof(double)) +
+        add += pending(h, HIER_GATHER_CINC, 2.0 * ncl * sizeof(hier_cinc)) +
+               pending(h, HIER_GATHER_CINC_START, ((double)h->ncl + ne + 1.0) * word) +
+               pending(h, HIER_GATHER_CELEM, 8.0 * ne * sizeof(double)) +
                (double)h->ncl * sizeof(hier_cinc) +
                (h->p.cluster_model == RAD_HIER_CLUSTER_ISO
                     ? 0.0
-                    : pending(h, HIER_GATHER_CRECV, 3.0 * (double)h->nroots * sizeof(double),
-                              3.0 * (double)h->nroots * sizeof(double)));
+                    : pending(h, HIER_GATHER_CRECV, 3.0 * (double)h->nroots * sizeof(double)));
     double would, have;
     if (rad_sys_memory_allows(add, &would, &have))
         return RAD_OK;

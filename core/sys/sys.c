@@ -3,6 +3,7 @@
 
 #include <stdint.h>
 #include <stdio.h>
+#include <malloc.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -115,8 +116,16 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     if (c > SIZE_MAX / item)
         return 0;
     if (used == 0) {
-        /* nothing to keep: the old block goes before the new one comes */
+        /* nothing to keep: the old block goes before the new one comes, and
+           a large one's pages go back to the kernel (malloc_trim): glibc
+           keeps a freed heap block's pages resident, and whether a block of
+           some megabytes lies on its heap or in a mapping of its own
+           depends on what was freed before, so the same run's peak would
+           vary and the memory check (hier/memory.c) could not count on it */
+        int large = *cap * item >= RAD_SYS_HUGE_PAGE;
         free(*arr);
+        if (large)
+            malloc_trim(0);
         *arr = NULL;
         *cap = 0;
         void *n = rad_sys_alloc_huge(c * item);
