@@ -84,7 +84,7 @@ void *rad_sys_calloc_huge(size_t count, size_t size);
  * block in place where it can, moves a block it mapped on its own by
  * remapping its pages, and copies one it placed on its heap (the old and the
  * new block then held at once, the new one on 4 KB pages until the advice
- * below); with `used` 0 the old block is freed, a large one's pages handed
+ * below; a large old block's pages are then handed back to the kernel); with `used` 0 the old block is freed, a large one's pages handed
  * back to the kernel, before a new one comes from rad_sys_alloc_huge.
  * Large blocks are advised onto
  * transparent huge pages either way (free them with free()).  0 when the

@@ -138,9 +138,14 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     /* in place, remapped or copied: glibc's choice (rad_sys.h); a fresh
        block and a copy made here would be on huge pages, but held beside
        the old one every time, not only where realloc must copy */
+    uintptr_t was = (uintptr_t)*arr;
     void *n = realloc(*arr, c * item);
     if (!n)
         return 0;
+    /* a large block realloc copied leaves its old pages on the heap,
+       resident: handed back, as above */
+    if ((uintptr_t)n != was && *cap * item >= RAD_SYS_HUGE_PAGE)
+        malloc_trim(0);
     if (c * item >= RAD_SYS_HUGE_PAGE)
         advise_huge(n, c * item);
     *arr = n;
