@@ -519,7 +519,7 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     hier_clink *out = h->cln + h->ncln;
     unsigned long long rays = 0;
     const rad_hier *hc = h;
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
     /* shared among processes: a share each, then every slot everywhere (exchange.c) */
     size_t first, step;
     hier_share(h, &first, &step);
@@ -724,7 +724,7 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
  * oracle and the bound need the values too. */
 static void pull(rad_hier *h, int carry, int with_values)
 {
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (size_t k = 0; k < h->ncsub; k++)
         for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
@@ -814,7 +814,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
     signed char *dec = NULL;
     size_t capdec = 0;
     rad_status st = RAD_OK;
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
     if (target > 0.0)
         pull(h, CLUSTER_B, 1);
     size_t begin = 0, end = h->ncln;
@@ -1072,7 +1072,7 @@ static int fill_emitters(rad_hier *h, int carry)
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
         return 0;
     hier_gather_touch(h, HIER_GATHER_CELEM, 8 * h->nel * sizeof *h->celem);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
     for (size_t i = 0; i < h->nroots; i++) {
         const hier_elem *e = &h->el[h->corder[i]];
@@ -1186,7 +1186,7 @@ static int cluster_incidence(rad_hier *h)
     /* each thread writes the receivers of its share of the ends (whole
        receivers, so each keeps link order); start[r] runs ahead, then is
        restored */
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
 #pragma omp parallel num_threads(threads)
     {
         int t = omp_get_thread_num(), nt = omp_get_num_threads();
@@ -1305,7 +1305,7 @@ static void small_receive(rad_hier *h, int carry)
         receive_subtree(h, 0, carry);
         return;
     }
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncl > 4096)
     for (long long i = 0; i < (long long)h->ncl; i++) {
         const hier_clus *x = &h->cl[i];
@@ -1328,7 +1328,7 @@ static rad_status gather_links(rad_hier *h, int carry)
     if (!fill_emitters(h, carry) || !cluster_incidence(h))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
                          h->ncln);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
     int nch = channels(h, carry);
     const size_t *start = h->cinc_start;
     const hier_cinc *inc = h->cinc;
@@ -1378,7 +1378,7 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
     if (st != RAD_OK)
         return st;
     int nch = channels(h, carry);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
     /* each leaf adds to its own root element */
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
     for (long long i = 0; i < (long long)h->ncl; i++) {

@@ -342,6 +342,9 @@ void hier_split_roots(const rad_hier *h, size_t *lo, size_t *hi);
 rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *vmax);
 void hier_share_destroy(rad_hier *h);
 
+/* The threads a parallel pass uses: params.threads, or OpenMP's count. */
+int hier_threads(const rad_hier *h);
+
 /* ---- solve.c ---- */
 /* Every leaf's cap: its row sum (the form factors of the links over it, the
  * linear push included) scaled back to 1 where it exceeds 1.  Call after the

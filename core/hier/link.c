@@ -441,7 +441,7 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
     unsigned long long rays = 0;
     const rad_hier *hc = h;
     hier_link *out = h->ln + h->nln;
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+    int threads = hier_threads(h);
     /* shared among processes: this one estimates its share, then every
        process gets every slot and flag (exchange.c) */
     size_t first, step;

@@ -64,7 +64,7 @@
 
 #include <omp.h>
 
-static int threads_of(const rad_hier *h)
+int hier_threads(const rad_hier *h)
 {
     return h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 }
@@ -353,7 +353,7 @@ static rad_status fill_sources(rad_hier *h, int carry)
                       1024 * HIER_SRC))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements' values", h->nel);
     hier_gather_touch(h, HIER_GATHER_SRC, h->nel * HIER_SRC * sizeof *h->src);
-#pragma omp parallel for schedule(static) num_threads(threads_of(h)) if (h->nel > 65536)
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++) {
         const hier_elem *x = &h->el[e];
         double *s = h->src + (size_t)e * HIER_SRC;
@@ -381,7 +381,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         carry == CARRY_B ? gather_link : gather_link_T;
     size_t lo = 0, hi = h->nroots;
     int split = hier_split_on(h);
-    int threads = threads_of(h);
+    int threads = hier_threads(h);
     rad_status st;
     if (split && (st = hier_split_plan(h)) != RAD_OK)
         return st;
@@ -416,7 +416,7 @@ rad_status rad_hier_step(rad_hier *h)
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    int threads = threads_of(h), chunk = root_chunk(h->nroots, threads);
+    int threads = hier_threads(h), chunk = root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
         pull_gradient(h, (int)t);
@@ -623,7 +623,7 @@ rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
     size_t n = h->nroots;
-    int threads = threads_of(h), chunk = root_chunk(n, threads);
+    int threads = hier_threads(h), chunk = root_chunk(n, threads);
     h->iter_err = iteration_error(h);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++) {
