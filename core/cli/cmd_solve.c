@@ -24,7 +24,8 @@ static const char help_head[] =
     "                    [--ply out.ply]\n"
     "                    [--png out.png] [--image-size WxH] [--exposure X]\n"
     "                    [--stats stats.json] [--quiet]\n"
-    "                    [--solver-tol T] [--max-iter N] [--vis-strata K]\n"
+    "                    [--solver-tol T] [--max-iter N] [--anderson M]\n"
+    "                    [--vis-strata K]\n"
     "                    [scene options]\n"
     "\n"
     "Solve B = E + rho F B on the triangles of SCENE by Galerkin radiosity with\n"
@@ -116,6 +117,11 @@ static const char help_head[] =
     "                   reflected radiosity; given, T is the step change\n"
     "                   relative to the largest B)\n"
     "  --max-iter N     iterative solvers' sweep cap (default 10000)\n"
+    "  --anderson M     hier, cluster: each gather/push-pull step starts from the\n"
+    "                   mix of the last steps that best cancels their changes\n"
+    "                   (Anderson, over M of them, 0..8; default 4); 0: plain\n"
+    "                   Jacobi steps.  The stopping test and the answer are\n"
+    "                   each step's own, so only the number of steps changes\n"
     "  --refine K       split every triangle 1 -> 4, K times, before solving (default 0)\n"
     "  --basis B        dense, hier: the polynomial on each element, p0 (constant,\n"
     "                   the default), p1 (linear) or p2 (quadratic), discontinuous\n"
@@ -237,6 +243,7 @@ int solve_option_table(solve_options *o, cli_option *table)
         {"--min-area", &o->min_area, NULL, NULL},
         {"--max-tighten", &o->max_tighten, NULL, NULL},
         {"--clip-blockers", &o->clip_blockers, NULL, NULL},
+        {"--anderson", &o->anderson, NULL, NULL},
         {"--max-links", &o->max_links, NULL, NULL},
         {"--oracle", &o->oracle, NULL, NULL},
         {"--cluster-model", &o->cluster_model, NULL, NULL},

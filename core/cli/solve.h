@@ -17,7 +17,7 @@
 typedef struct solve_options {
     const char *scene, *method, *rule, *tol, *solver, *solver_tol, *max_iter, *refine;
     const char *threads, *out, *strata, *ply, *png, *size, *exposure, *stats;
-    const char *eps, *min_area, *max_tighten, *max_links, *clip_blockers, *oracle, *samples, *seed, *basis, *cluster_model;
+    const char *eps, *min_area, *max_tighten, *max_links, *clip_blockers, *anderson, *oracle, *samples, *seed, *basis, *cluster_model;
     int quiet, help, edges;
     cli_scene_options scene_opts;
 } solve_options;
@@ -26,7 +26,7 @@ typedef struct solve_options {
  * initialised, and table filled with the command's own options, the scene
  * options and the terminator; returns the entries before the terminator.
  * A table of SOLVE_OPTION_SLOTS holds them (radkit-mpi adds its own after). */
-enum { SOLVE_OWN_OPTIONS = 30, SOLVE_OPTION_SLOTS = SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1 };
+enum { SOLVE_OWN_OPTIONS = 31, SOLVE_OPTION_SLOTS = SOLVE_OWN_OPTIONS + CLI_SCENE_OPTION_COUNT + 1 };
 int solve_option_table(solve_options *o, cli_option *table);
 
 /* A number > lo; RAD_EINVAL naming the option otherwise. */

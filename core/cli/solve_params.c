@@ -41,7 +41,7 @@ static rad_status refuse_others(const solve_options *o, rad_solve_method method)
         {"--vis-strata", o->strata, "d"},   {"--eps", o->eps, "hc"},
         {"--min-area", o->min_area, "hc"},  {"--oracle", o->oracle, "h"},
         {"--max-tighten", o->max_tighten, "hc"}, {"--max-links", o->max_links, "hc"},
-        {"--clip-blockers", o->clip_blockers, "hc"},
+        {"--clip-blockers", o->clip_blockers, "hc"}, {"--anderson", o->anderson, "hc"},
         {"--samples", o->samples, "m"},     {"--seed", o->seed, "m"},
         {"--basis", o->basis, "dh"},        {"--cluster-model", o->cluster_model, "c"},
     };
@@ -135,6 +135,12 @@ static rad_status parse_hier(const solve_options *o, rad_solve_params *p)
                               &v)) != RAD_OK)
             return st;
         hp->clip_blockers = (int)v;
+    }
+    if (o->anderson) {
+        unsigned long long v;
+        if ((st = parse_count("--anderson", o->anderson, 0, RAD_HIER_ANDERSON_MAX, &v)) != RAD_OK)
+            return st;
+        hp->anderson = (int)v;
     }
     if (o->max_links) {
         unsigned long long v;

@@ -166,7 +166,26 @@ enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
  * ends, their receivers' starts, the sources' rows, the elements' emitters,
  * the small clusters' triangles' irradiance (memory.c counts them). */
 enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
-       HIER_GATHER_SRC, HIER_GATHER_CELEM, HIER_GATHER_CRECV, HIER_GATHER_ARRAYS };
+       HIER_GATHER_SRC, HIER_GATHER_CELEM, HIER_GATHER_CRECV, HIER_GATHER_ACCEL,
+       HIER_GATHER_ARRAYS };
+
+/* The history of accel.c's Anderson mixing of the solve's steps. */
+enum { HIER_ACCEL_MAX = RAD_HIER_ANDERSON_MAX, HIER_ACCEL_WARMUP = 8 };
+typedef struct hier_accel {
+    int on;                /* 1: mixing (from step HIER_ACCEL_WARMUP + 1 of a solve) */
+    int steps;             /* the steps of this solve so far */
+    int carry;             /* CARRY_B or CARRY_T */
+    int width;             /* doubles of a leaf's state (B and gB, or T) */
+    int depth, cols, next; /* columns held at most, held, and the ring's next slot */
+    int have_prev;         /* a step's output and residual are held (gp, fp) */
+    double best;           /* the smallest squared residual seen ... */
+    int stall;             /* ... and the steps since it fell */
+    double gram[HIER_ACCEL_MAX][HIER_ACCEL_MAX]; /* the residual differences' dot products */
+    int *leaf;             /* the leaves, in element order */
+    size_t n, leaf_cap;
+    double *buf;           /* accel.c's arrays */
+    size_t buf_cap;
+} hier_accel;
 
 struct rad_hier {
     rad_hier_params p;
@@ -255,6 +274,7 @@ struct rad_hier {
        what is resident of them, which a forecast of their next build
        subtracts (memory.c) */
     double gather_touched[HIER_GATHER_ARRAYS];
+    hier_accel acc;           /* accel.c's history, over the solve that is running */
     /* the point-value rules (link.c) */
     double rs[RAD_HIER_MAX_NODES], rt[RAD_HIER_MAX_NODES], rw[RAD_HIER_MAX_NODES];
     int nodes;
@@ -289,6 +309,16 @@ int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
  * exceeds the contact test's 1e-9 of the larger's longest edge, which no
  * sub-element pair can then meet); 1 when they may. */
 int hier_pair_may_touch(const rad_hier *h, int face_r, int face_s);
+
+/* ---- accel.c: Anderson mixing of the gather / push-pull steps ---- */
+/* Start a solve of carry (CARRY_B or CARRY_T) over the current leaves. */
+void hier_accel_begin(rad_hier *h, int carry);
+/* Before a step: note the state it starts from (mixing starts after
+ * HIER_ACCEL_WARMUP plain steps, where the machine has the memory). */
+rad_status hier_accel_save(rad_hier *h);
+/* After a step that did not meet its test: the next state to start from. */
+void hier_accel_mix(rad_hier *h);
+void hier_accel_destroy(rad_hier *h);
 
 /* ---- cluster.c ---- */
 /* Build the cluster hierarchy over the roots and its initial links (every
@@ -350,6 +380,8 @@ int hier_threads(const rad_hier *h);
  * linear push included) scaled back to 1 where it exceeds 1.  Call after the
  * links change. */
 rad_status hier_row_caps(rad_hier *h);
+/* A leaf's var from its gB (how far B strays from its mean at its corners). */
+void hier_leaf_var(hier_elem *x);
 /* Steps until the step change is at most tol relative to the largest B. */
 rad_status hier_solve_links(rad_hier *h, double tol);
 /* The local error bounds per leaf (q, d summed over the links at the leaf and

@@ -127,7 +127,7 @@ typedef struct rad_hier_exchange {
     int split_gather;     /* 1: share the gather too (see above); default 0 */
 } rad_hier_exchange;
 
-enum { RAD_HIER_CLIP_BLOCKERS_MAX = 256 };
+enum { RAD_HIER_CLIP_BLOCKERS_MAX = 256, RAD_HIER_ANDERSON_MAX = 8 };
 
 typedef struct rad_hier_params {
     rad_hier_oracle oracle; /* default RAD_HIER_ORACLE_ERROR */
@@ -166,6 +166,9 @@ typedef struct rad_hier_params {
                              radiosity in one step is <= tol x the largest leaf
                              radiosity; default 1e-10 */
     double bound_tol;     /* the same for the error transport T; default 1e-3 */
+    int anderson;         /* the steps of a solve are mixed (Anderson, accel.c) over the
+                             last `anderson` residual differences (at most 8); 0: plain
+                             Jacobi steps.  Default 4 */
     int max_iterations;   /* steps per solve before RAD_ENUMERIC; default 100000 */
     int max_rounds;       /* refinement rounds in rad_hier_solve; default 64 */
     double round_min;     /* a round that refines fewer than round_min x the links ends

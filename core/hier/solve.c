@@ -100,6 +100,13 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
         if (h->p.sealed && x->row0 > 0.0)
             g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
         x->gB[c] = rad_vec3_scale(g, r * x->cap);
+    }
+    hier_leaf_var(x);
+}
+
+void hier_leaf_var(hier_elem *x)
+{
+    for (int c = 0; c < 3; c++) {
         double v = 0.0;
         for (int i = 0; i < 3; i++)
             v = rad_dmax(v, fabs(rad_vec3_dot(x->gB[c], rad_vec3_sub(x->p[i], x->c))));
@@ -454,15 +461,17 @@ rad_status hier_solve_links(rad_hier *h, double tol)
     rad_status fits = hier_memory_check(h, 0, 0, 0); /* the gather's arrays, built below */
     if (fits != RAD_OK)
         return fits;
+    rad_status st;
+    hier_accel_begin(h, CARRY_B);
     for (int it = 0; it < h->p.max_iterations; it++) {
-        rad_status st = rad_hier_step(h);
-        if (st != RAD_OK)
+        if ((st = hier_accel_save(h)) != RAD_OK || (st = rad_hier_step(h)) != RAD_OK)
             return st;
         hier_working(h, "solving", (size_t)it + 1);
         if (h->last_change <= tol) {
             h->st.time_solve_s += rad_sys_seconds() - t0;
             return RAD_OK;
         }
+        hier_accel_mix(h);
     }
     return RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
                                    "(change %.3g > tol %.3g)", h->p.max_iterations,
@@ -686,7 +695,12 @@ rad_status hier_error_estimate(rad_hier *h)
     }
     int it;
     double last = 0.0;
+    hier_accel_begin(h, CARRY_T);
     for (it = 0; it < h->p.max_iterations; it++) {
+        if (it > 0)
+            hier_accel_mix(h);
+        if ((st = hier_accel_save(h)) != RAD_OK)
+            break;
         rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
         for (long long e = 0; e < (long long)h->nel; e++)

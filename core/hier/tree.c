@@ -58,6 +58,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->source_slope = 1;
     params->tol = 1e-10;
     params->bound_tol = 1e-3;
+    params->anderson = 4;
     params->max_iterations = 100000;
     params->max_rounds = 64;
     params->round_min = 1e-2;
@@ -88,6 +89,9 @@ rad_status rad_hier_params_check(const rad_hier_params *p)
     if (p->clip_blockers < 0 || p->clip_blockers > RAD_HIER_CLIP_BLOCKERS_MAX)
         return RAD_ERROR(RAD_EINVAL, "hier: clip_blockers must lie in 0..%d (got %d)",
                          RAD_HIER_CLIP_BLOCKERS_MAX, p->clip_blockers);
+    if (p->anderson < 0 || p->anderson > HIER_ACCEL_MAX)
+        return RAD_ERROR(RAD_EINVAL, "hier: anderson must lie in 0..%d (got %d)", HIER_ACCEL_MAX,
+                         p->anderson);
     if (!(p->tol > 0.0) || !isfinite(p->tol) || !(p->bound_tol > 0.0) || !isfinite(p->bound_tol))
         return RAD_ERROR(RAD_EINVAL, "hier: tol and bound_tol must be finite numbers > 0");
     if (p->max_iterations < 1 || p->max_rounds < 0)
@@ -354,6 +358,7 @@ void rad_hier_destroy(rad_hier *h)
     free(h->inc_start);
     free(h->inc);
     free(h->src);
+    hier_accel_destroy(h);
     free(h);
 }
 
