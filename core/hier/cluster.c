@@ -937,7 +937,7 @@ rad_status hier_cluster_create(rad_hier *h)
     if ((st = rad_cluster_build(xyz, 3 * n, tri, n, 1, &tree)) != RAD_OK)
         goto done;
     h->ncl = rad_cluster_node_count(tree);
-    /* on huge pages: the nodes alone are about 1.5 kB a triangle, and a
+    /* on huge pages: the nodes alone are about 1 kB a triangle, and a
        4 KB page's first touch is a fault.  crecv stays calloc's: the
        solve writes it first, and the memory check counts its pages from
        then (memory.c) */
@@ -950,7 +950,8 @@ rad_status hier_cluster_create(rad_hier *h)
     for (size_t i = 0; h->cl && i < h->ncl; i++)
         h->cl[i].mom = reads_moments(h, nd[i].count) ? (int)nmom++ : -1;
     h->cmom = rad_sys_alloc_huge(3 * (nmom ? nmom : 1) * sizeof *h->cmom);
-    if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom) {
+    h->cgot = rad_sys_alloc_huge(3 * (nmom ? nmom : 1) * sizeof *h->cgot);
+    if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom || !h->cgot) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
@@ -1044,6 +1045,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->crecv);
     free(h->celem);
     free(h->cmom);
+    free(h->cgot);
     free(h->cinc_start);
     free(h->cinc);
 }
@@ -1220,6 +1222,14 @@ static int cluster_incidence(rad_hier *h)
     return 1;
 }
 
+/* What cluster id gathers into (its channels' rows of cgot): a cluster
+ * that reads moments (hier_clus.mom), which is every cluster that does not
+ * receive triangle by triangle. */
+static hier_dir *got(const rad_hier *h, int id)
+{
+    return h->cgot + 3 * (size_t)h->cl[id].mom;
+}
+
 /* Receiving end `end` takes v (the channels carried) from direction dir. */
 static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double v[3])
 {
@@ -1234,9 +1244,9 @@ static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double 
     }
     for (int c = 0; c < nch; c++) {
         if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
-            h->cl[end].g[c].C += 0.25 * v[c];
+            got(h, end)[c].C += 0.25 * v[c];
         else
-            dir_add(&h->cl[end].g[c], v[c], dir);
+            dir_add(&got(h, end)[c], v[c], dir);
     }
 }
 
@@ -1259,7 +1269,7 @@ static void push_node(rad_hier *h, size_t i, int nch)
     for (int k = 0; k < 2; k++)
         if (!receives_exactly(h, x->child[k]))
             for (int c = 0; c < nch; c++)
-                dir_sum(&h->cl[x->child[k]].g[c], &x->g[c]);
+                dir_sum(&got(h, x->child[k])[c], &got(h, (int)i)[c]);
 }
 
 /* What the links of the clusters above leaf x brought it (the directions'
@@ -1267,8 +1277,8 @@ static void push_node(rad_hier *h, size_t i, int nch)
 static const hier_dir *pushed_to(const rad_hier *h, const hier_clus *x, int c)
 {
     if (!receives_exactly(h, (int)(x - h->cl)))
-        return &x->g[c];
-    return x->above >= 0 ? &h->cl[x->above].g[c] : NULL;
+        return &got(h, (int)(x - h->cl))[c];
+    return x->above >= 0 ? &got(h, x->above)[c] : NULL;
 }
 
 /* The links of the small clusters of subtree `top` (a small cluster whose
@@ -1338,7 +1348,7 @@ static rad_status gather_links(rad_hier *h, int carry)
         if (end >= 0) {
             if (receives_exactly(h, end))
                 continue; /* small_receive */
-            memset(h->cl[end].g, 0, sizeof h->cl[end].g);
+            memset(got(h, end), 0, 3 * sizeof *h->cgot);
         }
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];

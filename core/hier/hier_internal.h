@@ -96,8 +96,9 @@ typedef struct hier_clus {
     int child[2];          /* -1 for a leaf */
     int root;              /* a leaf's input triangle (its root element), else -1 */
     int first, count;      /* its triangles: rad_cluster_order()[first .. first + count) */
-    int mom;               /* its row of cmom, or -1 where a gather reads its
-                              triangles instead (a small cluster, oriented) */
+    int mom;               /* its row of cmom and cgot, or -1 where a gather reads
+                              its triangles instead and they receive one by one
+                              (a small cluster, oriented) */
     int above;             /* a small cluster's (oriented) nearest ancestor that
                               is not small, whose g its triangles receive (-1:
                               none); its own g is never written */
@@ -106,8 +107,6 @@ typedef struct hier_clus {
     double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
                               element's B strays from it */
     double Hlo[3], Hhi[3]; /* the range of its leaves' irradiance (B - E) / rho */
-    hier_dir g[3];         /* gathered by its own links (B, T or 1, as carried),
-                              with what its ancestors pushed down */
     hier_dir geo;          /* the same of its areas: projected areas */
     double q[3], qb[3];    /* the errors e of F of its links (and ancestors'), summed,
                               and summed times their sources' B ... */
@@ -246,6 +245,11 @@ struct rad_hier {
        out of hier_clus so that the gather reads them from one short row,
        and only for the clusters whose gather reads them (hier_clus.mom) */
     hier_dir *cmom;
+    /* what each cluster with a row of cmom gathered by its own links (B, T
+       or 1, as carried; its channels' hier_dir each), with what its
+       ancestors pushed down: a small cluster's triangles receive their own
+       share instead (crecv), so only the others have a row */
+    hier_dir *cgot;
     /* each receiving end's cluster-link ends, in link order: clusters
        0 .. ncl - 1, then the elements (cluster.c's parallel gather); built
        for cinc_version == cln_version and cinc_nel == nel */
