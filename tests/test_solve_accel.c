@@ -105,16 +105,11 @@ TEST(anderson_reaches_the_same_fixed_point)
 TEST(anderson_bad_values_are_refused)
 {
     const char *scene = harness_path("scenes/furnace_room/room_box.obj");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "hier", "--anderson",
-                                                         "9", NULL},
-                               "--anderson");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "cluster",
-                                                         "--anderson", "-1", NULL},
-                               "--anderson");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "hier", "--anderson",
-                                                         "two", NULL},
-                               "--anderson");
-    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "dense",
-                                                         "--anderson", "2", NULL},
-                               "--anderson");
+    const struct {
+        const char *method, *value;
+    } bad[] = {{"hier", "9"}, {"cluster", "-1"}, {"hier", "two"}, {"dense", "2"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+        HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", bad[k].method,
+                                                             "--anderson", bad[k].value, NULL},
+                                   "--anderson");
 }

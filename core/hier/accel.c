@@ -88,26 +88,15 @@ static void set_state(hier_elem *x, int carry, const double *s)
     hier_leaf_var(x);
 }
 
-/* An inner element's value: its children's area-weighted mean (push_pull's). */
+/* The inner elements under e take their children's area-weighted mean, as
+ * push-pull makes them. */
 static void pull_means(rad_hier *h, int e, int carry)
 {
-    hier_elem *x = &h->el[e];
-    if (x->first_child < 0)
+    if (h->el[e].first_child < 0)
         return;
-    double sum[3] = {0, 0, 0}, area = 0.0;
-    for (int k = 0; k < 4; k++) {
-        int ch = h->el[e].first_child + k;
-        pull_means(h, ch, carry);
-        const hier_elem *y = &h->el[ch];
-        const double *v = carry == CARRY_B ? y->B : y->T;
-        area += y->area;
-        for (int c = 0; c < 3; c++)
-            sum[c] += y->area * v[c];
-    }
-    x = &h->el[e];
-    double *v = carry == CARRY_B ? x->B : x->T;
-    for (int c = 0; c < 3; c++)
-        v[c] = area > 0.0 ? sum[c] / area : 0.0;
+    for (int k = 0; k < 4; k++)
+        pull_means(h, h->el[e].first_child + k, carry);
+    hier_children_mean(h, e, carry);
 }
 
 void hier_accel_begin(rad_hier *h, int carry)

@@ -384,6 +384,8 @@ int hier_threads(const rad_hier *h);
  * linear push included) scaled back to 1 where it exceeds 1.  Call after the
  * links change. */
 rad_status hier_row_caps(rad_hier *h);
+/* Inner element e's B (carry CARRY_B) or T: its children's area-weighted mean. */
+void hier_children_mean(rad_hier *h, int e, int carry);
 /* A leaf's var from its gB (how far B strays from its mean at its corners). */
 void hier_leaf_var(hier_elem *x);
 /* Steps until the step change is at most tol relative to the largest B. */

@@ -149,7 +149,6 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
             leaf_T(h, x, tot0, change, vmax);
         return;
     }
-    double sum[3] = {0, 0, 0}, area = 0.0;
     for (int k = 0; k < 4; k++) {
         int ch = h->el[e].first_child + k;
         double d0[3];
@@ -157,14 +156,21 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
         for (int c = 0; c < 3; c++)
             d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
         push_pull(h, ch, carry, d0, totg, change, vmax);
-        const hier_elem *y = &h->el[ch];
+    }
+    hier_children_mean(h, e, carry);
+}
+
+void hier_children_mean(rad_hier *h, int e, int carry)
+{
+    double sum[3] = {0, 0, 0}, area = 0.0;
+    for (int k = 0; k < 4; k++) {
+        const hier_elem *y = &h->el[h->el[e].first_child + k];
         const double *v = carry == CARRY_B ? y->B : y->T;
         area += y->area;
         for (int c = 0; c < 3; c++)
             sum[c] += y->area * v[c];
     }
-    x = &h->el[e];
-    double *v = carry == CARRY_B ? x->B : x->T;
+    double *v = carry == CARRY_B ? h->el[e].B : h->el[e].T;
     for (int c = 0; c < 3; c++)
         v[c] = area > 0.0 ? sum[c] / area : 0.0;
 }
