@@ -55,6 +55,7 @@
  * their trees, and exchanges the elements' new values. */
 #include "hier_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -541,9 +542,18 @@ static double fixed_point_tail(const rad_hier *h, double delta)
     return q < 1.0 ? delta * q / (1.0 - q) : 0.0;
 }
 
+/* What the last solve leaves of B's fixed point: the tail of its last
+ * step's change, and the rounding of a step, taken as 64 ulps of the
+ * largest B, carried through the bounces (a solve whose steps are mixed
+ * reaches the fixed point of the floating-point map, whose distance from
+ * the exact one its changes do not show). */
 static double iteration_error(const rad_hier *h)
 {
-    return h->stepped ? fixed_point_tail(h, h->last_change * h->last_bmax) : 0.0;
+    if (!h->stepped)
+        return 0.0;
+    double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    double rounding = q < 1.0 ? 64.0 * DBL_EPSILON * h->last_bmax / (1.0 - q) : 0.0;
+    return fixed_point_tail(h, h->last_change * h->last_bmax) + rounding;
 }
 
 /* Push the local errors down: a leaf's q and d become the sums over the
