@@ -112,4 +112,8 @@ TEST(anderson_bad_values_are_refused)
         HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", bad[k].method,
                                                              "--anderson", bad[k].value, NULL},
                                    "--anderson");
+    /* p1 and p2 solve by plain steps: the option is refused, not ignored */
+    HARNESS_EXPECT_USAGE_ERROR("solve", (const char *[]){scene, "--method", "hier", "--basis", "p1",
+                                                         "--anderson", "2", NULL},
+                               "--anderson");
 }

@@ -196,6 +196,12 @@ rad_status solve_parse_params(const solve_options *o, const rad_effects_params *
         return st;
     if (o->basis && rad_basis_parse(o->basis, &p->basis) != RAD_OK)
         return RAD_ERROR(RAD_EINVAL, "solve: --basis must be p0, p1 or p2, got '%s'", o->basis);
+    /* hierp's steps stay plain: a mixed solve could settle on the fixed
+       point of a mode its quadrature leaves non-contracting, which its
+       solve finds by the change that stalls (hierp/solve.c) */
+    if (o->anderson && p->basis > 0)
+        return RAD_ERROR(RAD_EINVAL, "solve: --anderson applies to --basis p0 only (p%d's "
+                                     "steps are plain Jacobi)", p->basis);
     p->display = o->ply || o->png;
     p->edges = o->edges;
     return RAD_OK;

@@ -30,10 +30,10 @@
  * that has not fallen below it in 2 depth + 1 steps (noise at the rounding
  * level, where T of a furnace lies) ends the mixing: plain steps contract
  * from any state.  A mixed
- * state is projected onto what the fixed point satisfies, B >= 0 and
- * T >= q: the gather of a large cluster brackets its intensity with a
- * square root of moments that are non-negative only then, and a mixed T
- * below its local error would leave that bracket with a negative one.
+ * state is projected onto the set the fixed point lies in, B >= 0 and
+ * T >= q (T = q + rho K T with K >= 0): a large cluster's gather brackets
+ * its intensity with the square root of moments of what it carries, real
+ * only where those values are non-negative.
  * Mixing starts after HIER_ACCEL_WARMUP plain steps: most solves between
  * refinement rounds end before (each step shrinking the change two- or
  * threefold), and their history would cost memory (about 600 bytes a
@@ -115,7 +115,7 @@ static rad_status start(rad_hier *h)
     size_t n = 0;
     for (size_t e = 0; e < h->nel; e++)
         n += h->el[e].first_child < 0;
-    a->depth = h->p.anderson > HIER_ACCEL_MAX ? HIER_ACCEL_MAX : h->p.anderson;
+    a->depth = h->p.anderson; /* at most HIER_ACCEL_MAX: rad_hier_params_check */
     size_t per = accel_doubles(a->carry, a->depth);
     double bytes = (double)n * (double)per * sizeof *a->buf;
     double more = rad_dmax(0.0, bytes - h->gather_touched[HIER_GATHER_ACCEL]), would, have;
@@ -324,7 +324,7 @@ void hier_accel_mix(rad_hier *h)
         }
         set_state(&h->el[a->leaf[i]], a->carry, s);
     }
-    int chunk = (int)(h->nroots / ((size_t)threads * 64 + 1)) + 1;
+    int chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
         pull_means(h, (int)t, a->carry);

@@ -378,6 +378,12 @@ void hier_share_destroy(rad_hier *h);
 
 /* The threads a parallel pass uses: params.threads, or OpenMP's count. */
 int hier_threads(const rad_hier *h);
+/* The chunk of roots a thread takes at a time in the passes over the
+ * trees: one where the roots are few and their trees deep (a few input
+ * triangles refined far), many where they are many and mostly leaves (a
+ * scene of a million triangles, where handing them out one by one costs
+ * more than the work). */
+int hier_root_chunk(size_t roots, int threads);
 
 /* ---- solve.c ---- */
 /* Every leaf's cap: its row sum (the form factors of the links over it, the

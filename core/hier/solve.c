@@ -70,12 +70,7 @@ int hier_threads(const rad_hier *h)
     return h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
 }
 
-/* The chunk of roots a thread takes at a time in the passes over the
- * trees: one where the roots are few and their trees deep (a few input
- * triangles refined far), many where they are many and mostly leaves (a
- * scene of a million triangles, where handing them out one by one costs
- * more than the work). */
-static int root_chunk(size_t roots, int threads)
+int hier_root_chunk(size_t roots, int threads)
 {
     size_t c = roots / ((size_t)(threads > 0 ? threads : 1) * 64);
     return c < 1 ? 1 : c > 4096 ? 4096 : (int)c;
@@ -416,7 +411,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
     if ((st = hier_cluster_gather(h, carry == CARRY_B ? CLUSTER_B : CLUSTER_T)) != RAD_OK)
         return st;
     double ch = *change, vm = *vmax;
-    int chunk = root_chunk(hi - lo, threads);
+    int chunk = hier_root_chunk(hi - lo, threads);
 #pragma omp parallel for schedule(dynamic, chunk) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
     for (long long t = (long long)lo; t < (long long)hi; t++)
         push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
@@ -430,7 +425,7 @@ rad_status rad_hier_step(rad_hier *h)
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    int threads = hier_threads(h), chunk = root_chunk(h->nroots, threads);
+    int threads = hier_threads(h), chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
         pull_gradient(h, (int)t);
@@ -648,7 +643,7 @@ rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
     size_t n = h->nroots;
-    int threads = hier_threads(h), chunk = root_chunk(n, threads);
+    int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
     h->iter_err = iteration_error(h);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++) {

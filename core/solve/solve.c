@@ -664,7 +664,8 @@ static void hier_figures(rad_solution *s)
     s->links = (long long)s->hier.links;
     s->rays = s->hier.rays;
     s->kernel_evals = s->hier.kernel_evals;
-    s->solver_name = s->used.hier.anderson > 0 ? "anderson-push-pull" : "jacobi-push-pull";
+    s->solver_name = s->used.hier.anderson > 0 && s->used.basis == 0 ? "anderson-push-pull"
+                                                                      : "jacobi-push-pull";
     s->solver_iterations = s->hier.iterations;
     s->solver_residual = s->hier.residual;
     s->systems = 3;
