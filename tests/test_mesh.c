@@ -100,7 +100,10 @@ TEST(mesh_cube_adjacency_matches_hand_count)
     }
     CHECK(info.closed == 1 && info.components == 1 && info.closed_components == 1);
     CHECK(info.convex_inside == 1);
-    CHECK(info.surface_mesh == 1 && info.surface_mesh_closed == 1 && info.surface_mesh_components == 1);
+    rad_mesh_surface_check sc;
+    CHECK(rad_mesh_check_surface(m, &sc) == RAD_OK);
+    CHECK(sc.surface_mesh == 1 && sc.closed == 1 && sc.components == 1);
+    CHECK(rad_mesh_check_surface(NULL, &sc) == RAD_EINVAL);
     CHECK(rad_mesh_component_closed(m, 0) == 1 && rad_mesh_component_convex(m, 0) == 1);
     CHECK(rad_mesh_component_closed(m, 1) == -1);
     rad_mesh_destroy(m);
@@ -414,7 +417,9 @@ TEST(mesh_barrier_maps_exceptions_to_status)
     CHECK(rad_mesh_create(fan, 5, tri, 3, NULL, &m) == RAD_OK);
     rad_mesh_info info;
     rad_mesh_get_info(m, &info);
-    CHECK(info.nonmanifold_edges == 1 && info.surface_mesh == 0 && info.closed == 0);
+    rad_mesh_surface_check sc;
+    CHECK(rad_mesh_check_surface(m, &sc) == RAD_OK);
+    CHECK(info.nonmanifold_edges == 1 && sc.surface_mesh == 0 && sc.closed == -1 && info.closed == 0);
     CHECK(info.pairs_edge == 3);
     rad_mesh_destroy(m);
 }

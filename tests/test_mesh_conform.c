@@ -422,7 +422,9 @@ TEST(conform_tetrahedron_mixed_depths_is_closed)
             rad_mesh_get_info(mesh, &info);
             CHECK(info.components == 1);
             CHECK(rad_mesh_component_closed(mesh, 0) == 1);
-            CHECK(info.closed == 1 && info.surface_mesh_closed == 1);
+            rad_mesh_surface_check sc;
+            CHECK(rad_mesh_check_surface(mesh, &sc) == RAD_OK);
+            CHECK(info.closed == 1 && sc.closed == 1);
         }
         rad_mesh_destroy(mesh);
     }

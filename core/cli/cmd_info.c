@@ -144,7 +144,11 @@ int cli_info(int argc, char **argv)
     printf("# pairs_shared_edge = %d\n# pairs_shared_edge_coplanar = %d\n"
            "# pairs_shared_vertex = %d\n# pairs_shared_vertex_coplanar = %d\n",
            info.pairs_edge, info.pairs_edge_coplanar, info.pairs_vertex, info.pairs_vertex_coplanar);
-    printf("# surface_mesh = %s\n", info.surface_mesh ? "yes" : "no (not a manifold polygon mesh)");
+    rad_mesh_surface_check sc;
+    if (rad_mesh_check_surface(mesh, &sc) == RAD_OK)
+        printf("# surface_mesh = %s\n", sc.surface_mesh ? "yes" : "no (not a manifold polygon mesh)");
+    else
+        printf("# surface_mesh = unknown (%s)\n", rad_error_message());
     printf("# pairs_total = %lld\n# pairs_facing_away = %lld\n# pairs_singular = %d\n",
            plan.pairs_total, plan.pairs_facing_away, plan.pairs_singular);
     const rad_effect_decision *dec[RAD_EFFECT_COUNT];

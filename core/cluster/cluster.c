@@ -2,12 +2,16 @@
  * split at the plane that cuts the fewest triangles, nearest the median.
  * Nodes are made depth-first (a node's left subtree directly follows it),
  * keys sorted with ties broken by triangle index, so the tree depends on the
- * input alone. */
+ * input alone.  The triangles are sorted once, per axis, by centroid and by
+ * each end of their boxes (a stable radix sort), and each split partitions
+ * those nine orders stably: every node finds its triangles already sorted,
+ * and the build costs O(n log n), not a sort per node. */
 #include "rad_cluster.h"
 
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "rad_geom.h"
@@ -18,7 +22,6 @@ struct rad_cluster_tree {
     size_t nnodes, cap;
     int *order;
     int max_depth;
-    double *ends; /* while building: split_at's box ends, two per triangle */
 };
 
 typedef struct tri_info {
@@ -32,12 +35,41 @@ typedef struct keyed {
     int tri;
 } keyed;
 
-static int by_key(const void *a, const void *b)
+/* An order-preserving image of a finite double as an unsigned integer
+ * (-0 taken as +0, which compares equal to it). */
+static uint64_t sortable(double x)
 {
-    const keyed *x = a, *y = b;
-    if (x->key != y->key)
-        return x->key < y->key ? -1 : 1;
-    return (x->tri > y->tri) - (x->tri < y->tri);
+    uint64_t u;
+    x += 0.0;
+    memcpy(&u, &x, sizeof u);
+    return u >> 63 ? ~u : u | (uint64_t)1 << 63;
+}
+
+/* Sort a[0..n) by key, stably (least significant 16 bits first), using tmp
+ * (n entries): entries in triangle order come out sorted by (key, tri). */
+static int sort_keyed(keyed *a, keyed *tmp, size_t n)
+{
+    size_t *count = malloc(65536 * sizeof *count);
+    if (!count)
+        return 0;
+    for (int shift = 0; shift < 64; shift += 16) {
+        memset(count, 0, 65536 * sizeof *count);
+        for (size_t i = 0; i < n; i++)
+            count[(sortable(a[i].key) >> shift) & 0xffff]++;
+        size_t sum = 0;
+        for (size_t d = 0; d < 65536; d++) {
+            size_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++)
+            tmp[count[(sortable(a[i].key) >> shift) & 0xffff]++] = a[i];
+        keyed *swap = a;
+        a = tmp;
+        tmp = swap;
+    }
+    free(count); /* four passes: the sorted entries are back in a */
+    return 1;
 }
 
 static double axis_of(rad_vec3 v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
@@ -77,41 +109,30 @@ static void summarize(rad_cluster_node *nd, const tri_info *ti, const int *order
     }
 }
 
-static int by_value(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Where to split count triangles sorted by centroid along axis (order, key):
- * at the plane between two consecutive centroids that cuts the fewest
- * triangles, the one nearest the median among those, within the middle
- * three quarters (SPLIT_SHARE: each side keeps at least an eighth, so the
- * depth stays within log_{8/7} n).  A plane that cuts none leaves the
- * sides' boxes apart; one that cuts only a room's walls keeps the objects
- * between them whole.  The median where no plane separates two centroids
- * or memory is short (lo, room for 2 count box ends, NULL). */
+/* Where to split count triangles sorted by centroid along axis (cen: their
+ * order; lo and hi: the same triangles ordered by their boxes' ends): at the
+ * plane between two consecutive centroids that cuts the fewest triangles,
+ * the one nearest the median among those, within the middle three quarters
+ * (SPLIT_SHARE: each side keeps at least an eighth, so the depth stays
+ * within log_{8/7} n).  A plane that cuts none leaves the sides' boxes
+ * apart; one that cuts only a room's walls keeps the objects between them
+ * whole.  The median where no plane separates two centroids. */
 enum { SPLIT_SHARE = 8 };
-static int split_at(const tri_info *ti, const keyed *key, int count, int axis, double *lo)
+static int split_at(const tri_info *ti, const int *cen, const int *lo, const int *hi, int count,
+                    int axis)
 {
     int half = count / 2, first = count / SPLIT_SHARE, last = count - count / SPLIT_SHARE;
-    if (first < 1 || !lo)
+    if (first < 1)
         return half;
-    double *hi = lo + count;
-    for (int i = 0; i < count; i++) {
-        lo[i] = ti[key[i].tri].lo[axis];
-        hi[i] = ti[key[i].tri].hi[axis];
-    }
-    qsort(lo, (size_t)count, sizeof *lo, by_value);
-    qsort(hi, (size_t)count, sizeof *hi, by_value);
     int best = -1, best_cut = INT_MAX, nlo = 0, nhi = 0;
     for (int i = first; i <= last; i++) {
-        if (!(key[i - 1].key < key[i].key))
+        double before = axis_of(ti[cen[i - 1]].c, axis), at = axis_of(ti[cen[i]].c, axis);
+        if (!(before < at))
             continue;
-        double plane = 0.5 * (key[i - 1].key + key[i].key);
-        while (nlo < count && lo[nlo] < plane)
+        double plane = 0.5 * (before + at);
+        while (nlo < count && ti[lo[nlo]].lo[axis] < plane)
             nlo++;
-        while (nhi < count && hi[nhi] <= plane)
+        while (nhi < count && ti[hi[nhi]].hi[axis] <= plane)
             nhi++;
         int cut = nlo - nhi; /* lo < plane < hi */
         if (cut < best_cut || (cut == best_cut && abs(i - half) < abs(best - half))) {
@@ -122,6 +143,61 @@ static int split_at(const tri_info *ti, const keyed *key, int count, int axis, d
     return best > 0 ? best : half;
 }
 
+/* The builder's state: ord[3 k + a] holds the triangles ordered along axis a
+ * by centroid (k = 0), by their boxes' low end (1) and high end (2), each
+ * node's triangles a contiguous range of each; left marks the side of a
+ * split, tmp its partition's buffer. */
+enum { ORDERS = 9 };
+typedef struct build_ctx {
+    rad_cluster_tree *t;
+    const tri_info *ti;
+    int *ord[ORDERS];
+    int *tmp;
+    unsigned char *left;
+    int leaf_size;
+} build_ctx;
+
+/* Sort the nine orders (ties by triangle index); 0 when out of memory. */
+static int sort_orders(build_ctx *bc, size_t n)
+{
+    keyed *a = malloc(2 * n * sizeof *a);
+    if (!a)
+        return 0;
+    int ok = 1;
+    for (int o = 0; o < ORDERS && ok; o++) {
+        int kind = o / 3, axis = o % 3;
+        for (size_t i = 0; i < n; i++) {
+            const tri_info *x = &bc->ti[i];
+            a[i].key = kind == 0 ? axis_of(x->c, axis) : kind == 1 ? x->lo[axis] : x->hi[axis];
+            a[i].tri = (int)i;
+        }
+        ok = sort_keyed(a, a + n, n);
+        for (size_t i = 0; ok && i < n; i++)
+            bc->ord[o][i] = a[i].tri;
+    }
+    free(a);
+    return ok;
+}
+
+/* Partition each order's range [first, first + count) stably into the
+ * triangles marked left, then the others (the split axis's centroid order,
+ * skip, is already). */
+static void partition(build_ctx *bc, int first, int count, int skip)
+{
+    for (int o = 0; o < ORDERS; o++) {
+        if (o == skip)
+            continue;
+        int *r = bc->ord[o] + first, nl = 0, nr = 0;
+        for (int i = 0; i < count; i++) {
+            if (bc->left[r[i]])
+                r[nl++] = r[i];
+            else
+                bc->tmp[nr++] = r[i];
+        }
+        memcpy(r + nl, bc->tmp, (size_t)nr * sizeof *r);
+    }
+}
+
 static rad_status add_node(rad_cluster_tree *t, int *index)
 {
     if (!rad_sys_grow((void **)&t->node, &t->cap, t->nnodes, t->nnodes + 1, sizeof *t->node, 64))
@@ -130,16 +206,22 @@ static rad_status add_node(rad_cluster_tree *t, int *index)
     return RAD_OK;
 }
 
-static rad_status build(rad_cluster_tree *t, const tri_info *ti, keyed *scratch, int first,
-                        int count, int parent, int depth, int leaf_size, int *out)
+/* Node for the triangles [first, first + count) of every order; they are
+ * summed in the order their parent split them (by (from) = the centroid
+ * order along its axis; the input order at the root), as sorting them there
+ * left them. */
+static rad_status build(build_ctx *bc, const int *by, int first, int count, int parent, int depth,
+                        int *out)
 {
+    rad_cluster_tree *t = bc->t;
+    const tri_info *ti = bc->ti;
     int k = -1;
     rad_status st = add_node(t, &k);
     if (st != RAD_OK)
         return st;
     *out = k;
     rad_cluster_node *nd = &t->node[k];
-    summarize(nd, ti, t->order, first, count);
+    summarize(nd, ti, by, first, count);
     nd->first = first;
     nd->count = count;
     nd->parent = parent;
@@ -147,31 +229,29 @@ static rad_status build(rad_cluster_tree *t, const tri_info *ti, keyed *scratch,
     nd->child[0] = nd->child[1] = -1;
     if (depth > t->max_depth)
         t->max_depth = depth;
-    if (count <= leaf_size)
+    if (count <= bc->leaf_size) {
+        if (by != t->order)
+            memcpy(t->order + first, by + first, (size_t)count * sizeof *t->order);
         return RAD_OK;
-    /* the longest axis of the centroids' box, then the median centroid */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = first; i < first + count; i++)
-        for (int a = 0; a < 3; a++) {
-            double v = axis_of(ti[t->order[i]].c, a);
-            lo[a] = rad_dmin(lo[a], v);
-            hi[a] = rad_dmax(hi[a], v);
-        }
-    int axis = 0;
-    for (int a = 1; a < 3; a++)
-        if (hi[a] - lo[a] > hi[axis] - lo[axis])
-            axis = a;
-    for (int i = 0; i < count; i++) {
-        int tr = t->order[first + i];
-        scratch[i] = (keyed){axis_of(ti[tr].c, axis), tr};
     }
-    qsort(scratch, (size_t)count, sizeof *scratch, by_key);
+    /* the longest axis of the centroids' box, then the median centroid */
+    int axis = 0;
+    double extent[3];
+    for (int a = 0; a < 3; a++) {
+        const int *c = bc->ord[a] + first;
+        extent[a] = axis_of(ti[c[count - 1]].c, a) - axis_of(ti[c[0]].c, a);
+    }
+    for (int a = 1; a < 3; a++)
+        if (extent[a] > extent[axis])
+            axis = a;
+    const int *cen = bc->ord[axis] + first;
+    int half = split_at(ti, cen, bc->ord[3 + axis] + first, bc->ord[6 + axis] + first, count, axis),
+        left, right;
     for (int i = 0; i < count; i++)
-        t->order[first + i] = scratch[i].tri;
-    int half = split_at(ti, scratch, count, axis, t->ends), left, right;
-    if ((st = build(t, ti, scratch, first, half, k, depth + 1, leaf_size, &left)) != RAD_OK ||
-        (st = build(t, ti, scratch, first + half, count - half, k, depth + 1, leaf_size,
-                    &right)) != RAD_OK)
+        bc->left[cen[i]] = i < half;
+    partition(bc, first, count, axis);
+    if ((st = build(bc, bc->ord[axis], first, half, k, depth + 1, &left)) != RAD_OK ||
+        (st = build(bc, bc->ord[axis], first + half, count - half, k, depth + 1, &right)) != RAD_OK)
         return st;
     t->node[k].child[0] = left; /* t->node may have moved: index, never keep nd */
     t->node[k].child[1] = right;
@@ -186,17 +266,14 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
     if (!xyz || !tri || !out || ntris == 0 || ntris > (size_t)1 << 30 || leaf_size < 1)
         return RAD_ERROR(RAD_EINVAL, "cluster: bad arguments (%zu triangles, leaf size %d)",
                          ntris, leaf_size);
-    /* on huge pages, and split_at's buffer made once: a large block's
-       4 KB pages fault on their first touch, every time it is allocated */
+    /* on huge pages: a large block's 4 KB pages fault on their first touch */
     tri_info *ti = rad_sys_alloc_huge(ntris * sizeof *ti);
-    keyed *scratch = rad_sys_alloc_huge(ntris * sizeof *scratch);
+    int *work = rad_sys_alloc_huge((ORDERS + 1) * ntris * sizeof *work + ntris);
     rad_cluster_tree *t = calloc(1, sizeof *t);
-    if (t) {
+    if (t)
         t->order = rad_sys_alloc_huge(ntris * sizeof *t->order);
-        t->ends = rad_sys_alloc_huge(2 * ntris * sizeof *t->ends); /* NULL: median splits */
-    }
     rad_status st = RAD_OK;
-    if (!ti || !scratch || !t || !t->order) {
+    if (!ti || !work || !t || !t->order) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu triangles", ntris);
         goto fail;
     }
@@ -229,18 +306,24 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
         }
         t->order[k] = (int)k;
     }
+    build_ctx bc = {t, ti, {NULL}, work + ORDERS * ntris, (unsigned char *)(work + (ORDERS + 1) * ntris),
+                    leaf_size};
+    for (int o = 0; o < ORDERS; o++)
+        bc.ord[o] = work + (size_t)o * ntris;
     int root = -1;
-    if ((st = build(t, ti, scratch, 0, (int)ntris, -1, 0, leaf_size, &root)) != RAD_OK)
+    if (!sort_orders(&bc, ntris)) {
+        st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory to sort %zu triangles", ntris);
+        goto fail;
+    }
+    if ((st = build(&bc, t->order, 0, (int)ntris, -1, 0, &root)) != RAD_OK)
         goto fail;
     free(ti);
-    free(scratch);
-    free(t->ends);
-    t->ends = NULL;
+    free(work);
     *out = t;
     return RAD_OK;
 fail:
     free(ti);
-    free(scratch);
+    free(work);
     rad_cluster_destroy(t);
     return st;
 }
@@ -251,7 +334,6 @@ void rad_cluster_destroy(rad_cluster_tree *t)
         return;
     free(t->node);
     free(t->order);
-    free(t->ends);
     free(t);
 }
 

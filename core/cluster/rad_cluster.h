@@ -10,7 +10,7 @@
  * least an eighth of the node; until a node holds at most leaf_size
  * triangles.  Why this choice: it is deterministic (the same tree for the
  * same input, whatever the thread count), its depth stays within
- * log_{8/7} n, and it costs O(n log^2 n).  A plane that cuts no triangle
+ * log_{8/7} n, and it costs O(n log n).  A plane that cuts no triangle
  * leaves the two sides' boxes apart, so separate objects stay whole, each
  * one node with its own box, and sibling clusters do not overlap; a median
  * split cuts objects in two wherever the median falls, and the halves'

@@ -15,8 +15,9 @@
 //     Coplanarity is CGAL::coplanar on the corner points, an exact predicate
 //     (filtered interval arithmetic, falling back to exact arithmetic), so a
 //     pair is coplanar only when it really is [cgal:kernel; shewchuk97].
-//  5. When the triangles form a manifold polygon mesh
-//     (PMP::is_polygon_soup_a_polygon_mesh), build a CGAL Surface_mesh and
+//  5. On request (rad_mesh_check_surface), where the triangles form a
+//     manifold polygon mesh (PMP::is_polygon_soup_a_polygon_mesh), build a
+//     CGAL Surface_mesh and
 //     cross-check closedness (CGAL::is_closed) and the component count
 //     (PMP::connected_components) [cgal:surfacemesh; cgal:pmp].
 //  6. Convexity from inside (on first request): a component is convex seen
@@ -221,11 +222,9 @@ void group_by_component(rad_mesh &m)
         m.comp_pairs[(size_t)fill[(size_t)m.component[(size_t)m.pairs[i].a]]++] = (int)i;
 }
 
-void build_surface_mesh(rad_mesh &m)
+void check_surface(const rad_mesh &m, rad_mesh_surface_check &out)
 {
-    m.info.surface_mesh = 0;
-    m.info.surface_mesh_closed = -1;
-    m.info.surface_mesh_components = -1;
+    out = {0, -1, -1};
     const size_t nv = m.xyz.size() / 3, nt = m.tri.size() / 3;
     std::vector<Point> points;
     points.reserve(nv);
@@ -241,10 +240,10 @@ void build_surface_mesh(rad_mesh &m)
     PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
     if (sm.number_of_faces() != nt)
         return;
-    m.info.surface_mesh = 1;
-    m.info.surface_mesh_closed = CGAL::is_closed(sm) ? 1 : 0;
+    out.surface_mesh = 1;
+    out.closed = CGAL::is_closed(sm) ? 1 : 0;
     auto fcc = sm.add_property_map<SurfaceMesh::Face_index, std::size_t>("f:cc", 0).first;
-    m.info.surface_mesh_components = (int)PMP::connected_components(sm, fcc);
+    out.components = (int)PMP::connected_components(sm, fcc);
 }
 
 // Local convexity at the interior edges of component c (cheap rejection).
@@ -301,7 +300,6 @@ rad_mesh *build(const double *xyz, int nv, const int *tri, int nt, const int *in
     classify_edges(*m, half, parent);
     find_pairs(*m);
     group_by_component(*m);
-    build_surface_mesh(*m);
     return m.release();
 }
 
@@ -414,6 +412,17 @@ void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info)
     });
     *info = mesh->info;
     info->convex_inside = convex == kUnknown ? -1 : convex;
+}
+
+rad_status rad_mesh_check_surface(const rad_mesh *mesh, rad_mesh_surface_check *out)
+{
+    if (!mesh || !out)
+        return RAD_ERROR(RAD_EINVAL, "rad_mesh_check_surface: NULL argument");
+    *out = {0, -1, -1};
+    return radmesh::guarded("mesh surface check", [&]() -> rad_status {
+        check_surface(*mesh, *out);
+        return RAD_OK;
+    });
 }
 
 } // extern "C"

@@ -9,8 +9,9 @@
  *     directions (consistent orientation);
  *   - convexity seen from inside: every vertex lies on the front side of (or
  *     on) every face's plane, i.e. the normals face inwards.
- * A CGAL Surface_mesh is built whenever the triangles form a manifold polygon
- * mesh and cross-checks closedness and the component count.
+ * On request (rad_mesh_check_surface), a CGAL Surface_mesh cross-checks
+ * closedness and the component count where the triangles form a manifold
+ * polygon mesh.
  * Refinement makes a new mesh whose elements each remember the input face they
  * lie in.  Leaves of midpoint-split quadtrees are turned into a conforming
  * mesh (hanging vertices resolved).  Export writes OFF; PLY with vertex
@@ -58,10 +59,14 @@ typedef struct rad_mesh_info {
     int convex_inside;         /* every vertex on the front side of every face's plane */
     int pairs_edge, pairs_edge_coplanar;
     int pairs_vertex, pairs_vertex_coplanar;
-    int surface_mesh;          /* 1 when a CGAL Surface_mesh could be built */
-    int surface_mesh_closed;   /* CGAL::is_closed on it (-1 when not built) */
-    int surface_mesh_components; /* PMP::connected_components on it (-1 when not built) */
 } rad_mesh_info;
+
+/* CGAL's cross-check of closed and components (rad_mesh_check_surface). */
+typedef struct rad_mesh_surface_check {
+    int surface_mesh; /* 1 when a CGAL Surface_mesh could be built (a manifold polygon mesh) */
+    int closed;       /* CGAL::is_closed on it (-1 when not built) */
+    int components;   /* PMP::connected_components on it (-1 when not built) */
+} rad_mesh_surface_check;
 
 /* Copy xyz (3*nv doubles) and tri (3*nt indices) and analyse them.  Indices
  * must be in range; degenerate triangles are allowed here (rad_scene rejects
@@ -80,6 +85,12 @@ const int *rad_mesh_input_faces(const rad_mesh *mesh);   /* 1 per face */
  * above 4e8 tests it is not run and convex_inside is -1, unknown); that first
  * call is not thread-safe. */
 void rad_mesh_get_info(const rad_mesh *mesh, rad_mesh_info *info);
+
+/* Build a CGAL Surface_mesh from the triangles, where they form a manifold
+ * polygon mesh, and check closedness and components on it.  Not part of
+ * rad_mesh_create: for a million faces it takes seconds, and only `radkit
+ * info` and the tests ask.  RAD_EINVAL for NULL, RAD_ENOMEM, RAD_EGEOM. */
+rad_status rad_mesh_check_surface(const rad_mesh *mesh, rad_mesh_surface_check *out);
 
 /* Touching pairs, sorted by (a, b); owned by the mesh.  Two faces with the
  * same three corners (duplicates) are not listed; rad_scene warns about them. */
