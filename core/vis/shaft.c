@@ -23,7 +23,9 @@
  *    i's and j's own objects, which a walk meets most.  (rad_vis_pair_fraction
  *    counts every segment and walks without them.)
  * 3. Walk a bounding-volume hierarchy of the boxes of the potential blockers
- *    (below; median split on the longest axis, leaves of at most 4): a node
+ *    (below; split along the longest axis of the centroids by the binned
+ *    surface-area heuristic, which keeps nodes' boxes from overlapping where
+ *    a median would cut an object in two, leaves of at most 4): a node
  *    whose box lies on or outside one kept plane is skipped whole; the first
  *    triangle of a leaf other than i and j that is not dismissed makes the
  *    answer 1.  The pair's box is tested against the root's box before any
@@ -105,7 +107,93 @@ static void select_median(int *order, const double *cen, int axis, int first, in
     }
 }
 
-static int build_node(build_ctx *bc, int first, int count)
+/* SAH_BINS candidate planes per split; from depth SAH_DEPTH on, medians */
+enum { SAH_BINS = 16, SAH_DEPTH = 64 };
+
+static double box_half_area(const double lo[3], const double hi[3])
+{
+    double d[3];
+    for (int c = 0; c < 3; c++)
+        d[c] = hi[c] > lo[c] ? hi[c] - lo[c] : 0.0;
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+/* Binned surface-area split of order[first..first+count) along axis (the
+ * centroids span [clo, chi]): the triangles are partitioned, the left count
+ * returned; 0 where no bin boundary separates them. */
+static int sah_split(rad_vis *vis, const double *cen, int axis, int first, int count, double clo,
+                     double chi)
+{
+    if (!(chi > clo))
+        return 0;
+    int n[SAH_BINS] = {0};
+    double blo[SAH_BINS][3], bhi[SAH_BINS][3];
+    for (int b = 0; b < SAH_BINS; b++)
+        for (int c = 0; c < 3; c++) {
+            blo[b][c] = INFINITY;
+            bhi[b][c] = -INFINITY;
+        }
+    double scale = SAH_BINS / (chi - clo);
+    for (int k = first; k < first + count; k++) {
+        int t = vis->order[k];
+        int b = (int)((cen[3 * t + axis] - clo) * scale);
+        b = b < 0 ? 0 : b >= SAH_BINS ? SAH_BINS - 1 : b;
+        double lo[3], hi[3];
+        tri_box(vis, t, lo, hi);
+        n[b]++;
+        for (int c = 0; c < 3; c++) {
+            blo[b][c] = rad_dmin(blo[b][c], lo[c]);
+            bhi[b][c] = rad_dmax(bhi[b][c], hi[c]);
+        }
+    }
+    double right_area[SAH_BINS];
+    int right_n[SAH_BINS];
+    double rlo[3] = {INFINITY, INFINITY, INFINITY}, rhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int rn = 0;
+    for (int b = SAH_BINS - 1; b > 0; b--) {
+        rn += n[b];
+        for (int c = 0; c < 3; c++) {
+            rlo[c] = rad_dmin(rlo[c], blo[b][c]);
+            rhi[c] = rad_dmax(rhi[c], bhi[b][c]);
+        }
+        right_n[b] = rn;
+        right_area[b] = box_half_area(rlo, rhi);
+    }
+    double llo[3] = {INFINITY, INFINITY, INFINITY}, lhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int ln = 0, best = 0;
+    double best_cost = INFINITY;
+    for (int b = 1; b < SAH_BINS; b++) {
+        ln += n[b - 1];
+        for (int c = 0; c < 3; c++) {
+            llo[c] = rad_dmin(llo[c], blo[b - 1][c]);
+            lhi[c] = rad_dmax(lhi[c], bhi[b - 1][c]);
+        }
+        if (ln == 0 || right_n[b] == 0)
+            continue;
+        double cost = ln * box_half_area(llo, lhi) + right_n[b] * right_area[b];
+        if (cost < best_cost) {
+            best_cost = cost;
+            best = b;
+        }
+    }
+    if (best == 0)
+        return 0;
+    int i = first, j = first + count - 1;
+    while (i <= j) {
+        int t = vis->order[i];
+        int b = (int)((cen[3 * t + axis] - clo) * scale);
+        b = b < 0 ? 0 : b >= SAH_BINS ? SAH_BINS - 1 : b;
+        if (b < best)
+            i++;
+        else {
+            vis->order[i] = vis->order[j];
+            vis->order[j--] = t;
+        }
+    }
+    return i - first;
+}
+
+static int build_node(build_ctx *bc, int first, int count, int depth)
 {
     rad_vis *vis = bc->vis;
     int id = vis->nnodes++;
@@ -134,10 +222,16 @@ static int build_node(build_ctx *bc, int first, int count)
     for (int c = 1; c < 3; c++)
         if (chi[c] - clo[c] > chi[axis] - clo[axis])
             axis = c;
-    select_median(vis->order, bc->cen, axis, first, count);
-    int half = count / 2;
-    int left = build_node(bc, first, half);
-    int right = build_node(bc, first + half, count - half);
+    /* below SAH_DEPTH, median splits: the depth (the recursion's and the
+       walk's stack) stays under SAH_DEPTH + log2 n whatever the heuristic did */
+    int half = depth < SAH_DEPTH ? sah_split(vis, bc->cen, axis, first, count, clo[axis], chi[axis])
+                                 : 0;
+    if (half <= 0 || half >= count) {
+        select_median(vis->order, bc->cen, axis, first, count);
+        half = count / 2;
+    }
+    int left = build_node(bc, first, half, depth + 1);
+    int right = build_node(bc, first + half, count - half, depth + 1);
     /* build_node may not reallocate: nodes was sized for the worst case. */
     vis->nodes[id].left = left;
     vis->nodes[id].right = right;
@@ -248,7 +342,7 @@ int vis_bvh_build(rad_vis *vis)
     vis->blockers = blockers;
     if (blockers > 0) {
         build_ctx bc = {vis, cen, (int)(2 * blockers)};
-        build_node(&bc, 0, (int)blockers);
+        build_node(&bc, 0, (int)blockers, 0);
     }
     free(cen);
     free(never);
@@ -430,7 +524,7 @@ static int shaft_walk(const rad_vis *vis, const rad_vec3 pts[6], size_t ignore0,
             }
         } else {
             if (top + 2 > (int)(sizeof stack / sizeof stack[0]))
-                return max + 1; /* deeper than a median split can make: answer safely */
+                return max + 1; /* deeper than the build makes: answer safely */
             stack[top++] = node->right;
             stack[top++] = node->left;
         }
