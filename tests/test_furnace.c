@@ -513,6 +513,54 @@ TEST(lattice_shadow_against_the_monte_carlo_reference)
     }
 }
 
+/* 16 boxes under two thin slabs that span the room but for a slit
+ * (scenes/slit/slit.obj): the light reaches the room below only through
+ * the slit.  With the defaults, hier and cluster must both be within 1%
+ * (L1) of the Monte Carlo reference (0.07% standard error), the power
+ * within 0.5%, and their estimates must bound the worst face.  There the
+ * links that cross the slabs are element links; at eps 1 the cluster
+ * layer keeps links between clusters of boxes and the ceiling across the
+ * 2 cm slabs, open or blocked by what their four rays find: with them it
+ * must stay within 2% (L1) and 30% (worst face), under its estimate
+ * (rays that all passed would give 3.2% and 61%). */
+static void check_slit(const char *method, const char *eps, double l1_max, double worst_max,
+                       double power_max)
+{
+    const char *scene = "scenes/slit/slit.obj", *reference = "experiments/reference/data/slit.tsv";
+    const char *table = harness_temp_path("slit.tsv");
+    char *out = NULL, *err = NULL, buf[64];
+    CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scene), "--method", method,
+                                                       "--eps", eps, "--out", table, "--quiet",
+                                                       NULL},
+                             &out, &err) == 0);
+    free(out);
+    free(err);
+    char *text = harness_read_file(table);
+    double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
+    long cluster_links = text && harness_header(text, "links_cluster", buf, sizeof buf) ? atol(buf) : 0;
+    free(text);
+    CHECK_MSG(strcmp(method, "cluster") != 0 || cluster_links > 0, "cluster: %ld cluster links",
+              cluster_links);
+    double l1 = scene_figure(scene, reference, table, "error_l1");
+    double worst = scene_figure(scene, reference, table, "error_worst");
+    double power = scene_figure(scene, reference, table, "error_power");
+    printf("# slit %s eps %s: L1 %.3e, worst face %.3e (estimate %.3e), power %+.3e\n", method, eps,
+           l1, worst, est, power);
+    CHECK_MSG(l1 >= 0.0 && l1 <= l1_max, "%s eps %s: L1 %.3g", method, eps, l1);
+    CHECK_MSG(worst >= 0.0 && worst <= worst_max, "%s eps %s: worst %.3g", method, eps, worst);
+    CHECK_MSG(fabs(power) <= power_max, "%s eps %s: power %.3g", method, eps, power);
+    CHECK_MSG(est >= worst, "%s eps %s: estimate %.3g below the worst face %.3g", method, eps, est,
+              worst);
+    remove(table);
+}
+
+TEST(slit_in_a_thin_slab_against_the_monte_carlo_reference)
+{
+    check_slit("hier", "0.1", 0.01, 0.1, 0.005);
+    check_slit("cluster", "0.1", 0.01, 0.1, 0.005);
+    check_slit("cluster", "1", 0.02, 0.3, 0.01);
+}
+
 /* 27 boxes in a lit room (gen/many_objects.py 27 2) with every reflectance
  * 0.99: three boxes stand 3 to 8 cm from the ceiling or the floor, narrow
  * gaps whose transport has eigenvalues close to 1.  p1's and p2's couplings

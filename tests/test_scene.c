@@ -45,6 +45,8 @@ TEST(scene_every_shipped_scene_loads)
         {"scenes/sphere/sphere_3.obj", 1280, 642, -1},
         {"scenes/many_objects/many_64.obj", 12 + 64 * 12, 8 + 64 * 8, -1},
         {"scenes/cornell/cornell.obj", 38, 28, -1},
+        /* the room, 2 slabs and 16 boxes: 19 x 12 faces, 19 x 8 vertices */
+        {"scenes/slit/slit.obj", 19 * 12, 19 * 8, -1},
     };
     for (size_t k = 0; k < sizeof want / sizeof want[0]; k++) {
         rad_scene *s = harness_scene_load(want[k].path, NULL);

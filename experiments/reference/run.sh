@@ -21,6 +21,8 @@
 #             minutes)
 #   lattice   scenes/lattice/lattice.obj: a floor lit through an 8 x 8 lattice
 #             of black cubes (SAMPLES_LATTICE paths per face, about 35 s)
+#   slit      scenes/slit/slit.obj: 16 boxes lit through a slit between two
+#             thin slabs (SAMPLES_SLIT paths per face, about 90 s)
 #   many_1000 scenes/many_objects/many_1000.obj: 1 000 boxes in a lit room
 #             (12 012 triangles), the clustering study's large scene with a
 #             reference (SAMPLES_LARGE paths per face, about 5 minutes)
@@ -45,6 +47,7 @@ SAMPLES_LAMP=${SAMPLES_LAMP:-4194304}
 SAMPLES_ROOM=${SAMPLES_ROOM:-131072}
 SAMPLES_LARGE=${SAMPLES_LARGE:-32768}
 SAMPLES_LATTICE=${SAMPLES_LATTICE:-400000}
+SAMPLES_SLIT=${SAMPLES_SLIT:-1048576}
 cd "$root"
 mkdir -p "$here/data"
 prefix=""
@@ -77,6 +80,7 @@ reference many_27_rho99 "$SAMPLES_GAPS" scenes/many_objects/many_27_seed2.obj --
 reference many_343 "$SAMPLES_ROOM" scenes/many_objects/many_343.obj
 reference many_1000 "$SAMPLES_LARGE" scenes/many_objects/many_1000.obj
 reference lattice "$SAMPLES_LATTICE" scenes/lattice/lattice.obj
+reference slit "$SAMPLES_SLIT" scenes/slit/slit.obj
 
 dat=$here/data/${prefix}summary.dat
 {
@@ -86,7 +90,7 @@ dat=$here/data/${prefix}summary.dat
   echo "#   standard error relative to the area-weighted mean reflected radiosity"
   echo "# se_rel_max = the largest se_fc over that mean (per channel)"
   printf 'scene\tfaces\tsamples_per_face\tpaths\trays_per_path\tse_rel_l1\tse_rel_max\ttime_s\n'
-  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99 many_343 many_1000 lattice; do
+  for name in cornell occluder many_64 lamp lamp_closed many_27_rho99 many_343 many_1000 lattice slit; do
     f=$here/data/$prefix$name.tsv
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$(hdr "$f" faces)" "$(hdr "$f" samples)" \
       "$(hdr "$f" paths)" "$(hdr "$f" rays_per_path)" "$(hdr "$f" se_rel_l1)" \

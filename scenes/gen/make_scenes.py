@@ -422,6 +422,44 @@ def lattice():
               ["a grey floor, a black emitter and black cubes"])
 
 
+def slit():
+    """Boxes under a thin slab with a slit, in a room lit from the ceiling."""
+    obj = Obj()
+    room, c = 2.0, [1.0, 1.0, 1.0]
+    quads = box_faces([0, 0, 0], [room] * 3)
+    for k, quad in enumerate(quads):
+        obj.polygon(orient(quad, towards=c), "light" if k == 5 else "wall")
+    # two 2 cm slabs 0.5 m under the ceiling, from wall to wall but for a
+    # 0.2 m slit between them along y
+    for x0, x1 in ((0.0, 0.9), (1.1, 2.0)):
+        lo, hi = [x0, 0.0, 1.48], [x1, 2.0, 1.5]
+        sc = [(lo[i] + hi[i]) / 2 for i in range(3)]
+        for quad in box_faces(lo, hi):
+            obj.polygon(orient(quad, away=sc), "slab")
+    # a 4 x 4 grid of 0.2 m boxes floating 5 cm above the floor
+    for i in range(4):
+        for j in range(4):
+            lo = [0.25 + 0.45 * i, 0.25 + 0.45 * j, 0.05]
+            hi = [lo[0] + 0.2, lo[1] + 0.2, 0.25]
+            bc = [(lo[k] + hi[k]) / 2 for k in range(3)]
+            for quad in box_faces(lo, hi):
+                obj.polygon(orient(quad, away=bc), "box")
+    d = os.path.join(ROOT, "slit")
+    obj.write(os.path.join(d, "slit.obj"), "slit.mtl",
+              ["A closed 2 m room (inward, walls and floor rho 0.5) lit by its ceiling",
+               "(E = 1 W/m^2, black), with two thin slabs (2 cm, rho 0.3) 0.5 m under the",
+               "ceiling that span it from wall to wall but for a 0.2 m slit along y, and 16",
+               "boxes of 0.2 m (rho 0.6, 0.5, 0.4) on a 4 x 4 grid 5 cm above the floor: the",
+               "light reaches the room below only through the slit, and a cluster link",
+               "between a box and the ceiling sees it or not through a thin occluder.",
+               "Written by scenes/gen/make_scenes.py."])
+    write_mtl(os.path.join(d, "slit.mtl"), [("wall", [0.5] * 3, [0] * 3),
+                                            ("light", [0] * 3, [1] * 3),
+                                            ("slab", [0.3] * 3, [0] * 3),
+                                            ("box", [0.6, 0.5, 0.4], [0] * 3)],
+              ["grey walls and floor, an emitting black ceiling, grey slabs, coloured boxes"])
+
+
 def lamp():
     """A small lamp in a dark open room: direct light dominates."""
     obj = Obj()
@@ -572,6 +610,7 @@ def main():
     lamp()
     lamp_closed()
     lattice()
+    slit()
     formats()
     bad()
     # many_objects: the committed small instance (the generator takes any N).
