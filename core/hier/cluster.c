@@ -726,9 +726,14 @@ static void pull(rad_hier *h, int carry, int with_values)
 {
     int threads = hier_threads(h);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (size_t k = 0; k < h->ncsub; k++)
-        for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
-            pull_node(h, i, carry, with_values);
+    for (size_t k = 0; k < h->ncsub; k++) {
+        if (with_values)
+            for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
+                pull_node(h, i, carry, 1);
+        else /* only the clusters with moments do anything */
+            for (size_t j = h->csub_mom[2 * k + 1]; j-- > h->csub_mom[2 * k];)
+                pull_node(h, (size_t)h->cmnode[j], carry, 0);
+    }
     for (size_t k = h->nctop; k-- > 0;)
         pull_node(h, (size_t)h->ctop[k], carry, with_values);
 }
@@ -910,6 +915,44 @@ static int tree_cut(rad_hier *h)
     return 1;
 }
 
+/* h->cmnode and h->csub_mom (nmom clusters have a row of cmom); 0 when out
+ * of memory. */
+static int moment_runs(rad_hier *h, size_t nmom)
+{
+    h->cmnode = malloc((nmom ? nmom : 1) * sizeof *h->cmnode);
+    h->csub_mom = malloc((2 * h->ncsub + 1) * sizeof *h->csub_mom);
+    if (!h->cmnode || !h->csub_mom)
+        return 0;
+    size_t m = 0, k = 0;
+    for (size_t i = 0; i < h->ncl; i++) {
+        /* subtrees come in index order: their runs open and close in it */
+        while (k < 2 * h->ncsub && i == (size_t)(k % 2 ? h->csub_end[k / 2] : h->csub[k / 2]))
+            h->csub_mom[k++] = m;
+        if (h->cl[i].mom >= 0)
+            h->cmnode[m++] = (int)i;
+    }
+    while (k < 2 * h->ncsub)
+        h->csub_mom[k++] = m;
+    return 1;
+}
+
+/* A leaf cluster as the gather's last pass reads it: its root element, its
+ * place in cluster order (crecv's row) and the row of cgot whose moments
+ * reach its triangle, -1 for none: its own where it gathers moments (ISO),
+ * else (oriented: a leaf is small, its triangle receives its own share)
+ * that of its nearest ancestor that is not small. */
+struct hier_cleaf {
+    int root, first, got;
+};
+
+static struct hier_cleaf leaf_of(const rad_hier *h, int i)
+{
+    const hier_clus *x = &h->cl[i];
+    int small = h->p.cluster_model != RAD_HIER_CLUSTER_ISO && x->count <= CLUSTER_SMALL;
+    int row = !small ? x->mom : x->above >= 0 ? h->cl[x->above].mom : -1;
+    return (struct hier_cleaf){x->root, x->first, row};
+}
+
 rad_status hier_cluster_create(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -987,6 +1030,14 @@ rad_status hier_cluster_create(rad_hier *h)
         for (int k = 0; k < 2 && x->root < 0; k++)
             h->cl[x->child[k]].above = x->count > CLUSTER_SMALL ? (int)i : x->above;
     }
+    h->cleaf = rad_sys_alloc_huge(n * sizeof *h->cleaf);
+    if (!h->cleaf) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
+        goto done;
+    }
+    for (size_t i = 0, k = 0; i < h->ncl; i++)
+        if (h->cl[i].root >= 0)
+            h->cleaf[k++] = leaf_of(h, (int)i);
     /* the largest reflectance below each cluster and its area moments
        (children follow parents) */
     for (size_t i = h->ncl; i-- > 0;) {
@@ -1002,7 +1053,7 @@ rad_status hier_cluster_create(rad_hier *h)
                                      : rad_dmax(h->cl[x->child[0]].rho[c],
                                                 h->cl[x->child[1]].rho[c]);
     }
-    if (!tree_cut(h))
+    if (!tree_cut(h) || !moment_runs(h, nmom))
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
     h->cchannels = 1;
     for (size_t t = 0; t < n; t++)
@@ -1040,6 +1091,9 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->csub_end);
     free(h->ctop);
     free(h->corder);
+    free(h->cleaf);
+    free(h->cmnode);
+    free(h->csub_mom);
     free(h->cln);
     free(h->cemit);
     free(h->crecv);
@@ -1274,11 +1328,9 @@ static void push_node(rad_hier *h, size_t i, int nch)
 
 /* What the links of the clusters above leaf x brought it (the directions'
  * moments, channel c), or NULL for nothing. */
-static const hier_dir *pushed_to(const rad_hier *h, const hier_clus *x, int c)
+static const hier_dir *pushed_to(const rad_hier *h, const struct hier_cleaf *x, int c)
 {
-    if (!receives_exactly(h, (int)(x - h->cl)))
-        return &got(h, (int)(x - h->cl))[c];
-    return x->above >= 0 ? &got(h, x->above)[c] : NULL;
+    return x->got >= 0 ? h->cgot + 3 * (size_t)x->got + (size_t)c : NULL;
 }
 
 /* The links of the small clusters of subtree `top` (a small cluster whose
@@ -1364,9 +1416,9 @@ static rad_status gather_links(rad_hier *h, int carry)
     for (size_t k = 0; k < h->nctop; k++)
         push_node(h, (size_t)h->ctop[k], nch);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (size_t k = 0; k < h->ncsub; k++)
-        for (size_t i = (size_t)h->csub[k]; i < (size_t)h->csub_end[k]; i++)
-            push_node(h, i, nch);
+    for (size_t k = 0; k < h->ncsub; k++) /* a cluster without moments pushes nothing */
+        for (size_t j = h->csub_mom[2 * k]; j < h->csub_mom[2 * k + 1]; j++)
+            push_node(h, (size_t)h->cmnode[j], nch);
     return RAD_OK;
 }
 
@@ -1390,11 +1442,9 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
     int nch = channels(h, carry);
     int threads = hier_threads(h);
     /* each leaf adds to its own root element */
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
-    for (long long i = 0; i < (long long)h->ncl; i++) {
-        const hier_clus *x = &h->cl[i];
-        if (x->root < 0)
-            continue;
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
+    for (long long i = 0; i < (long long)h->nroots; i++) {
+        const struct hier_cleaf *x = &h->cleaf[i];
         double v[3], err;
         for (int c = 0; c < nch; c++)
             v[c] = received(h, pushed_to(h, x, c), h->normal[x->root], &err) +
@@ -1415,10 +1465,8 @@ rad_status hier_cluster_local(rad_hier *h)
     if (st != RAD_OK)
         return st;
     int nch = channels(h, CLUSTER_B);
-    for (size_t i = 0; i < h->ncl; i++) {
-        const hier_clus *x = &h->cl[i];
-        if (x->root < 0)
-            continue;
+    for (size_t i = 0; i < n; i++) {
+        const struct hier_cleaf *x = &h->cleaf[i];
         hier_elem *e = &h->el[x->root];
         for (int c = 0; c < 3; c++) {
             double err;

@@ -217,7 +217,15 @@ struct rad_hier {
        depth-first) and the nodes above them (ctop), in index order */
     int *csub, *csub_end, *ctop;
     size_t ncsub, nctop;
+    /* the clusters with a row of cmom, in index order (cmnode), and each
+       subtree's run of them, cmnode[csub_mom[2k] .. csub_mom[2k + 1]): the
+       gather's pull and push work only there */
+    int *cmnode;
+    size_t *csub_mom;
     int *corder;              /* input triangles in cluster order */
+    /* the leaf clusters in index order, each as what the gather's last pass
+       reads of it (hier_cleaf): one short row, where the nodes are long */
+    struct hier_cleaf *cleaf;
     hier_clink *cln;
     size_t ncln, capcln;
     /* the channels the cluster gather carries: 1 where every face's
