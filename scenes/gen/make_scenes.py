@@ -246,6 +246,13 @@ def box_faces(lo, hi):
     ]
 
 
+def add_box(obj, lo, hi, material):
+    """A closed axis-aligned box, its faces turned outward."""
+    c = [(lo[i] + hi[i]) / 2 for i in range(3)]
+    for quad in box_faces(lo, hi):
+        obj.polygon(orient(quad, away=c), material)
+
+
 FURNACE_RHO = 0.375
 FURNACE_E = 2.385
 
@@ -337,9 +344,7 @@ def furnace_rooms():
         for quad in box_faces([0, 0, 0], [room] * 3):
             obj.polygon(orient(quad, towards=rc), "furnace")
         for lo, hi in boxes:
-            bc = [(lo[i] + hi[i]) / 2 for i in range(3)]
-            for quad in box_faces(lo, hi):
-                obj.polygon(orient(quad, away=bc), "furnace")
+            add_box(obj, lo, hi, "furnace")
         obj.write(os.path.join(d, name), "room.mtl", header + [
             "Furnace: every face emits E = 2.385 and reflects rho = 0.375 (override with",
             "--rho), so B = E / (1 - rho) on every face, occluded or not.",
@@ -407,8 +412,7 @@ def lattice():
     for i in range(n):
         for j in range(n):
             c = [(i + 0.5) * cell, (j + 0.5) * cell, 0.5]
-            for quad in box_faces([x - half for x in c], [x + half for x in c]):
-                obj.polygon(orient(quad, away=c), "cube")
+            add_box(obj, [x - half for x in c], [x + half for x in c], "cube")
     d = os.path.join(ROOT, "lattice")
     obj.write(os.path.join(d, "lattice.obj"), "lattice.mtl",
               ["A unit floor (reflectance 0.5) lit by a unit emitter 1 m above it (E = 1 W/m^2,",
@@ -432,18 +436,12 @@ def slit():
     # two 2 cm slabs 0.5 m under the ceiling, from wall to wall but for a
     # 0.2 m slit between them along y
     for x0, x1 in ((0.0, 0.9), (1.1, 2.0)):
-        lo, hi = [x0, 0.0, 1.48], [x1, 2.0, 1.5]
-        sc = [(lo[i] + hi[i]) / 2 for i in range(3)]
-        for quad in box_faces(lo, hi):
-            obj.polygon(orient(quad, away=sc), "slab")
+        add_box(obj, [x0, 0.0, 1.48], [x1, 2.0, 1.5], "slab")
     # a 4 x 4 grid of 0.2 m boxes floating 5 cm above the floor
     for i in range(4):
         for j in range(4):
             lo = [0.25 + 0.45 * i, 0.25 + 0.45 * j, 0.05]
-            hi = [lo[0] + 0.2, lo[1] + 0.2, 0.25]
-            bc = [(lo[k] + hi[k]) / 2 for k in range(3)]
-            for quad in box_faces(lo, hi):
-                obj.polygon(orient(quad, away=bc), "box")
+            add_box(obj, lo, [lo[0] + 0.2, lo[1] + 0.2, 0.25], "box")
     d = os.path.join(ROOT, "slit")
     obj.write(os.path.join(d, "slit.obj"), "slit.mtl",
               ["A closed 2 m room (inward, walls and floor rho 0.5) lit by its ceiling",
@@ -486,8 +484,7 @@ def lamp_closed():
     c = [0.5, 0.5, 0.5]
     for quad in box_faces([0, 0, 0], [1, 1, 1]):
         obj.polygon(orient(quad, towards=c), "wall")
-    for quad in box_faces([0.45, 0.45, 0.45], [0.55, 0.55, 0.55]):
-        obj.polygon(orient(quad, away=c), "lamp")
+    add_box(obj, [0.45, 0.45, 0.45], [0.55, 0.55, 0.55], "lamp")
     d = os.path.join(ROOT, "lamp")
     obj.write(os.path.join(d, "lamp_closed.obj"), "lamp.mtl",
               ["A small lamp in a dark closed room: a 1 m box (faces inward, reflectance 0.02)",
