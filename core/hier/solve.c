@@ -305,19 +305,37 @@ static rad_status incidence(rad_hier *h)
     for (size_t e = 0; e < ne; e++)
         start[e + 1] += start[e];
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    for (size_t k = 0; k < nl; k++) { /* start[e] runs ahead, then is restored */
-        const hier_link *l = &h->ln[k];
-        if (l->a < 0)
-            continue;
-        const hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
-        struct hier_end ea = {l->b, 0, l->G / a->area, l->ga, zero_v};
-        struct hier_end eb = {l->a, 1, l->G / b->area, l->gb, zero_v};
-        if (h->p.source_slope) {
-            ea.m = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
-            eb.m = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
+    /* each thread writes the elements of its share of the ends (whole
+       elements, so each keeps link order); start[e] runs ahead, then is
+       restored */
+    int threads = hier_threads(h);
+#pragma omp parallel num_threads(threads) if (nl > 65536)
+    {
+        int t = omp_get_thread_num(), nt = omp_get_num_threads();
+        size_t lo = 0, hi = ne;
+        while (lo < ne && start[lo] * (size_t)nt < start[ne] * (size_t)t)
+            lo++;
+        while (hi > 0 && start[hi - 1] * (size_t)nt >= start[ne] * (size_t)(t + 1))
+            hi--;
+#pragma omp barrier
+        for (size_t k = 0; k < nl; k++) {
+            const hier_link *l = &h->ln[k];
+            if (l->a < 0)
+                continue;
+            const hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+            if ((size_t)l->a >= lo && (size_t)l->a < hi) {
+                struct hier_end ea = {l->b, 0, l->G / a->area, l->ga, zero_v};
+                if (h->p.source_slope)
+                    ea.m = rad_vec3_scale(moment(b, l->gb), 1.0 / a->area);
+                h->inc[start[l->a]++] = ea;
+            }
+            if ((size_t)l->b >= lo && (size_t)l->b < hi) {
+                struct hier_end eb = {l->a, 1, l->G / b->area, l->gb, zero_v};
+                if (h->p.source_slope)
+                    eb.m = rad_vec3_scale(moment(a, l->ga), 1.0 / b->area);
+                h->inc[start[l->b]++] = eb;
+            }
         }
-        h->inc[start[l->a]++] = ea;
-        h->inc[start[l->b]++] = eb;
     }
     for (size_t e = ne; e > 0; e--)
         start[e] = start[e - 1];
