@@ -59,20 +59,21 @@ enum { LEAF_SIZE = 4 };
 typedef struct build_ctx {
     rad_vis *vis;
     double *cen; /* centroids, 3 per triangle */
+    double *box; /* boxes, 6 per triangle (low corner, high corner): read at every level */
     int cap;
 } build_ctx;
 
-static void tri_box(const rad_vis *vis, int t, double lo[3], double hi[3])
+static void box_of(const rad_vis *vis, size_t t, double *box)
 {
     for (int c = 0; c < 3; c++) {
-        lo[c] = INFINITY;
-        hi[c] = -INFINITY;
+        box[c] = INFINITY;
+        box[3 + c] = -INFINITY;
     }
     for (int v = 0; v < 3; v++) {
-        const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * (size_t)t + v];
+        const double *p = vis->xyz + 3 * (size_t)vis->tri[3 * t + (size_t)v];
         for (int c = 0; c < 3; c++) {
-            lo[c] = rad_dmin(lo[c], p[c]);
-            hi[c] = rad_dmax(hi[c], p[c]);
+            box[c] = rad_dmin(box[c], p[c]);
+            box[3 + c] = rad_dmax(box[3 + c], p[c]);
         }
     }
 }
@@ -121,9 +122,10 @@ static double box_half_area(const double lo[3], const double hi[3])
 /* Binned surface-area split of order[first..first+count) along axis (the
  * centroids span [clo, chi]): the triangles are partitioned, the left count
  * returned; 0 where no bin boundary separates them. */
-static int sah_split(rad_vis *vis, const double *cen, int axis, int first, int count, double clo,
-                     double chi)
+static int sah_split(const build_ctx *bc, int axis, int first, int count, double clo, double chi)
 {
+    const rad_vis *vis = bc->vis;
+    const double *cen = bc->cen;
     if (!(chi > clo))
         return 0;
     int n[SAH_BINS] = {0};
@@ -138,12 +140,11 @@ static int sah_split(rad_vis *vis, const double *cen, int axis, int first, int c
         int t = vis->order[k];
         int b = (int)((cen[3 * t + axis] - clo) * scale);
         b = b < 0 ? 0 : b >= SAH_BINS ? SAH_BINS - 1 : b;
-        double lo[3], hi[3];
-        tri_box(vis, t, lo, hi);
+        const double *box = bc->box + 6 * (size_t)t;
         n[b]++;
         for (int c = 0; c < 3; c++) {
-            blo[b][c] = rad_dmin(blo[b][c], lo[c]);
-            bhi[b][c] = rad_dmax(bhi[b][c], hi[c]);
+            blo[b][c] = rad_dmin(blo[b][c], box[c]);
+            bhi[b][c] = rad_dmax(bhi[b][c], box[3 + c]);
         }
     }
     double right_area[SAH_BINS];
@@ -204,11 +205,10 @@ static int build_node(build_ctx *bc, int first, int count, int depth)
         node->hi[c] = -INFINITY;
     }
     for (int k = first; k < first + count; k++) {
-        double lo[3], hi[3];
-        tri_box(vis, vis->order[k], lo, hi);
+        const double *box = bc->box + 6 * (size_t)vis->order[k];
         for (int c = 0; c < 3; c++) {
-            node->lo[c] = rad_dmin(node->lo[c], lo[c]);
-            node->hi[c] = rad_dmax(node->hi[c], hi[c]);
+            node->lo[c] = rad_dmin(node->lo[c], box[c]);
+            node->hi[c] = rad_dmax(node->hi[c], box[3 + c]);
             clo[c] = rad_dmin(clo[c], bc->cen[3 * vis->order[k] + c]);
             chi[c] = rad_dmax(chi[c], bc->cen[3 * vis->order[k] + c]);
         }
@@ -224,8 +224,7 @@ static int build_node(build_ctx *bc, int first, int count, int depth)
             axis = c;
     /* below SAH_DEPTH, median splits: the depth (the recursion's and the
        walk's stack) stays under SAH_DEPTH + log2 n whatever the heuristic did */
-    int half = depth < SAH_DEPTH ? sah_split(vis, bc->cen, axis, first, count, clo[axis], chi[axis])
-                                 : 0;
+    int half = depth < SAH_DEPTH ? sah_split(bc, axis, first, count, clo[axis], chi[axis]) : 0;
     if (half <= 0 || half >= count) {
         select_median(vis->order, bc->cen, axis, first, count);
         half = count / 2;
@@ -322,7 +321,7 @@ int vis_bvh_build(rad_vis *vis)
     /* A median-split tree with leaves of >= 1 triangle has fewer than 2n nodes. */
     vis->nodes = malloc(2 * n * sizeof *vis->nodes);
     vis->order = malloc(n * sizeof *vis->order);
-    double *cen = malloc(3 * n * sizeof *cen);
+    double *cen = malloc(9 * n * sizeof *cen), *box = cen ? cen + 3 * n : NULL;
     unsigned char *never = malloc(n);
     if (!vis->nodes || !vis->order || !cen || !never || !classify_planes(vis, never)) {
         free(cen);
@@ -338,10 +337,11 @@ int vis_bvh_build(rad_vis *vis)
             cen[3 * t + c] = (vis->xyz[3 * (size_t)vis->tri[3 * t] + c] +
                               vis->xyz[3 * (size_t)vis->tri[3 * t + 1] + c] +
                               vis->xyz[3 * (size_t)vis->tri[3 * t + 2] + c]) / 3.0;
+        box_of(vis, t, box + 6 * t);
     }
     vis->blockers = blockers;
     if (blockers > 0) {
-        build_ctx bc = {vis, cen, (int)(2 * blockers)};
+        build_ctx bc = {vis, cen, box, (int)(2 * blockers)};
         build_node(&bc, 0, (int)blockers, 0);
     }
     free(cen);
