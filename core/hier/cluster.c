@@ -1245,12 +1245,8 @@ static int cluster_incidence(rad_hier *h)
     int threads = hier_threads(h);
 #pragma omp parallel num_threads(threads)
     {
-        int t = omp_get_thread_num(), nt = omp_get_num_threads();
-        size_t lo = 0, hi = nr;
-        while (lo < nr && start[lo] * (size_t)nt < start[nr] * (size_t)t)
-            lo++;
-        while (hi > 0 && start[hi - 1] * (size_t)nt >= start[nr] * (size_t)(t + 1))
-            hi--;
+        size_t lo, hi;
+        hier_thread_rows(start, nr, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
 #pragma omp barrier
         for (size_t k = 0; k < h->ncln; k++) {
             const hier_clink *l = &h->cln[k];

@@ -392,6 +392,10 @@ int hier_threads(const rad_hier *h);
  * scene of a million triangles, where handing them out one by one costs
  * more than the work). */
 int hier_root_chunk(size_t roots, int threads);
+/* Thread t of nt's share [*lo, *hi) of the rows of a compressed table
+ * (start[0 .. n], start[n] entries in all): whole rows, about start[n] / nt
+ * entries each, so that each thread writes its rows' entries in order. */
+void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, size_t *hi);
 
 /* ---- solve.c ---- */
 /* Every leaf's cap: its row sum (the form factors of the links over it, the

@@ -76,6 +76,17 @@ int hier_root_chunk(size_t roots, int threads)
     return c < 1 ? 1 : c > 4096 ? 4096 : (int)c;
 }
 
+void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, size_t *hi)
+{
+    size_t a = 0, b = n;
+    while (a < n && start[a] * (size_t)nt < start[n] * (size_t)t)
+        a++;
+    while (b > 0 && start[b - 1] * (size_t)nt >= start[n] * (size_t)(t + 1))
+        b--;
+    *lo = a;
+    *hi = b;
+}
+
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
@@ -311,12 +322,8 @@ static rad_status incidence(rad_hier *h)
     int threads = hier_threads(h);
 #pragma omp parallel num_threads(threads) if (nl > 65536)
     {
-        int t = omp_get_thread_num(), nt = omp_get_num_threads();
-        size_t lo = 0, hi = ne;
-        while (lo < ne && start[lo] * (size_t)nt < start[ne] * (size_t)t)
-            lo++;
-        while (hi > 0 && start[hi - 1] * (size_t)nt >= start[ne] * (size_t)(t + 1))
-            hi--;
+        size_t lo, hi;
+        hier_thread_rows(start, ne, omp_get_thread_num(), omp_get_num_threads(), &lo, &hi);
 #pragma omp barrier
         for (size_t k = 0; k < nl; k++) {
             const hier_link *l = &h->ln[k];
