@@ -945,11 +945,12 @@ struct hier_cleaf {
     int root, first, got;
 };
 
+static int receives_exactly(const rad_hier *h, int end);
+
 static struct hier_cleaf leaf_of(const rad_hier *h, int i)
 {
     const hier_clus *x = &h->cl[i];
-    int small = h->p.cluster_model != RAD_HIER_CLUSTER_ISO && x->count <= CLUSTER_SMALL;
-    int row = !small ? x->mom : x->above >= 0 ? h->cl[x->above].mom : -1;
+    int row = !receives_exactly(h, i) ? x->mom : x->above >= 0 ? h->cl[x->above].mom : -1;
     return (struct hier_cleaf){x->root, x->first, row};
 }
 

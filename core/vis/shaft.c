@@ -136,6 +136,8 @@ static int sah_split(const build_ctx *bc, int axis, int first, int count, double
             bhi[b][c] = -INFINITY;
         }
     double scale = SAH_BINS / (chi - clo);
+    if (!isfinite(scale))
+        return 0; /* centroids a few ulps apart: no bins to tell them */
     for (int k = first; k < first + count; k++) {
         int t = vis->order[k];
         int b = (int)((cen[3 * t + axis] - clo) * scale);
