@@ -407,10 +407,82 @@ static double sampled_visibility(const rad_hier *h, const end_view *x, const end
     return (double)open / CLUSTER_RAYS;
 }
 
+/* What a link's estimate knows before its rays: the ends' geometry and
+ * the bounds that do not depend on visibility. */
+typedef struct link_geometry {
+    int apart;
+    double Fa, Fb, ux, uy, px, py, r2, kern, rel_x, rel_y;
+} link_geometry;
+
+/* The fields of link out that follow from its visibility V, the share of
+ * CLUSTER_RAYS rays that passed (mixed: some passed, some did not). */
+static void finish(const rad_hier *h, const end_view *x, const end_view *y,
+                   const link_geometry *g, double V, int mixed, hier_clink *out)
+{
+    double G = g->px * g->py / (RAD_PI * g->r2) * V;
+    G = rad_dmin(G, rad_dmin(x->area * g->Fa, y->area * g->Fb));
+    out->G = G;
+    out->kv = V / (RAD_PI * g->r2);
+    if (!g->apart) {
+        /* no bound of the kernel's variation: a point of x gets kv times
+           at most U_Y, the truth lies in [0, F_X], and the oracle splits
+           the larger end until the spheres part or eps is met */
+        out->kv = g->px * g->py > 0.0 ? G / (g->px * g->py) : 0.0;
+        out->ea = out->va = rad_dmax(g->Fa, out->kv * g->uy);
+        out->eb = out->vb = rad_dmax(g->Fb, out->kv * g->ux);
+        out->by_size = 1;
+        return;
+    }
+    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+        /* every point of a cluster gets the mean: anything in [0, F] is possible */
+        out->ea = rad_dmax(G / x->area, g->Fa - G / x->area);
+        out->eb = rad_dmax(G / y->area, g->Fb - G / y->area);
+        out->va = g->Fa;
+        out->vb = g->Fb;
+        out->by_size = 0;
+        return;
+    }
+    /* oriented: a point gets k max(n.w, 0) (solve: by direction), off by the
+       kernel's variation over the spheres (distance and direction), the
+       source's projected area, and visibility where the rays disagree (where
+       they agree it is taken as they say: four rays are an estimate, not a
+       bound) */
+    out->ea = g->Fa * rad_dmin(1.0, g->kern + g->rel_y + (mixed ? 1.0 : 0.0));
+    out->eb = g->Fb * rad_dmin(1.0, g->kern + g->rel_x + (mixed ? 1.0 : 0.0));
+    /* the sources' intensity follows their triangles' own B: what is left
+       of B's variation is the kernel's over the source */
+    out->va = g->Fa * rad_dmin(1.0, g->kern);
+    out->vb = g->Fb * rad_dmin(1.0, g->kern);
+    out->by_size = g->kern > rad_dmax(g->rel_x, g->rel_y) + (mixed ? 1.0 : 0.0);
+}
+
+static signed char decide(const rad_hier *h, const hier_clink *l, double target);
+
+/* Whether the oracle (decide, at target) splits the link the same way
+ * whatever its rays would see: then out holds one such outcome and no ray
+ * is cast.  The link is examined in the pass's next generation, with the
+ * same values, and replaced; its G is never used. */
+static int split_whatever_seen(const rad_hier *h, const end_view *x, const end_view *y,
+                               const link_geometry *g, double target, hier_clink *out)
+{
+    signed char first = 0;
+    for (int open = CLUSTER_RAYS; open >= 0; open--) {
+        finish(h, x, y, g, (double)open / CLUSTER_RAYS, open > 0 && open < CLUSTER_RAYS, out);
+        signed char d = decide(h, out, target);
+        if (d == 0 || (open < CLUSTER_RAYS && d != first))
+            return 0;
+        first = d;
+    }
+    finish(h, x, y, g, 1.0, 0, out);
+    return 1;
+}
+
 /* Estimate the link of ends a and b; 0 when nothing of one can reach the
  * other (every normal of one turned away from the other's sphere, or the
- * other's box behind an element's plane). */
-static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned long long *rays)
+ * other's box behind an element's plane).  target > 0: the oracle's
+ * target of the pass the link is made in (split_whatever_seen). */
+static int estimate(const rad_hier *h, int ia, int ib, double target, hier_clink *out,
+                    unsigned long long *rays)
 {
     end_view x, y;
     view(h, ia, &x);
@@ -422,7 +494,7 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
     double r = rad_vec3_norm(d), R = x.radius + y.radius;
     /* no two points of the ends lie nearer than their boxes' distance, at
        least the spheres' gap r - R (each box lies in its sphere) */
-    int apart = r > R;
+    link_geometry g = {.apart = r > R, .ux = x.area, .uy = y.area};
     double gap = rad_dmax(box_gap(&x, &y), r - R);
     if (box_behind(h, &x, &y) || box_behind(h, &y, &x))
         return 0;
@@ -431,76 +503,46 @@ static int estimate(const rad_hier *h, int ia, int ib, hier_clink *out, unsigned
         return 1;
     }
     rad_vec3 w = rad_vec3_scale(d, 1.0 / r), mw = rad_vec3_scale(w, -1.0);
-    double Fa, Fb, ux = x.area, uy = y.area, beta = 0.0;
-    if (apart) {
+    double beta = 0.0;
+    if (g.apart) {
         double cx, cy;
         beta = asin(rad_dmin(1.0, R / r));
-        upper(&x, w, beta, &cx, &ux);
-        upper(&y, mw, beta, &cy, &uy);
+        upper(&x, w, beta, &cx, &g.ux);
+        upper(&y, mw, beta, &cy, &g.uy);
         if (!(cx > 0.0) || !(cy > 0.0))
             return 0;
         double sa = y.radius / (r - x.radius), sb = x.radius / (r - y.radius);
-        Fa = rad_dmin(1.0, rad_dmin(cx * uy / (RAD_PI * gap * gap), sa * sa));
-        Fb = rad_dmin(1.0, rad_dmin(cy * ux / (RAD_PI * gap * gap), sb * sb));
+        g.Fa = rad_dmin(1.0, rad_dmin(cx * g.uy / (RAD_PI * gap * gap), sa * sa));
+        g.Fb = rad_dmin(1.0, rad_dmin(cy * g.ux / (RAD_PI * gap * gap), sb * sb));
     } else {
         /* the spheres meet, the boxes do not: a direction between the ends
            may be any, so every cosine is at most 1 */
-        Fa = rad_dmin(1.0, uy / (RAD_PI * gap * gap));
-        Fb = rad_dmin(1.0, ux / (RAD_PI * gap * gap));
+        g.Fa = rad_dmin(1.0, g.uy / (RAD_PI * gap * gap));
+        g.Fb = rad_dmin(1.0, g.ux / (RAD_PI * gap * gap));
     }
-    int mixed;
-    double V = sampled_visibility(h, &x, &y, w, &mixed, rays);
-    double rel_x, rel_y;
     rad_vec3 at_x, at_y;
-    double px = projected(h, &x, w, &rel_x, &at_x), py = projected(h, &y, mw, &rel_y, &at_y);
+    g.px = projected(h, &x, w, &g.rel_x, &at_x);
+    g.py = projected(h, &y, mw, &g.rel_y, &at_y);
     /* the point kernel between where the projected areas lie (within the
        spheres, so never nearer than their gap) */
     rad_vec3 s = rad_vec3_sub(at_y, at_x);
-    double r2 = rad_dmax(rad_vec3_dot(s, s), gap * gap);
-    double G = px * py / (RAD_PI * r2) * V;
-    G = rad_dmin(G, rad_dmin(x.area * Fa, y.area * Fb));
-    out->G = G;
-    out->Fa = Fa;
-    out->Fb = Fb;
+    g.r2 = rad_dmax(rad_vec3_dot(s, s), gap * gap);
+    g.kern = g.apart ? kernel_spread(&x, &y, g.r2, gap, sin(beta)) : 0.0;
+    out->Fa = g.Fa;
+    out->Fb = g.Fb;
     out->w = w;
-    out->kv = V / (RAD_PI * r2);
-    if (!apart) {
-        /* no bound of the kernel's variation: a point of x gets kv times
-           at most U_Y, the truth lies in [0, F_X], and the oracle splits
-           the larger end until the spheres part or eps is met */
-        out->kv = px * py > 0.0 ? G / (px * py) : 0.0;
-        out->ea = out->va = rad_dmax(Fa, out->kv * uy);
-        out->eb = out->vb = rad_dmax(Fb, out->kv * ux);
-        out->by_size = 1;
+    if (h->use_vis && target > 0.0 && split_whatever_seen(h, &x, &y, &g, target, out))
         return 1;
-    }
-    if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
-        /* every point of a cluster gets the mean: anything in [0, F] is possible */
-        out->ea = rad_dmax(G / x.area, Fa - G / x.area);
-        out->eb = rad_dmax(G / y.area, Fb - G / y.area);
-        out->va = Fa;
-        out->vb = Fb;
-        return 1;
-    }
-    /* oriented: a point gets k max(n.w, 0) (solve: by direction), off by the
-       kernel's variation over the spheres (distance and direction), the
-       source's projected area, and visibility where the rays disagree (where
-       they agree it is taken as they say: four rays are an estimate, not a
-       bound) */
-    double kern = kernel_spread(&x, &y, r2, gap, sin(beta));
-    out->ea = Fa * rad_dmin(1.0, kern + rel_y + (mixed ? 1.0 : 0.0));
-    out->eb = Fb * rad_dmin(1.0, kern + rel_x + (mixed ? 1.0 : 0.0));
-    /* the sources' intensity follows their triangles' own B: what is left
-       of B's variation is the kernel's over the source */
-    out->va = Fa * rad_dmin(1.0, kern);
-    out->vb = Fb * rad_dmin(1.0, kern);
-    out->by_size = kern > rad_dmax(rel_x, rel_y) + (mixed ? 1.0 : 0.0);
+    int mixed;
+    double V = sampled_visibility(h, &x, &y, w, &mixed, rays);
+    finish(h, &x, &y, &g, V, mixed, out);
     return 1;
 }
 
 /* Estimate jobs[0..n) in parallel and append the links that carry anything
- * (in job order: the result does not depend on the thread count). */
-static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
+ * (in job order: the result does not depend on the thread count); target:
+ * as estimate's. */
+static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, double target)
 {
     if (n == 0)
         return RAD_OK;
@@ -525,7 +567,7 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n)
     hier_share(h, &first, &step);
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n / step > 64) num_threads(threads)
     for (long long k = (long long)first; k < (long long)n; k += (long long)step)
-        keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, &out[k], &rays);
+        keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, target, &out[k], &rays);
     if (hier_shared(h)) {
         long long evals = 0;
         rad_status st;
@@ -842,7 +884,7 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
             ++*count;
         }
         if (st == RAD_OK)
-            st = estimate_batch(h, cj.j, cj.n);
+            st = estimate_batch(h, cj.j, cj.n, target);
         if (st == RAD_OK)
             st = hier_estimate_batch(h, sj.j, sj.n, 0);
         /* the generation's split links go before the next is examined, so
@@ -1068,7 +1110,7 @@ rad_status hier_cluster_create(rad_hier *h)
                 st = queue_pair(&cj, &sj, end_of(h, h->cl[i].child[0]),
                                 end_of(h, h->cl[i].child[1]));
         if (st == RAD_OK)
-            st = estimate_batch(h, cj.j, cj.n);
+            st = estimate_batch(h, cj.j, cj.n, 0.0);
         if (st == RAD_OK)
             st = hier_estimate_batch(h, sj.j, sj.n, 0);
         free(cj.j);
