@@ -136,16 +136,17 @@ static int side_values(const rad_hier *h, const hier_elem *e, const hier_elem *t
 static double side_values_rays(const rad_hier *h, const hier_elem *e, const hier_elem *t,
                                double *F, double *Fo, work_count *wc)
 {
-    enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA };
+    enum { CELLS = LINK_RAY_STRATA * LINK_RAY_STRATA, RAYS = RAD_HIER_MAX_NODES * CELLS };
     rad_vec3 ne = h->normal[e->face], nt = h->normal[t->face];
     uint64_t key = rad_vis_pair_key(e->p, t->p);
-    double err = 0.0;
+    /* every node's rays in one query: Embree's packets then run full */
+    double from[3 * RAYS], to[3 * RAYS], wj[RAYS];
+    unsigned char blocked[RAYS];
+    size_t first[RAD_HIER_MAX_NODES + 1], nseg = 0;
     for (int k = 0; k < h->nodes; k++) {
         rad_vec3 x = rad_geom_triangle_point(e->p[0], e->p[1], e->p[2], h->rs[k], h->rt[k]);
-        double from[3 * CELLS], to[3 * CELLS], wj[CELLS];
-        unsigned char blocked[CELLS];
-        size_t nseg = 0;
         uint64_t node = key + 2 * CELLS * (uint64_t)k;
+        first[k] = nseg;
         for (int j = 0; j < CELLS; j++) {
             double s, u;
             rad_geom_triangle_stratum(LINK_RAY_STRATA, j, rad_sys_hash_unit(node + 2 * (uint64_t)j),
@@ -158,20 +159,23 @@ static double side_values_rays(const rad_hier *h, const hier_elem *e, const hier
             to[3 * nseg] = y.x, to[3 * nseg + 1] = y.y, to[3 * nseg + 2] = y.z;
             wj[nseg++] = w;
         }
-        /* one packet from the node (the rays share their origin); a query
-           that cannot run reads as blocked, as rad_vis_segment_blocked does */
-        if (nseg > 0 && rad_vis_occluded_between(h->vis, (size_t)e->face, (size_t)t->face, nseg,
-                                                 from, to, blocked, NULL) != RAD_OK)
-            memset(blocked, 1, nseg);
+        Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
+    }
+    first[h->nodes] = nseg;
+    /* a query that cannot run reads as blocked, as rad_vis_segment_blocked does */
+    if (nseg > 0 && rad_vis_occluded_between(h->vis, (size_t)e->face, (size_t)t->face, nseg, from,
+                                             to, blocked, NULL) != RAD_OK)
+        memset(blocked, 1, nseg);
+    wc->rays += nseg;
+    double err = 0.0;
+    for (int k = 0; k < h->nodes; k++) {
         double all = 0.0, all2 = 0.0, open = 0.0;
-        for (size_t j = 0; j < nseg; j++) {
+        for (size_t j = first[k]; j < first[k + 1]; j++) {
             all += wj[j];
             all2 += wj[j] * wj[j];
             if (!blocked[j])
                 open += wj[j];
         }
-        wc->rays += nseg;
-        Fo[k] = rad_ff_point_polygon(x, ne, t->p, 3);
         F[k] = all > 0.0 ? Fo[k] * (open / all) : Fo[k];
         wc->evals += 1 + CELLS;
         if (all > 0.0) {
