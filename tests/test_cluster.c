@@ -2,8 +2,10 @@
  * triangles (every triangle once, ranges nested, boxes holding their
  * triangles, areas summing, cones holding every normal), each split leaving
  * both sides an eighth at least, determinism, objects kept whole where
- * planes separate them, and bad input refused. */
+ * planes separate them, bad input refused, and the bound of what a node's
+ * triangles turn towards a cone of directions against its triangles. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -193,6 +195,122 @@ TEST(cluster_keeps_separated_objects_whole)
         }
         CHECK_MSG(whole == 64, "%d of 64 cubes are one node each", whole);
     }
+    rad_cluster_destroy(t);
+    rad_scene_destroy(s);
+}
+
+/* A unit vector uniform on the cap of angle beta about unit w. */
+static rad_vec3 cap_direction(rad_vec3 w, double beta, unsigned long long *s)
+{
+    double r[2];
+    for (int k = 0; k < 2; k++) {
+        *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+        r[k] = (double)(*s >> 11) * 0x1.0p-53;
+    }
+    double ct = 1.0 - r[0] * (1.0 - cos(beta)), st = sqrt(fmax(0.0, 1.0 - ct * ct));
+    rad_vec3 a = fabs(w.x) < 0.9 ? rad_vec3_make(1, 0, 0) : rad_vec3_make(0, 1, 0);
+    rad_vec3 e1 = rad_vec3_cross(w, a);
+    e1 = rad_vec3_scale(e1, 1.0 / rad_vec3_norm(e1));
+    rad_vec3 e2 = rad_vec3_cross(w, e1);
+    double ph = 2.0 * RAD_PI * r[1];
+    return rad_vec3_add(rad_vec3_scale(w, ct),
+                        rad_vec3_add(rad_vec3_scale(e1, st * cos(ph)), rad_vec3_scale(e2, st * sin(ph))));
+}
+
+/* rad_cluster_projected_upper on every node of t against its triangles:
+ * with each triangle i seen from its own direction u_i within beta of w,
+ * sum_i a_i max(n_i . u_i, 0) and max_i n_i . u_i, each u_i either the
+ * cap's direction nearest n_i (angle max(0, theta_i - beta)) or the best of
+ * 16 drawn uniformly on the cap; and a node of one triangle at beta 0 gets
+ * its exact projected area. */
+static void check_projected_upper(const rad_cluster_tree *t, const double *xyz, const int *tri,
+                                  unsigned seed)
+{
+    const rad_cluster_node *nd = rad_cluster_nodes(t);
+    const int *order = rad_cluster_order(t);
+    const double betas[5] = {0.0, 0.02, 0.3, 1.0, 0.5 * RAD_PI};
+    unsigned long long s = seed * 0x9e3779b97f4a7c15ull + 7;
+    int bad = 0, loose_leaf = 0;
+    double worst = 0.0;
+    for (size_t k = 0; k < rad_cluster_node_count(t); k++) {
+        const rad_cluster_node *x = &nd[k];
+        double len = sqrt(x->normal[0] * x->normal[0] + x->normal[1] * x->normal[1] +
+                          x->normal[2] * x->normal[2]);
+        double N[3], axis[3];
+        for (int a = 0; a < 3; a++) {
+            N[a] = x->area * x->normal[a];
+            axis[a] = len > 0.0 ? x->normal[a] / len : 0.0;
+        }
+        double alpha = x->cone_cos >= -1.0 && len > 0.0 ? acos(fmin(1.0, x->cone_cos)) : 4.0;
+        for (int b = 0; b < 5; b++) {
+            rad_vec3 w = cap_direction(rad_vec3_make(0, 0, 1), RAD_PI, &s);
+            const double wv[3] = {w.x, w.y, w.z};
+            double cmax = -1.0;
+            double U = rad_cluster_projected_upper(x->area, N, axis, alpha, wv, betas[b], &cmax);
+            double nearest = 0.0, drawn = 0.0, cos_nearest = 0.0, cos_drawn = 0.0;
+            for (int i = x->first; i < x->first + x->count; i++) {
+                int tr = order[i];
+                rad_vec3 p0 = vertex(xyz, tri, tr, 0), p1 = vertex(xyz, tri, tr, 1),
+                         p2 = vertex(xyz, tri, tr, 2);
+                rad_vec3 c = rad_vec3_cross(rad_vec3_sub(p1, p0), rad_vec3_sub(p2, p0));
+                double a2 = rad_vec3_norm(c);
+                rad_vec3 n = rad_vec3_scale(c, 1.0 / a2);
+                double th = acos(fmax(-1.0, fmin(1.0, rad_vec3_dot(n, w))));
+                double cn = cos(fmax(0.0, th - betas[b])), cd = -1.0;
+                for (int j = 0; j < 16; j++)
+                    cd = fmax(cd, rad_vec3_dot(n, cap_direction(w, betas[b], &s)));
+                nearest += 0.5 * a2 * fmax(0.0, cn);
+                drawn += 0.5 * a2 * fmax(0.0, cd);
+                cos_nearest = fmax(cos_nearest, cn);
+                cos_drawn = fmax(cos_drawn, cd);
+            }
+            double tol = 1e-12 * x->area;
+            if (!(nearest <= U + tol && drawn <= U + tol && cos_nearest <= cmax + 1e-12 &&
+                  cos_drawn <= cmax + 1e-12)) {
+                if (bad++ < 3)
+                    fprintf(stderr, "node %zu (%d triangles), beta %g: bound %.17g, cosmax %.17g; "
+                                    "triangles %.17g (drawn %.17g), cos %.17g (drawn %.17g)\n",
+                            k, x->count, betas[b], U, cmax, nearest, drawn, cos_nearest, cos_drawn);
+            }
+            worst = fmax(worst, x->area > 0.0 ? (nearest - U) / x->area : 0.0);
+            if (x->count == 1 && b == 0) {
+                /* its cone a line (cone_cos may round below 1) */
+                double U0 = rad_cluster_projected_upper(x->area, N, axis, 0.0, wv, 0.0, NULL);
+                loose_leaf += fabs(U0 - nearest) > 1e-12 * x->area;
+            }
+        }
+    }
+    CHECK_MSG(bad == 0, "%d node and direction pairs exceed the bound (worst by %g of the area)",
+              bad, worst);
+    CHECK_MSG(loose_leaf == 0, "%d one-triangle nodes' bound at beta 0 is not their projected area",
+              loose_leaf);
+}
+
+TEST(cluster_projected_area_bound_against_the_triangles)
+{
+    const size_t sizes[2] = {37, 2000};
+    for (int c = 0; c < 2; c++) {
+        size_t n = sizes[c];
+        double *xyz = malloc(9 * n * sizeof *xyz);
+        int *tri = malloc(3 * n * sizeof *tri);
+        random_soup(n, (unsigned)c + 11, xyz, tri);
+        rad_cluster_tree *t = NULL;
+        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, 1, &t) == RAD_OK);
+        if (t)
+            check_projected_upper(t, xyz, tri, (unsigned)c + 1);
+        rad_cluster_destroy(t);
+        free(xyz);
+        free(tri);
+    }
+    /* boxes: nodes whose normals spread over the whole sphere (no cone), and
+       flat pairs; a closed cube seen along an axis turns a sixth of its area
+       towards it, and the bound, (area + |N|) / 2, is half */
+    rad_scene *s = harness_scene_load("scenes/many_objects/many_64.obj", NULL);
+    if (!s)
+        return;
+    rad_cluster_tree *t = scene_tree(s);
+    if (t)
+        check_projected_upper(t, rad_scene_vertices(s), rad_scene_triangles(s), 3);
     rad_cluster_destroy(t);
     rad_scene_destroy(s);
 }

@@ -61,6 +61,19 @@ const rad_cluster_node *rad_cluster_nodes(const rad_cluster_tree *t);
 const int *rad_cluster_order(const rad_cluster_tree *t);
 int rad_cluster_max_depth(const rad_cluster_tree *t);
 
+/* Upper bounds for triangles of total area `area`, sum of area x unit
+ * normal N, and every unit normal n_i within angle alpha of the unit axis
+ * (alpha > pi: no cone), each seen from its own unit direction u_i within
+ * angle beta of the unit w: returns an upper bound of
+ * sum_i area_i max(n_i . u_i, 0), the least of area x *cosmax and
+ * (area + |N|) / 2 + 2 sin(beta / 2) area; *cosmax (may be NULL) bounds
+ * every n_i . u_i, cos(theta - alpha - beta) (theta the angle between axis
+ * and w; 1 where that is negative, 0 where the cosine is).  A node's
+ * (rad_cluster_node): area, N = area x normal, axis = normal / |normal|,
+ * alpha = acos(cone_cos). */
+double rad_cluster_projected_upper(double area, const double N[3], const double axis[3],
+                                   double alpha, const double w[3], double beta, double *cosmax);
+
 #ifdef __cplusplus
 }
 #endif

@@ -194,14 +194,6 @@ static double dir_eval(const hier_dir *g, rad_vec3 n, double *err)
     return 0.5 * (lo + hi);
 }
 
-/* cos of max(0, theta - spread), theta the angle between unit vectors u, w:
- * the largest cosine a normal within spread of u makes with w. */
-static double cos_upper(rad_vec3 u, rad_vec3 w, double spread)
-{
-    double th = acos(rad_dmax(-1.0, rad_dmin(1.0, rad_vec3_dot(u, w))));
-    return cos(rad_dmax(0.0, th - spread));
-}
-
 /* The projected area of end x towards unit direction w, by the model, and
  * how far (relative) the truth may lie from it (*rel; the bracket's half
  * width over its middle, 0 for an element), and where it lies (*at): a small
@@ -239,16 +231,13 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
 
 /* The largest cosine any normal of x makes with a direction within beta of
  * w, and the largest sum of area x cosine over x's triangles when each
- * triangle sees its own direction u_i within beta of w: at most area x that
- * cosine, and at most (area + |N|) / 2 + 2 sin(beta / 2) area, since
- * sum a_i max(n_i.u, 0) = (sum a_i |n_i.u| + N.u) / 2 for one u and turning u
- * to u_i raises each cosine by at most |u_i - u| <= 2 sin(beta / 2). */
+ * triangle sees its own direction within beta of w
+ * (rad_cluster_projected_upper). */
 static void upper(const end_view *x, rad_vec3 w, double beta, double *cosmax, double *proj)
 {
-    double cmax = x->alpha <= RAD_PI ? cos_upper(x->axis, w, x->alpha + beta) : 1.0;
-    *cosmax = rad_dmax(0.0, cmax);
-    double spread = 0.5 * (x->area + rad_vec3_norm(x->N)) + 2.0 * sin(0.5 * beta) * x->area;
-    *proj = rad_dmin(x->area * *cosmax, spread);
+    const double N[3] = {x->N.x, x->N.y, x->N.z}, axis[3] = {x->axis.x, x->axis.y, x->axis.z};
+    const double wv[3] = {w.x, w.y, w.z};
+    *proj = rad_cluster_projected_upper(x->area, N, axis, x->alpha, wv, beta, cosmax);
 }
 
 /* The distance between the ends' bounding boxes (0 where they meet). */
