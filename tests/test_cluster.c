@@ -99,17 +99,28 @@ static void check_tree(const rad_cluster_tree *t, const double *xyz, const int *
               "depth %d (reported %d) for %zu triangles", depth, rad_cluster_max_depth(t), n);
 }
 
+/* A random soup of n triangles (random_soup, seed) in *xyz and *tri, which
+ * the caller frees, and its tree of leaves of leaf triangles (NULL after a
+ * failed build). */
+static rad_cluster_tree *soup_tree(size_t n, unsigned seed, int leaf, double **xyz, int **tri)
+{
+    *xyz = malloc(9 * n * sizeof **xyz);
+    *tri = malloc(3 * n * sizeof **tri);
+    random_soup(n, seed, *xyz, *tri);
+    rad_cluster_tree *t = NULL;
+    CHECK(rad_cluster_build(*xyz, 3 * n, *tri, n, leaf, &t) == RAD_OK);
+    return t;
+}
+
 TEST(cluster_hierarchy_invariants_on_random_soups)
 {
     const size_t sizes[3] = {1, 37, 5000};
     const int leaves[3] = {1, 1, 4};
     for (int c = 0; c < 3; c++) {
         size_t n = sizes[c];
-        double *xyz = malloc(9 * n * sizeof *xyz);
-        int *tri = malloc(3 * n * sizeof *tri);
-        random_soup(n, (unsigned)c + 1, xyz, tri);
-        rad_cluster_tree *t = NULL;
-        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], &t) == RAD_OK);
+        double *xyz;
+        int *tri;
+        rad_cluster_tree *t = soup_tree(n, (unsigned)c + 1, leaves[c], &xyz, &tri);
         if (t)
             check_tree(t, xyz, tri, n, leaves[c]);
         /* the same input gives the same tree */
@@ -290,12 +301,9 @@ TEST(cluster_projected_area_bound_against_the_triangles)
 {
     const size_t sizes[2] = {37, 2000};
     for (int c = 0; c < 2; c++) {
-        size_t n = sizes[c];
-        double *xyz = malloc(9 * n * sizeof *xyz);
-        int *tri = malloc(3 * n * sizeof *tri);
-        random_soup(n, (unsigned)c + 11, xyz, tri);
-        rad_cluster_tree *t = NULL;
-        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, 1, &t) == RAD_OK);
+        double *xyz;
+        int *tri;
+        rad_cluster_tree *t = soup_tree(sizes[c], (unsigned)c + 11, 1, &xyz, &tri);
         if (t)
             check_projected_upper(t, xyz, tri, (unsigned)c + 1);
         rad_cluster_destroy(t);
