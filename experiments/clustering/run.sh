@@ -17,6 +17,12 @@
 #    "loose", data/scaling_loose.dat and its slopes in data/slopes.dat;
 #    each size run LOOSE_REPEAT times, the fastest kept: this machine's
 #    times move by up to a fifth from run to run).
+#    Part "range": cluster (oriented) at the defaults (eps EPS, the default
+#    --max-tighten) on RANGE_SIZES boxes (300 and 1 000: 3 612 and 12 012
+#    triangles, the bottom of issue 17's slope range, 3.6k to 36k; 3 000
+#    boxes would take about 60 million links), one run each, the slope of
+#    links and time between them (data/scaling_range.dat, method
+#    cluster-defaults in data/slopes.dat; about 5 minutes, 4 GB).
 # 2. Accuracy against the Monte Carlo references of experiments/reference:
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
@@ -68,6 +74,7 @@ EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (ori
 EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 3:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
 TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
 EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
+RANGE_SIZES=${RANGE_SIZES:-"300 1000"}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
 LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
@@ -81,7 +88,7 @@ PAYS_LOOSE_BOXES=${PAYS_LOOSE_BOXES:-"125 343"}
 FURNACE_BOXES=${FURNACE_BOXES:-"125 1000"}
 FURNACE_RHO=${FURNACE_RHO:-0.9}
 FURNACE_EPS=${FURNACE_EPS:-0.01}
-PARTS=${PARTS:-"scaling loose target pays accuracy tighten furnace picture"} # any of them, e.g. PARTS=furnace
+PARTS=${PARTS:-"scaling range loose target pays accuracy tighten furnace picture"} # any of them, e.g. PARTS=furnace
 want() { case " $PARTS " in *" $1 "*) return 0;; esac; return 1; }
 cd "$root"
 for r in cornell many_64 many_343 many_1000; do
@@ -159,7 +166,26 @@ for n in $SIZES; do
   done
 done
 slopes "$dat" > data/slopes.dat
-[ -s data/scaling_loose.dat ] && slopes data/scaling_loose.dat | sed 1d >> data/slopes.dat
+for f in data/scaling_range.dat data/scaling_loose.dat; do
+  [ -s "$f" ] && slopes "$f" | sed 1d >> data/slopes.dat
+done
+fi
+if want range; then
+dat=data/scaling_range.dat
+table_head "$dat" "clustering at the defaults in issue 17's slope range: rooms of N boxes, cluster (oriented) at eps $EPS" \
+  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
+  "method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+for n in $RANGE_SIZES; do
+  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
+  echo "clustering: defaults, $n boxes" >&2
+  "$RADKIT" solve "$tmp/boxes_$n.obj" --method cluster --eps "$EPS" --quiet --out "$tmp/t.tsv" \
+    2>/dev/null || true
+  [ -s "$tmp/t.tsv" ] || continue
+  { scaling_row cluster-defaults "$n"; echo; } >> "$dat"
+  rm -f "$tmp/t.tsv"
+done
+sed -i '/^cluster-defaults/d' data/slopes.dat 2>/dev/null || true
+slopes "$dat" | sed 1d >> data/slopes.dat
 fi
 if want loose; then
 dat=data/scaling_loose.dat
