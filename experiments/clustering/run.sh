@@ -143,26 +143,34 @@ method_args() {
     hier) echo "--method hier --clustering off" ;;
     cluster) echo "--method cluster" ;;
     cluster-iso) echo "--method cluster --cluster-model iso" ;;
+    cluster-defaults) echo "--method cluster" ;;
   esac
+}
+
+# The scaling tables' header lines after the experiment's, and a row:
+# scaling_run LABEL BOXES TABLE solves $tmp/boxes_BOXES.obj with LABEL's
+# options at eps EPS and appends its row (none where the solve fails).
+scaling_note="links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes"
+scaling_cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+scaling_run() {
+  echo "clustering: $1, $2 boxes" >&2
+  # shellcheck disable=SC2046
+  "$RADKIT" solve "$tmp/boxes_$2.obj" $(method_args "$1") --eps "$EPS" --quiet \
+    --out "$tmp/t.tsv" 2>/dev/null || true
+  [ -s "$tmp/t.tsv" ] || return 0
+  { scaling_row "$1" "$2"; echo; } >> "$3"
+  rm -f "$tmp/t.tsv"
 }
 
 if want scaling; then
 dat=data/scaling.dat
-cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
 table_head "$dat" "clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS" \
-  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
-  "$cols"
+  "$scaling_note" "$scaling_cols"
 for n in $SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
   for m in hier cluster cluster-iso; do
     if [ "$m" = hier ] && [ "$n" -gt "$HIER_MAX" ]; then continue; fi
-    echo "clustering: $m, $n boxes" >&2
-    # shellcheck disable=SC2046
-    "$RADKIT" solve "$tmp/boxes_$n.obj" $(method_args "$m") --eps "$EPS" --quiet \
-      --out "$tmp/t.tsv" 2>/dev/null || true
-    [ -s "$tmp/t.tsv" ] || continue
-    { scaling_row "$m" "$n"; echo; } >> "$dat"
-    rm -f "$tmp/t.tsv"
+    scaling_run "$m" "$n" "$dat"
   done
 done
 slopes "$dat" > data/slopes.dat
@@ -173,26 +181,19 @@ fi
 if want range; then
 dat=data/scaling_range.dat
 table_head "$dat" "clustering at the defaults in issue 17's slope range: rooms of N boxes, cluster (oriented) at eps $EPS" \
-  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
-  "method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+  "$scaling_note" "$scaling_cols"
 for n in $RANGE_SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
-  echo "clustering: defaults, $n boxes" >&2
-  "$RADKIT" solve "$tmp/boxes_$n.obj" --method cluster --eps "$EPS" --quiet --out "$tmp/t.tsv" \
-    2>/dev/null || true
-  [ -s "$tmp/t.tsv" ] || continue
-  { scaling_row cluster-defaults "$n"; echo; } >> "$dat"
-  rm -f "$tmp/t.tsv"
+  scaling_run cluster-defaults "$n" "$dat"
 done
 sed -i '/^cluster-defaults/d' data/slopes.dat 2>/dev/null || true
 slopes "$dat" | sed 1d >> data/slopes.dat
 fi
 if want loose; then
 dat=data/scaling_loose.dat
-cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate	error	worst	power"
 table_head "$dat" "clustering at a preview setting: rooms of N boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN" \
-  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes; error, worst, power: radkit compare against experiments/reference/data/many_343.tsv (343 boxes only)" \
-  "$cols"
+  "$scaling_note; error, worst, power: radkit compare against experiments/reference/data/many_343.tsv (343 boxes only)" \
+  "$scaling_cols	error	worst	power"
 for n in $LOOSE_SIZES; do
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
   # the fastest of LOOSE_REPEAT runs (the answer is the same each time;
@@ -227,8 +228,7 @@ fi
 if want target; then
 dat=data/target.dat
 table_head "$dat" "clustering at the target size and beyond: rooms of $TARGET_BOXES boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN (cluster-preview), and of $COARSE_BOXES boxes at eps $COARSE_EPS, --max-tighten 0 (cluster-coarse) (issue 17: 120k triangles in under 120 s and 6 GB; the goal 1.2M in 60 s and 8 GB)" \
-  "links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes" \
-  "method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
+  "$scaling_note" "$scaling_cols"
 target_row() { # LABEL BOXES EPS MAX_TIGHTEN
   label=$1 n=$2 eps=$3 tighten=$4
   python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_target.obj"
