@@ -148,11 +148,13 @@ method_args() {
 }
 
 # The scaling tables' header lines after the experiment's, and a row:
-# scaling_run LABEL BOXES TABLE solves $tmp/boxes_BOXES.obj with LABEL's
-# options at eps EPS and appends its row (none where the solve fails).
+# scaling_run LABEL BOXES TABLE solves the room of BOXES boxes
+# ($tmp/boxes_BOXES.obj, made on first use) with LABEL's options at eps EPS
+# and appends its row (none where the solve fails).
 scaling_note="links: pairs coupled (links_cluster of them with a cluster at one end); time: time_total_s; memory: memory_peak_bytes"
 scaling_cols="method	boxes	faces	links	links_cluster	elements	time_s	memory_bytes	estimate"
 scaling_run() {
+  [ -s "$tmp/boxes_$2.obj" ] || python3 "$root/scenes/gen/many_objects.py" "$2" > "$tmp/boxes_$2.obj"
   echo "clustering: $1, $2 boxes" >&2
   # shellcheck disable=SC2046
   "$RADKIT" solve "$tmp/boxes_$2.obj" $(method_args "$1") --eps "$EPS" --quiet \
@@ -167,7 +169,6 @@ dat=data/scaling.dat
 table_head "$dat" "clustering: rooms of N boxes (scenes/gen/many_objects.py), eps $EPS" \
   "$scaling_note" "$scaling_cols"
 for n in $SIZES; do
-  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
   for m in hier cluster cluster-iso; do
     if [ "$m" = hier ] && [ "$n" -gt "$HIER_MAX" ]; then continue; fi
     scaling_run "$m" "$n" "$dat"
@@ -182,10 +183,7 @@ if want range; then
 dat=data/scaling_range.dat
 table_head "$dat" "clustering at the defaults in issue 17's slope range: rooms of N boxes, cluster (oriented) at eps $EPS" \
   "$scaling_note" "$scaling_cols"
-for n in $RANGE_SIZES; do
-  python3 "$root/scenes/gen/many_objects.py" "$n" > "$tmp/boxes_$n.obj"
-  scaling_run cluster-defaults "$n" "$dat"
-done
+for n in $RANGE_SIZES; do scaling_run cluster-defaults "$n" "$dat"; done
 sed -i '/^cluster-defaults/d' data/slopes.dat 2>/dev/null || true
 slopes "$dat" | sed 1d >> data/slopes.dat
 fi
