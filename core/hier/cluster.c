@@ -455,14 +455,13 @@ static int split_whatever_seen(const rad_hier *h, const end_view *x, const end_v
                                const link_geometry *g, double target, hier_clink *out)
 {
     signed char first = 0;
-    for (int open = CLUSTER_RAYS; open >= 0; open--) {
+    for (int open = 0; open <= CLUSTER_RAYS; open++) { /* the last: every ray open */
         finish(h, x, y, g, (double)open / CLUSTER_RAYS, open > 0 && open < CLUSTER_RAYS, out);
         signed char d = decide(h, out, target);
-        if (d == 0 || (open < CLUSTER_RAYS && d != first))
+        if (d == 0 || (open > 0 && d != first))
             return 0;
         first = d;
     }
-    finish(h, x, y, g, 1.0, 0, out);
     return 1;
 }
 
