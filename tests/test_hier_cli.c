@@ -41,6 +41,53 @@ TEST(hier_cli_furnace_cube)
     free(err);
 }
 
+/* Header line `name` of out as a number (NAN when missing). */
+static double header_number(const char *out, const char *name)
+{
+    char buf[64];
+    return harness_header(out, name, buf, sizeof buf) ? atof(buf) : NAN;
+}
+
+/* The time breakdown's figures lie inside the phases they are part of: the
+ * link estimates inside linking and refining, the error transport inside
+ * solving (each printed to 1e-4 s); the transport took steps; estimates of
+ * element links were made, and of cluster links only with clusters. */
+TEST(hier_cli_reports_where_the_time_goes)
+{
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    const char *runs[][5] = {{"--method", "hier", NULL},
+                             {"--method", "cluster", NULL},
+                             {"--method", "hier", "--basis", "p1", NULL}};
+    for (int r = 0; r < 3; r++) {
+        const char *args[8] = {cornell};
+        int n = 1;
+        for (int k = 0; runs[r][k]; k++)
+            args[n++] = runs[r][k];
+        args[n++] = "--quiet";
+        args[n] = NULL;
+        char *out = NULL, *err = NULL;
+        CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
+        if (!out) {
+            free(err);
+            continue;
+        }
+        double cl = header_number(out, "time_estimate_cluster_s");
+        double el = header_number(out, "time_estimate_element_s");
+        double bound = header_number(out, "time_bound_s");
+        double steps = header_number(out, "iterations_bound");
+        double made = header_number(out, "time_link_s") + header_number(out, "time_refine_s");
+        double solve = header_number(out, "time_solve_s");
+        CHECK_MSG(el > 0.0 && (r == 1 ? cl > 0.0 : cl == 0.0), "run %d: %g %g", r, cl, el);
+        CHECK_MSG(cl + el <= made + 3e-4, "run %d: estimates %g + %g, linking and refining %g", r,
+                  cl, el, made);
+        CHECK_MSG(bound > 0.0 && bound <= solve + 2e-4, "run %d: bound %g, solve %g", r, bound,
+                  solve);
+        CHECK_MSG(steps >= 1.0, "run %d: %g transport steps", r, steps);
+        free(out);
+        free(err);
+    }
+}
+
 TEST(hier_cli_rejects_bad_options)
 {
     const char *cube = harness_path("scenes/furnace_cube/cube.obj");

@@ -82,6 +82,10 @@ static void print_work(FILE *out, const rad_solution *s)
                 hs->bound_face_max, hs->bound_mean, hs->bound_leaf_max,
                 hs->target_met ? "yes" : "no", hs->links_bound);
         fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs->rays, hs->kernel_evals);
+        fprintf(out, "# iterations_bound = %lld\n# time_estimate_cluster_s = %.4f\n"
+                     "# time_estimate_element_s = %.4f\n# time_bound_s = %.4f\n",
+                hs->iterations_bound, hs->time_estimate_cluster_s, hs->time_estimate_element_s,
+                hs->time_bound_s);
         break;
     case RAD_SOLVE_MC:
         fprintf(out, "# paths = %lld\n# rays = %lld\n# bounces = %lld\n# rays_per_path = %.4f\n",
@@ -156,7 +160,11 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"error_target_met", hs->target_met},
         {"links_bound", (double)hs->links_bound},
         {"clusters", (double)hs->clusters},
-        {"links_cluster", (double)hs->links_cluster}};
+        {"links_cluster", (double)hs->links_cluster},
+        {"iterations_bound", (double)hs->iterations_bound},
+        {"time_estimate_cluster_s", hs->time_estimate_cluster_s},
+        {"time_estimate_element_s", hs->time_estimate_element_s},
+        {"time_bound_s", hs->time_bound_s}};
     rad_io_figure mc_details[] = {
         {"samples_per_face", (double)s->mc.samples_per_face},
         {"batches", s->mc.batches},

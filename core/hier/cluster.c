@@ -534,6 +534,7 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, do
 {
     if (n == 0)
         return RAD_OK;
+    double t0 = rad_sys_seconds();
     if (h->ncln + n > h->p.max_links)
         return RAD_ERROR(RAD_ETOOBIG, "hier: more than %zu cluster links (max_links, "
                                       "--max-links): raise --eps, raise --max-links if the "
@@ -574,6 +575,7 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, do
     h->cln_version++;
     h->st.rays += rays;
     free(keep);
+    h->st.time_estimate_cluster_s += rad_sys_seconds() - t0;
     return RAD_OK;
 }
 

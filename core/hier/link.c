@@ -436,6 +436,7 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
 {
     if (n == 0)
         return RAD_OK;
+    double t0 = rad_sys_seconds();
     rad_status st = hier_reserve_links(h, n);
     unsigned char *ok = st == RAD_OK ? malloc(n) : NULL;
     if (!ok)
@@ -478,6 +479,7 @@ rad_status hier_estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, int 
     }
     h->st.kernel_evals += evals;
     h->st.rays += rays;
+    h->st.time_estimate_element_s += rad_sys_seconds() - t0;
     size_t w = h->nln;
     for (size_t k = 0; k < n; k++) {
         if (ok[k] == 2) {

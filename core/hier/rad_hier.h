@@ -264,6 +264,11 @@ typedef struct rad_hier_stats {
     double time_link_s;   /* initial linking (rad_hier_create) */
     double time_refine_s; /* oracle passes and the links they make */
     double time_solve_s;  /* gather / push-pull and the error transport */
+    /* where those times go: estimating links with a cluster at one end and
+     * links between elements (inside time_link_s and time_refine_s), and the
+     * error transport (inside time_solve_s) with its steps */
+    double time_estimate_cluster_s, time_estimate_element_s, time_bound_s;
+    long long iterations_bound;
     double time_comm_s;   /* exchanges between processes (params.exchange), inside the
                              three times above; 0 for one process */
 } rad_hier_stats;

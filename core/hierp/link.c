@@ -42,6 +42,7 @@
 #include <string.h>
 
 #include "rad_ff.h"
+#include "rad_sys.h"
 
 enum { LINK_MAX_BLOCKERS = 256 };
 
@@ -416,6 +417,7 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n, int spl
 {
     if (n == 0)
         return RAD_OK;
+    double t0 = rad_sys_seconds();
     rad_status st = hp_reserve_links(h, n);
     unsigned char *ok = st == RAD_OK ? malloc(n) : NULL;
     if (!ok)
@@ -451,6 +453,7 @@ rad_status hp_estimate_batch(rad_hierp *h, const hp_job *jobs, size_t n, int spl
     }
     h->st.kernel_evals += evals;
     h->st.rays += rays;
+    h->st.time_estimate_element_s += rad_sys_seconds() - t0;
     size_t w = h->nln;
     for (size_t k = 0; k < n; k++) {
         if (ok[k] == 2) {

@@ -697,6 +697,7 @@ rad_status hp_estimate_error(rad_hierp *h)
             break;
         }
         last = change;
+        h->st.iterations_bound++;
         if (change <= h->p.bound_tol * tmax)
             break;
     }
@@ -735,6 +736,7 @@ rad_status hp_estimate_error(rad_hierp *h)
     h->st.bound_mean = total > 0.0 ? sum / total / R : 0.0;
     h->st.target_met = h->st.bound_face_max <= h->p.eps;
     h->st.time_solve_s += rad_sys_seconds() - t0;
+    h->st.time_bound_s += rad_sys_seconds() - t0;
     return st;
 }
 
