@@ -22,7 +22,10 @@
 #    triangles, the bottom of issue 17's slope range, 3.6k to 36k; 3 000
 #    boxes would take about 60 million links), one run each, the slope of
 #    links and time between them (data/scaling_range.dat, method
-#    cluster-defaults in data/slopes.dat; about 5 minutes, 4 GB).
+#    cluster-defaults in data/slopes.dat; about 5 minutes, 4 GB); and the
+#    same eps without tightening (--max-tighten 0) on RANGE_SIZES_K0 boxes
+#    (300, 1 000 and 3 000: the whole range; method cluster-eps-K0, about
+#    a minute, 1.3 GB).
 # 2. Accuracy against the Monte Carlo references of experiments/reference:
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
@@ -76,6 +79,7 @@ EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 3:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 tr
 TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
 EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
 RANGE_SIZES=${RANGE_SIZES:-"300 1000"}
+RANGE_SIZES_K0=${RANGE_SIZES_K0:-"300 1000 3000"}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
 LOOSE_EPS=${LOOSE_EPS:-1}
 LOOSE_TIGHTEN=${LOOSE_TIGHTEN:-0}
@@ -145,6 +149,7 @@ method_args() {
     cluster) echo "--method cluster" ;;
     cluster-iso) echo "--method cluster --cluster-model iso" ;;
     cluster-defaults) echo "--method cluster" ;;
+    cluster-eps-K0) echo "--method cluster --max-tighten 0" ;;
   esac
 }
 
@@ -182,10 +187,11 @@ done
 fi
 if want range; then
 dat=data/scaling_range.dat
-table_head "$dat" "clustering at the defaults in issue 17's slope range: rooms of N boxes, cluster (oriented) at eps $EPS" \
+table_head "$dat" "clustering in issue 17's slope range: rooms of N boxes, cluster (oriented) at eps $EPS, the defaults (cluster-defaults) and without tightening (cluster-eps-K0: --max-tighten 0)" \
   "$scaling_note" "$scaling_cols"
 for n in $RANGE_SIZES; do scaling_run cluster-defaults "$n" "$dat"; done
-sed -i '/^cluster-defaults/d' data/slopes.dat 2>/dev/null || true
+for n in $RANGE_SIZES_K0; do scaling_run cluster-eps-K0 "$n" "$dat"; done
+sed -i '/^cluster-defaults/d; /^cluster-eps-K0/d' data/slopes.dat 2>/dev/null || true
 slopes "$dat" | sed 1d >> data/slopes.dat
 fi
 if want loose; then
