@@ -1,6 +1,7 @@
 #include "harness.h"
 
 #include <fcntl.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -200,6 +201,12 @@ const char *harness_header(const char *out, const char *key, char *buf, size_t s
     memcpy(buf, p, len);
     buf[len] = '\0';
     return buf;
+}
+
+double harness_header_number(const char *out, const char *key)
+{
+    char buf[64];
+    return harness_header(out, key, buf, sizeof buf) ? atof(buf) : NAN;
 }
 
 void harness_expect_usage_error_at(const char *file, int line, const char *command,

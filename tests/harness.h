@@ -91,6 +91,8 @@ const char *harness_temp_path(const char *name);
 /* The value of a "# key = value" line of a program's output, copied to buf;
  * NULL when there is no such line. */
 const char *harness_header(const char *out, const char *key, char *buf, size_t size);
+/* The same line's value as a number; NAN when there is no such line. */
+double harness_header_number(const char *out, const char *key);
 
 /* Bad usage or input: exit status 2, nothing on stdout, exactly one line on
  * stderr that starts "radkit: " and contains `needle`.  Failures are reported

@@ -8,14 +8,6 @@
 
 #include "harness.h"
 
-static double header_number(const char *out, const char *key)
-{
-    char pattern[128];
-    snprintf(pattern, sizeof pattern, "# %s = ", key);
-    const char *p = strstr(out, pattern);
-    return p ? atof(p + strlen(pattern)) : NAN;
-}
-
 /* Closed, convex, uniform rho = 0.375 and E = 2.385: B = E / (1 - rho) = 3.816. */
 TEST(cli_solve_furnace_is_exact)
 {
@@ -30,7 +22,7 @@ TEST(cli_solve_furnace_is_exact)
         for (int k = 0; k < 3 * rows; k++)
             CHECK_NEAR(B[k], 2.385 / (1.0 - 0.375), 1e-9, 0.0);
         CHECK(strstr(out, "# effect_occlusion = off") != NULL); /* convex: no rays */
-        CHECK(header_number(out, "rays") == 0.0);
+        CHECK(harness_header_number(out, "rays") == 0.0);
         free(out);
         free(err);
     }
@@ -62,7 +54,7 @@ TEST(cli_solve_rho_near_one_stays_accurate)
         CHECK(harness_face_table(out, B, 20) == 12);
         for (int i = 0; i < 36; i++)
             CHECK_NEAR(B[i], 2.385 / (1.0 - rho), 1e-9, 0.0);
-        double rcond = header_number(out, "rcond");
+        double rcond = harness_header_number(out, "rcond");
         CHECK_MSG(rcond > 0.0 && rcond < 0.5 * (1.0 - rho) * 10.0, "rcond %g for rho %g", rcond, rho);
         free(out);
         free(err);

@@ -752,12 +752,12 @@ rad_status hier_error_estimate(rad_hier *h)
             break;
         }
         hier_working(h, "bounding", (size_t)it + 1);
+        h->st.iterations_bound++;
         last = change;
         if (change <= h->p.bound_tol * tmax)
             break;
     }
     h->T_tail = fixed_point_tail(h, last);
-    h->st.iterations_bound += it < h->p.max_iterations ? it + 1 : it;
     if (st == RAD_OK && it == h->p.max_iterations)
         st = RAD_ERROR(RAD_ENUMERIC, "hier: the error transport did not converge in %d steps",
                        h->p.max_iterations);
@@ -793,8 +793,9 @@ rad_status hier_error_estimate(rad_hier *h)
     h->st.bound_face_max = R > 0.0 ? face_max / R : 0.0;
     h->st.bound_mean = R > 0.0 && total > 0.0 ? sum / (3.0 * total * R) : 0.0;
     h->st.target_met = h->st.bound_face_max <= h->p.eps;
-    h->st.time_solve_s += rad_sys_seconds() - t0;
-    h->st.time_bound_s += rad_sys_seconds() - t0;
+    double spent = rad_sys_seconds() - t0;
+    h->st.time_solve_s += spent;
+    h->st.time_bound_s += spent;
     return st;
 }
 

@@ -735,8 +735,9 @@ rad_status hp_estimate_error(rad_hierp *h)
     h->st.bound_face_max = face_max / R;
     h->st.bound_mean = total > 0.0 ? sum / total / R : 0.0;
     h->st.target_met = h->st.bound_face_max <= h->p.eps;
-    h->st.time_solve_s += rad_sys_seconds() - t0;
-    h->st.time_bound_s += rad_sys_seconds() - t0;
+    double spent = rad_sys_seconds() - t0;
+    h->st.time_solve_s += spent;
+    h->st.time_bound_s += spent;
     return st;
 }
 
