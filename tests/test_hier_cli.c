@@ -81,6 +81,52 @@ TEST(hier_cli_reports_where_the_time_goes)
     }
 }
 
+/* One run's table (NULL after a failure, reported). */
+static char *solve_table(const char *const *args)
+{
+    char *out = NULL, *err = NULL;
+    CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
+    free(err);
+    return out;
+}
+
+/* Where the bound comes from: error_local_cluster, the share of the
+ * leaves' local errors of F that cluster links bring.  Left unrefined
+ * (eps 1e6) the 64 boxes keep the tree's first links, nearly all of them
+ * cluster links, and nearly all the error is theirs; refinement replaces
+ * cluster links by element links, and their share falls; where no cluster
+ * link is left (the Cornell box at eps 0.01) it is 0; without clusters the
+ * table has no such line. */
+TEST(cluster_cli_reports_where_the_bound_comes_from)
+{
+    const char *boxes = harness_path("scenes/many_objects/many_64.obj");
+    const char *cornell = harness_path("scenes/cornell/cornell.obj");
+    double share[2] = {NAN, NAN};
+    const char *eps[2] = {"1e6", "1"};
+    for (int k = 0; k < 2; k++) {
+        char *out = solve_table((const char *[]){boxes, "--method", "cluster", "--eps", eps[k],
+                                                 "--quiet", NULL});
+        if (out)
+            share[k] = harness_header_number(out, "error_local_cluster");
+        printf("# many_64, eps %s: error_local_cluster %.4f\n", eps[k], share[k]);
+        free(out);
+    }
+    CHECK_MSG(share[0] >= 0.9 && share[0] <= 1.0, "unrefined: %g", share[0]);
+    CHECK_MSG(share[1] > 0.0 && share[1] < share[0], "eps 1: %g, unrefined %g", share[1],
+              share[0]);
+    char *out = solve_table((const char *[]){cornell, "--method", "cluster", "--eps", "0.01",
+                                             "--quiet", NULL});
+    if (out) {
+        CHECK(harness_header_number(out, "links_cluster") == 0.0);
+        CHECK(harness_header_number(out, "error_local_cluster") == 0.0);
+    }
+    free(out);
+    out = solve_table((const char *[]){cornell, "--method", "hier", "--quiet", NULL});
+    char buf[64];
+    CHECK(out && !harness_header(out, "error_local_cluster", buf, sizeof buf));
+    free(out);
+}
+
 TEST(hier_cli_rejects_bad_options)
 {
     const char *cube = harness_path("scenes/furnace_cube/cube.obj");

@@ -81,6 +81,8 @@ static void print_work(FILE *out, const rad_solution *s)
                      "# links_bound = %lld\n",
                 hs->bound_face_max, hs->bound_mean, hs->bound_leaf_max,
                 hs->target_met ? "yes" : "no", hs->links_bound);
+        if (hs->clusters > 0)
+            fprintf(out, "# error_local_cluster = %.4f\n", hs->local_cluster);
         fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs->rays, hs->kernel_evals);
         fprintf(out, "# iterations_bound = %lld\n# time_estimate_cluster_s = %.4f\n"
                      "# time_estimate_element_s = %.4f\n# time_bound_s = %.4f\n",
@@ -159,6 +161,7 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"error_estimate_leaf_max", hs->bound_leaf_max},
         {"error_target_met", hs->target_met},
         {"links_bound", (double)hs->links_bound},
+        {"error_local_cluster", hs->local_cluster},
         {"clusters", (double)hs->clusters},
         {"links_cluster", (double)hs->links_cluster},
         {"iterations_bound", (double)hs->iterations_bound},

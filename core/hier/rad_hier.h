@@ -258,6 +258,10 @@ typedef struct rad_hier_stats {
      * their area-weighted mean, and the area-weighted mean over the scene. */
     double bound_leaf_max, bound_face_max, bound_mean;
     double reflected;     /* R */
+    double local_cluster; /* the share of the leaves' local errors of F (area-weighted,
+                             the channels summed, before the transport) that links
+                             with a cluster at one end bring: where the bound comes
+                             from (0 without clusters) */
     long long links_bound;/* links the oracle would refine but whose elements can no
                              longer be split (min_area, max_depth) */
     int target_met;       /* 1: every leaf's bound is within eps R */

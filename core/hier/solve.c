@@ -664,6 +664,17 @@ static void pull_gradient(rad_hier *h, int e)
     }
 }
 
+/* The local errors of F over every element, area-weighted, the channels
+ * summed (before push_local: a parent's area is its children's, so this is
+ * the sum the leaves will hold). */
+static double local_sum(const rad_hier *h)
+{
+    double sum = 0.0;
+    for (size_t e = 0; e < h->nel; e++)
+        sum += h->el[e].area * (h->el[e].q[0] + h->el[e].q[1] + h->el[e].q[2]);
+    return sum;
+}
+
 rad_status hier_error_estimate(rad_hier *h)
 {
     double t0 = rad_sys_seconds();
@@ -700,9 +711,12 @@ rad_status hier_error_estimate(rad_hier *h)
             b->dr[c] += rb * l->rb * wa;
         }
     }
+    double element_part = local_sum(h);
     rad_status st = hier_cluster_local(h);
     if (st != RAD_OK)
         return st;
+    double all = local_sum(h);
+    h->st.local_cluster = all > 0.0 ? rad_dmax(0.0, all - element_part) / all : 0.0;
     double zero[3] = {0, 0, 0};
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++)
