@@ -41,6 +41,15 @@ TEST(hier_cli_furnace_cube)
     free(err);
 }
 
+/* One run's table (NULL after a failure, reported). */
+static char *solve_table(const char *const *args)
+{
+    char *out = NULL, *err = NULL;
+    CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
+    free(err);
+    return out;
+}
+
 /* The time breakdown's figures lie inside the phases they are part of: the
  * link estimates inside linking and refining, the error transport inside
  * solving (each printed to 1e-4 s); the transport takes at least a step;
@@ -58,12 +67,9 @@ TEST(hier_cli_reports_where_the_time_goes)
             args[n++] = runs[r][k];
         args[n++] = "--quiet";
         args[n] = NULL;
-        char *out = NULL, *err = NULL;
-        CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
-        if (!out) {
-            free(err);
+        char *out = solve_table(args);
+        if (!out)
             continue;
-        }
         double cl = harness_header_number(out, "time_estimate_cluster_s");
         double el = harness_header_number(out, "time_estimate_element_s");
         double bound = harness_header_number(out, "time_bound_s");
@@ -77,17 +83,7 @@ TEST(hier_cli_reports_where_the_time_goes)
                   solve);
         CHECK_MSG(steps >= 1.0, "run %d: %g transport steps", r, steps);
         free(out);
-        free(err);
     }
-}
-
-/* One run's table (NULL after a failure, reported). */
-static char *solve_table(const char *const *args)
-{
-    char *out = NULL, *err = NULL;
-    CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
-    free(err);
-    return out;
 }
 
 /* Where the bound comes from: error_local_cluster, the share of the

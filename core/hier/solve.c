@@ -711,12 +711,12 @@ rad_status hier_error_estimate(rad_hier *h)
             b->dr[c] += rb * l->rb * wa;
         }
     }
-    double element_part = local_sum(h);
+    double element_part = h->ncl ? local_sum(h) : 0.0;
     rad_status st = hier_cluster_local(h);
     if (st != RAD_OK)
         return st;
-    double all = local_sum(h);
-    h->st.local_cluster = all > 0.0 ? rad_dmax(0.0, all - element_part) / all : 0.0;
+    double all = h->ncl ? local_sum(h) : 0.0;
+    h->st.local_cluster = all > 0.0 ? (all - element_part) / all : 0.0;
     double zero[3] = {0, 0, 0};
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++)
