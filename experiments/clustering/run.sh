@@ -54,7 +54,8 @@
 #    triangles) at eps COARSE_EPS (3), --max-tighten 0, the coarsest
 #    setting with a usable answer (16% L1 on 1 000 boxes; about 5
 #    minutes, 8.4 GB).  data/target_time.dat: where each row's time goes
-#    (the solve's phases, link estimates, the error transport, steps).
+#    (the solve's phases, link estimates, the error transport, steps) and
+#    the cluster links' share of the error estimate.
 # 7. When the layer pays (the effects plan's choice for --method hier):
 #    hier without and with clusters on the spheres of 320 and 1 280
 #    triangles and rooms of PAYS_BOXES boxes at eps 0.1 (the defaults) and,
@@ -234,8 +235,8 @@ if want target; then
 dat=data/target.dat
 tdat=data/target_time.dat
 table_head "$tdat" "where the target part's time goes (the rows of data/target.dat)" \
-  "seconds from the solve's # lines: link, refine, solve (its phases); estimate_cluster and estimate_element: estimating links with a cluster at one end and between elements (inside link and refine); bound: the error transport (inside solve); steps: gather/push-pull steps of the solves and of the transport" \
-  "method	boxes	time_s	link_s	refine_s	solve_s	estimate_cluster_s	estimate_element_s	bound_s	steps	steps_bound	rays"
+  "seconds from the solve's # lines: link, refine, solve (its phases); estimate_cluster and estimate_element: estimating links with a cluster at one end and between elements (inside link and refine); bound: the error transport (inside solve); steps: gather/push-pull steps of the solves and of the transport; local_cluster: the share of the leaves' local errors of F that cluster links bring (error_local_cluster)" \
+  "method	boxes	time_s	link_s	refine_s	solve_s	estimate_cluster_s	estimate_element_s	bound_s	steps	steps_bound	rays	local_cluster"
 table_head "$dat" "clustering at the target size and beyond: rooms of $TARGET_BOXES boxes, cluster (oriented) at eps $LOOSE_EPS, --max-tighten $LOOSE_TIGHTEN (cluster-preview), and of $COARSE_BOXES boxes at eps $COARSE_EPS, --max-tighten 0 (cluster-coarse) (issue 17: 120k triangles in under 120 s and 6 GB; the goal 1.2M in 60 s and 8 GB)" \
   "$scaling_note" "$scaling_cols"
 target_row() { # LABEL BOXES EPS MAX_TIGHTEN
@@ -252,7 +253,7 @@ target_row() { # LABEL BOXES EPS MAX_TIGHTEN
     { scaling_row "$label" "$n"; echo; } >> "$dat"
     printf '%s\t%s' "$label" "$n" >> "$tdat"
     for k in time_total_s time_link_s time_refine_s time_solve_s time_estimate_cluster_s \
-      time_estimate_element_s time_bound_s iterations iterations_bound rays; do
+      time_estimate_element_s time_bound_s iterations iterations_bound rays error_local_cluster; do
       printf '\t%s' "$(hdr $tmp/t.tsv $k)" >> "$tdat"
     done
     echo >> "$tdat"
