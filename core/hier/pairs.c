@@ -7,9 +7,11 @@
  * first time a link estimate asks for it: the initial link of the pair
  * itself, which walks the same shaft to list its blockers and hands the
  * answer over (no second walk), and a pair that faces away is never asked.
- * Threads that ask for the same entry at once compute the same byte, stored
- * and read atomically (a process sharing a solve makes the entries of the
- * initial links it did not estimate when it first meets them). */
+ * Both orders of a pair share one byte (the lower index first, a triangular
+ * table), so an entry is made, and seen made, for both at once.  Threads
+ * that ask for the same entry at once compute the same byte, stored and read
+ * atomically (a process sharing a solve makes the entries of the initial
+ * links it did not estimate when it first meets them). */
 #include "hier_internal.h"
 
 #include <stdlib.h>
@@ -21,7 +23,7 @@ enum { PAIR_KNOWN = 4 };
 struct rad_hier_pairs {
     const rad_vis *vis; /* over the input triangles: their corners */
     size_t n;
-    unsigned char *bits; /* n x n, 0 until known */
+    unsigned char *bits; /* n (n + 1) / 2, one per unordered pair (slot), 0 until known */
 };
 
 rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis)
@@ -31,7 +33,7 @@ rad_hier_pairs *rad_hier_pairs_create(const rad_vis *vis)
         return NULL;
     t->vis = vis;
     t->n = rad_vis_triangle_count(vis);
-    if (!(t->bits = calloc(t->n ? t->n : 1, t->n ? t->n : 1))) {
+    if (!(t->bits = calloc(t->n ? t->n * (t->n + 1) / 2 : 1, 1))) {
         free(t);
         return NULL;
     }
@@ -58,23 +60,29 @@ static int touch(const rad_vis *vis, int r, int s)
                                   rad_geom_triangle_longest_edge(b));
 }
 
+/* The byte of the pair {r, s}: row max(r, s) of the lower triangle. */
+static size_t slot(int r, int s)
+{
+    size_t lo = (size_t)(r < s ? r : s), hi = (size_t)(r < s ? s : r);
+    return hi * (hi + 1) / 2 + lo;
+}
+
 unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
 {
-    size_t i = (size_t)r * t->n + (size_t)s;
+    size_t i = slot(r, s);
     unsigned char v = __atomic_load_n(&t->bits[i], __ATOMIC_RELAXED);
     if (v & PAIR_KNOWN)
         return v & (RAD_HIER_PAIR_CAN_BLOCK | RAD_HIER_PAIR_MAY_TOUCH);
+    int lo = r < s ? r : s, hi = r < s ? s : r; /* whichever order asks first, one answer */
     if (can_block < 0)
-        can_block = rad_vis_pair_can_block(t->vis, (size_t)r, (size_t)s);
+        can_block = rad_vis_pair_can_block(t->vis, (size_t)lo, (size_t)hi);
     v = (unsigned char)((can_block ? RAD_HIER_PAIR_CAN_BLOCK : 0) |
-                        (touch(t->vis, r, s) ? RAD_HIER_PAIR_MAY_TOUCH : 0));
+                        (touch(t->vis, lo, hi) ? RAD_HIER_PAIR_MAY_TOUCH : 0));
     __atomic_store_n(&t->bits[i], (unsigned char)(v | PAIR_KNOWN), __ATOMIC_RELAXED);
-    __atomic_store_n(&t->bits[(size_t)s * t->n + (size_t)r], (unsigned char)(v | PAIR_KNOWN),
-                     __ATOMIC_RELAXED);
     return v;
 }
 
 int rad_hier_pairs_known(const rad_hier_pairs *t, int r, int s)
 {
-    return __atomic_load_n(&t->bits[(size_t)r * t->n + (size_t)s], __ATOMIC_RELAXED) & PAIR_KNOWN;
+    return __atomic_load_n(&t->bits[slot(r, s)], __ATOMIC_RELAXED) & PAIR_KNOWN;
 }

@@ -191,7 +191,7 @@ rad_status hier_split(rad_hier *h, int e)
     return RAD_OK;
 }
 
-#define HIER_BLOCK_TABLE_MAX 8192 /* input triangles: a table of at most 64 MB */
+#define HIER_BLOCK_TABLE_MAX 8192 /* input triangles: a table of at most 32 MB */
 
 rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
                            const double *rho, const double *E, const rad_vis *vis,
