@@ -69,11 +69,11 @@ static size_t slot(int r, int s)
 
 unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
 {
-    size_t i = slot(r, s);
+    int lo = r < s ? r : s, hi = r < s ? s : r; /* whichever order asks first, one answer */
+    size_t i = slot(lo, hi);
     unsigned char v = __atomic_load_n(&t->bits[i], __ATOMIC_RELAXED);
     if (v & PAIR_KNOWN)
         return v & (RAD_HIER_PAIR_CAN_BLOCK | RAD_HIER_PAIR_MAY_TOUCH);
-    int lo = r < s ? r : s, hi = r < s ? s : r; /* whichever order asks first, one answer */
     if (can_block < 0)
         can_block = rad_vis_pair_can_block(t->vis, (size_t)lo, (size_t)hi);
     v = (unsigned char)((can_block ? RAD_HIER_PAIR_CAN_BLOCK : 0) |
