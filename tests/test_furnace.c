@@ -275,6 +275,45 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
     CHECK_MSG(l1[0] > l1[1] && l1[1] >= 0.0, "L1 %.3g (K 0) against %.3g (K 3)", l1[0], l1[1]);
 }
 
+/* Without the tightening, eps alone must buy accuracy: 64 boxes in a lit
+ * room with clusters at --max-tighten 0, against the Monte Carlo
+ * reference, at eps 0.1 and 0.025.  The oracle weighs an inner element's
+ * links by how far the B below it strays (its source variation); that
+ * spread must come from the last solve's B before each refinement pass.
+ * Taken only when the error bound was computed (at a tightening, or the
+ * end) it was 0 in a run without tightening, so the wall and ceiling
+ * pieces' links were never refined for it: L1 7.2% and 6.2%, eps 0.025
+ * buying 2.3 times the links for almost nothing. */
+TEST(cluster_without_tightening_gains_accuracy_with_eps)
+{
+    char dir[] = "/tmp/radkit-eps-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    const char *eps[2] = {"0.1", "0.025"};
+    const double limit[2] = {0.05, 0.025};
+    double l1[2] = {-1.0, -1.0};
+    for (int i = 0; i < 2; i++) {
+        char table[256];
+        snprintf(table, sizeof table, "%s/e%d.tsv", dir, i);
+        const char *args[] = {harness_path("scenes/many_objects/many_64.obj"), "--method",
+                              "cluster", "--max-tighten", "0", "--eps", eps[i], "--out", table,
+                              "--quiet", NULL};
+        char *out = NULL, *err = NULL;
+        CHECK(harness_radkit_run("solve", args, &out, &err) == 0);
+        free(out);
+        free(err);
+        l1[i] = scene_figure("scenes/many_objects/many_64.obj",
+                             "experiments/reference/data/many_64.tsv", table, "error_l1");
+        printf("# many_64 cluster --max-tighten 0 --eps %s: L1 %.3e\n", eps[i], l1[i]);
+        CHECK_MSG(l1[i] >= 0.0 && l1[i] <= limit[i], "eps %s: L1 %.3g", eps[i], l1[i]);
+        remove(table);
+    }
+    rmdir(dir);
+    CHECK_MSG(l1[1] <= 0.7 * l1[0], "L1 %.3g at eps 0.025 against %.3g at eps 0.1", l1[1], l1[0]);
+}
+
 /* Where the boxes stand on the Cornell box's floor its radiosity jumps
  * (under a box it is dark and unseen).  hier cuts the floor along the
  * footprints (effect "contact"); without the cut an element that straddles

@@ -664,6 +664,18 @@ static void pull_gradient(rad_hier *h, int e)
     }
 }
 
+void hier_inner_spread(rad_hier *h)
+{
+    size_t n = h->nroots;
+    int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
+    for (long long t = 0; t < (long long)n; t++) {
+        double lo[3], hi[3];
+        pull_gradient(h, (int)t);
+        spread(h, (int)t, lo, hi);
+    }
+}
+
 /* The local errors of F over every element, area-weighted, the channels
  * summed (before push_local: a parent's area is its children's, so this is
  * the sum the leaves will hold). */
@@ -681,12 +693,7 @@ rad_status hier_error_estimate(rad_hier *h)
     size_t n = h->nroots;
     int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
     h->iter_err = iteration_error(h);
-#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
-    for (long long t = 0; t < (long long)n; t++) {
-        double lo[3], hi[3];
-        pull_gradient(h, (int)t);
-        spread(h, (int)t, lo, hi);
-    }
+    hier_inner_spread(h);
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++) {
         hier_elem *x = &h->el[e];
