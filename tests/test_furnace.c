@@ -263,6 +263,18 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
         links[i] = text && harness_header(text, "links", buf, sizeof buf) ? atof(buf) : -1.0;
         CHECK(text && harness_header(text, "max_tighten", buf, sizeof buf) &&
               atoi(buf) == (k[i] ? atoi(k[i]) : 3));
+        /* how often the thresholds were quartered, and over what share of
+           the area: none at K 0; at the default between once and 3 times,
+           each time over some of the area and at most all of it */
+        double times = text ? harness_header_number(text, "tightenings") : -1.0;
+        double share = text ? harness_header_number(text, "tightened_share") : -1.0;
+        printf("# Cornell cluster --max-tighten %s: tightened %.0f times, area share %.4f\n",
+               k[i] ? k[i] : "(default)", times, share);
+        if (k[i])
+            CHECK(times == 0.0 && share == 0.0);
+        else
+            CHECK_MSG(times >= 1.0 && times <= 3.0 && share > 0.0 && share <= times + 1e-9,
+                      "tightenings %.0f, tightened_share %.4f", times, share);
         free(text);
         l1[i] = compare_figure(table, "error_l1");
         printf("# Cornell cluster --max-tighten %s: %.0f links, L1 %.3e\n", k[i] ? k[i] : "(default)",

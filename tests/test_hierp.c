@@ -208,6 +208,15 @@ static void cornell_run(const char *dir, const char *basis, const char *eps, dou
     }
     free(out);
     free(err);
+    /* hierp counts its tightenings as hier does: at most the default 3,
+       each over some of the area and at most all of it */
+    char *text = harness_read_file(table);
+    double times = text ? harness_header_number(text, "tightenings") : -1.0;
+    double share = text ? harness_header_number(text, "tightened_share") : -1.0;
+    free(text);
+    CHECK_MSG(times >= 0.0 && times <= 3.0 && share >= 0.0 && share <= times + 1e-9 &&
+                  (share > 0.0) == (times > 0.0),
+              "%s eps %s: tightenings %.0f, tightened_share %.4f", basis, eps, times, share);
     FILE *f = fopen(table, "r");
     char line[256];
     while (f && fgets(line, sizeof line, f))

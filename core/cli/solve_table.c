@@ -78,9 +78,10 @@ static void print_work(FILE *out, const rad_solution *s)
                 hs->iterations, hs->refinements, hs->rounds, hs->residual);
         fprintf(out, "# error_estimate = %.3e\n# error_estimate_l1 = %.3e\n"
                      "# error_estimate_leaf_max = %.3e\n# error_target_met = %s\n"
-                     "# links_bound = %lld\n",
+                     "# links_bound = %lld\n# tightenings = %d\n# tightened_share = %.4f\n",
                 hs->bound_face_max, hs->bound_mean, hs->bound_leaf_max,
-                hs->target_met ? "yes" : "no", hs->links_bound);
+                hs->target_met ? "yes" : "no", hs->links_bound, hs->tightenings,
+                hs->tightened_share);
         if (hs->clusters > 0)
             fprintf(out, "# error_local_cluster = %.4f\n", hs->local_cluster);
         fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs->rays, hs->kernel_evals);
@@ -161,6 +162,8 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"error_estimate_leaf_max", hs->bound_leaf_max},
         {"error_target_met", hs->target_met},
         {"links_bound", (double)hs->links_bound},
+        {"tightenings", hs->tightenings},
+        {"tightened_share", hs->tightened_share},
         {"error_local_cluster", hs->local_cluster},
         {"clusters", (double)hs->clusters},
         {"links_cluster", (double)hs->links_cluster},

@@ -94,16 +94,21 @@ int hier_tighten_failing(rad_hier *h)
             bound[3 * (size_t)x->face + (size_t)c] += x->area * hier_face_part(h, x, c);
     }
     int tightened = 0;
+    double total = 0.0, quartered = 0.0;
     for (size_t f = 0; f < n; f++) {
         double b = 0.0;
         for (int c = 0; c < 3; c++)
             b = rad_dmax(b, area[f] > 0.0 ? bound[3 * f + (size_t)c] / area[f] : 0.0);
+        total += area[f];
         if (b - h->iter_err > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
             h->face_scale[f] *= 0.25;
+            quartered += area[f];
             tightened++;
         }
     }
     free(area);
+    h->st.tightenings += tightened > 0;
+    h->st.tightened_share += total > 0.0 ? quartered / total : 0.0;
     return tightened;
 }
 

@@ -194,13 +194,18 @@ int hp_tighten_failing(rad_hierp *h)
         sum[n + (size_t)x->face] += x->area;
     }
     int tightened = 0;
+    double total = 0.0, quartered = 0.0;
     for (size_t f = 0; f < n; f++) {
         double b = sum[n + f] > 0.0 ? sum[f] / sum[n + f] : 0.0;
+        total += sum[n + f];
         if (b > target && h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
             h->face_scale[f] *= 0.25;
+            quartered += sum[n + f];
             tightened++;
         }
     }
     free(sum);
+    h->st.tightenings += tightened > 0;
+    h->st.tightened_share += total > 0.0 ? quartered / total : 0.0;
     return tightened;
 }
