@@ -291,11 +291,10 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
  * room with clusters at --max-tighten 0, against the Monte Carlo
  * reference, at eps 0.1 and 0.025.  The oracle weighs an inner element's
  * links by how far the B below it strays (its source variation); that
- * spread must come from the last solve's B before each refinement pass.
- * Taken only when the error bound was computed (at a tightening, or the
- * end) it was 0 in a run without tightening, so the wall and ceiling
- * pieces' links were never refined for it: L1 7.2% and 6.2%, eps 0.025
- * buying 2.3 times the links for almost nothing. */
+ * spread must come from the last solve's B before each refinement pass,
+ * or a run that never computes the bound before its end refines as if
+ * every split wall and ceiling piece were uniform, and a smaller eps buys
+ * links but hardly any accuracy. */
 TEST(cluster_without_tightening_gains_accuracy_with_eps)
 {
     char dir[] = "/tmp/radkit-eps-XXXXXX";
