@@ -263,9 +263,9 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
         links[i] = text && harness_header(text, "links", buf, sizeof buf) ? atof(buf) : -1.0;
         CHECK(text && harness_header(text, "max_tighten", buf, sizeof buf) &&
               atoi(buf) == (k[i] ? atoi(k[i]) : 3));
-        /* how often the thresholds were quartered, and over what share of
-           the area: none at K 0; at the default between once and 3 times,
-           each time over some of the area and at most all of it */
+        /* how often the oracle tightens, and over what share of the area:
+           never at K 0; at the default 1 to 3 times, each over some of the
+           area and at most all of it */
         double times = text ? harness_header_number(text, "tightenings") : -1.0;
         double share = text ? harness_header_number(text, "tightened_share") : -1.0;
         printf("# Cornell cluster --max-tighten %s: tightened %.0f times, area share %.4f\n",
@@ -291,10 +291,10 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
  * room with clusters at --max-tighten 0, against the Monte Carlo
  * reference, at eps 0.1 and 0.025.  The oracle weighs an inner element's
  * links by how far the B below it strays (its source variation); that
- * spread must come from the last solve's B before each refinement pass,
- * or a run that never computes the bound before its end refines as if
- * every split wall and ceiling piece were uniform, and a smaller eps buys
- * links but hardly any accuracy. */
+ * spread must come from the last solve's B before each refinement pass:
+ * a run that computes the bound only at its end must still see how the
+ * radiosity of a split wall or ceiling piece varies, so that a smaller eps
+ * buys accuracy and not only links. */
 TEST(cluster_without_tightening_gains_accuracy_with_eps)
 {
     char dir[] = "/tmp/radkit-eps-XXXXXX";

@@ -90,7 +90,7 @@ static const char help_head[] =
     "                   against K.  The error estimate bounds the error whatever\n"
     "                   K; a smaller K leaves it further above --eps.  The table's\n"
     "                   tightenings and tightened_share say how often, and over\n"
-    "                   how much of the area (summed), thresholds were quartered\n"
+    "                   how much of the area (summed), the oracle tightened\n"
     "  --clip-blockers N  hier, cluster: an element link whose shaft holds at\n"
     "                   most N triangles clips each point's view of the other\n"
     "                   element exactly; past N (or the clipping's work budget)\n"

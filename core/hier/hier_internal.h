@@ -413,7 +413,7 @@ rad_status hier_solve_links(rad_hier *h, double tol);
 rad_status hier_error_estimate(rad_hier *h);
 /* Every inner element's gB (the fit of its children's B) and var (how far
  * the B of the leaves below stray from its mean), from the leaves' current
- * B: the step keeps the leaves' own, the oracle and the bound read these. */
+ * B: the step keeps the leaves' own; the oracle reads var, the bound both. */
 void hier_inner_spread(rad_hier *h);
 /* R: the area-weighted mean reflected radiosity of the leaves, the three
  * channels averaged (E_max before anything is reflected). */

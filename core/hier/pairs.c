@@ -60,11 +60,10 @@ static int touch(const rad_vis *vis, int r, int s)
                                   rad_geom_triangle_longest_edge(b));
 }
 
-/* The byte of the pair {r, s}: row max(r, s) of the lower triangle. */
-static size_t slot(int r, int s)
+/* The byte of the pair {lo, hi}, lo <= hi: row hi of the lower triangle. */
+static size_t slot(int lo, int hi)
 {
-    size_t lo = (size_t)(r < s ? r : s), hi = (size_t)(r < s ? s : r);
-    return hi * (hi + 1) / 2 + lo;
+    return (size_t)hi * ((size_t)hi + 1) / 2 + (size_t)lo;
 }
 
 unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
@@ -84,5 +83,6 @@ unsigned rad_hier_pairs_get(rad_hier_pairs *t, int r, int s, int can_block)
 
 int rad_hier_pairs_known(const rad_hier_pairs *t, int r, int s)
 {
-    return __atomic_load_n(&t->bits[slot(r, s)], __ATOMIC_RELAXED) & PAIR_KNOWN;
+    size_t i = r < s ? slot(r, s) : slot(s, r);
+    return __atomic_load_n(&t->bits[i], __ATOMIC_RELAXED) & PAIR_KNOWN;
 }

@@ -275,10 +275,10 @@ typedef struct rad_hier_stats {
     long long iterations_bound;
     double time_comm_s;   /* exchanges between processes (params.exchange), inside the
                              three times above; 0 for one process */
-    int tightenings;      /* ERROR: times the oracle quartered thresholds (at most
-                             max_tighten) */
-    double tightened_share; /* the share of the scene's area whose thresholds were
-                             quartered, summed over those times (0 .. tightenings) */
+    int tightenings;      /* ERROR: the oracle's tightenings, each quartering the
+                             thresholds of some input triangles (at most max_tighten) */
+    double tightened_share; /* the sum over the tightenings of the share of the scene's
+                             area each quarters (0 .. tightenings) */
 } rad_hier_stats;
 
 /* Build the roots (one per input triangle; xyz: 3 * nverts doubles, tri:

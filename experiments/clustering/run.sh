@@ -37,7 +37,8 @@
 #    --max-tighten).
 # 3. What the tightening buys: the room of 343 boxes with cluster at eps
 #    EPS_TIGHTEN and --max-tighten K for each K of TIGHTEN (links, time,
-#    the errors against the Monte Carlo reference and the estimate).
+#    the errors against the Monte Carlo reference, the estimate, and the
+#    table's tightenings and tightened_share).
 # 4. Furnaces of FURNACE_BOXES boxes (below).
 # 6. The target size and beyond: cluster at the preview setting on each of
 #    TARGET_BOXES boxes (10 000: 120 012 triangles, issue 17's "120k
@@ -340,8 +341,8 @@ fi
 if want tighten; then
 tig=data/tighten.dat
 table_head "$tig" "clustering: what the oracle's tightening buys on many_343 (cluster, eps $EPS_TIGHTEN, --max-tighten K)" \
-  "error, worst, power: error_l1, error_worst, error_power of radkit compare against experiments/reference/data/many_343.tsv; estimate: the run's error_estimate (worst face), estimate_l1 its area-weighted mean" \
-  "max_tighten	links	links_cluster	error	worst	power	estimate	estimate_l1	time_s"
+  "error, worst, power: error_l1, error_worst, error_power of radkit compare against experiments/reference/data/many_343.tsv; estimate: the run's error_estimate (worst face), estimate_l1 its area-weighted mean; tightenings, tightened_share: how often the oracle quartered thresholds and over what share of the area, summed" \
+  "max_tighten	links	links_cluster	error	worst	power	estimate	estimate_l1	time_s	tightenings	tightened_share"
 for k in $TIGHTEN; do
   echo "clustering: many_343, cluster, eps $EPS_TIGHTEN, --max-tighten $k" >&2
   (cd "$root" && "$RADKIT" solve scenes/many_objects/many_343.obj --method cluster \
@@ -349,10 +350,11 @@ for k in $TIGHTEN; do
   [ -s "$tmp/t.tsv" ] || continue
   (cd "$root" && "$RADKIT" compare scenes/many_objects/many_343.obj "$tmp/t.tsv" \
     experiments/reference/data/many_343.tsv) > "$tmp/c.txt"
-  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$k" "$(hdr $tmp/t.tsv links)" \
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$k" "$(hdr $tmp/t.tsv links)" \
     "$(hdr $tmp/t.tsv links_cluster)" "$(hdr $tmp/c.txt error_l1)" "$(hdr $tmp/c.txt error_worst)" \
     "$(hdr $tmp/c.txt error_power)" "$(hdr $tmp/t.tsv error_estimate)" \
-    "$(hdr $tmp/t.tsv error_estimate_l1)" "$(hdr $tmp/t.tsv time_total_s)" >> "$tig"
+    "$(hdr $tmp/t.tsv error_estimate_l1)" "$(hdr $tmp/t.tsv time_total_s)" \
+    "$(hdr $tmp/t.tsv tightenings)" "$(hdr $tmp/t.tsv tightened_share)" >> "$tig"
   rm -f "$tmp/t.tsv"
 done
 fi
