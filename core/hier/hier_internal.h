@@ -26,7 +26,10 @@ typedef struct hier_elem {
                                 unresolved); on an inner element, the linear fit of its
                                 children plus their mean gradient */
     double var[3];           /* how far B strays from its mean over the element: on a
-                                leaf, what gB implies at its corners; on an inner
+                                leaf, what gB implies at its corners (a step keeps
+                                this; for the bound hier_inner_spread adds rho r w
+                                over the links at it and its ancestors, r their
+                                linear fits' largest residuals); on an inner
                                 element, the farthest leaf below, that leaf's var
                                 included */
     double cap;              /* leaf: the row ceiling (rad_hier_row_ceiling) over its row
@@ -409,12 +412,15 @@ void hier_leaf_var(hier_elem *x);
 /* Steps until the step change is at most tol relative to the largest B. */
 rad_status hier_solve_links(rad_hier *h, double tol);
 /* The local error bounds per leaf (q, d summed over the links at the leaf and
- * its ancestors) and the transported conservation error T (solve.c). */
-rad_status hier_error_estimate(rad_hier *h);
-/* Every inner element's gB (the fit of its children's B) and var (how far
- * the B of the leaves below stray from its mean), from the leaves' current
- * B: the step keeps the leaves' own; the oracle reads var, the bound both. */
-void hier_inner_spread(rad_hier *h);
+ * its ancestors) and the transported conservation error T (solve.c); with
+ * residuals the leaves' var counts their links' residuals (the reported
+ * bound), without it only their slopes (the oracle's tightening). */
+rad_status hier_error_estimate(rad_hier *h, int residuals);
+/* Every leaf's var (with residuals, its links' residuals added: the
+ * bound's), and every inner element's gB (the fit of its children's B) and
+ * var (how far the B of the leaves below stray from its mean), from the
+ * leaves' current B: the oracle reads var, the bound both. */
+rad_status hier_inner_spread(rad_hier *h, int residuals);
 /* R: the area-weighted mean reflected radiosity of the leaves, the three
  * channels averaged (E_max before anything is reflected). */
 double hier_reflected_scale(const rad_hier *h);

@@ -152,7 +152,8 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     h->st.links_bound = 0;
     /* the source variation of an inner element, in its links' terms, is
        that of the B the last solve left below it */
-    hier_inner_spread(h);
+    if ((st = hier_inner_spread(h, 0)) != RAD_OK)
+        goto done;
     /* the cluster links first: the root links they end in are examined below */
     if (h->E_max > 0.0 && (st = hier_cluster_refine(h, target, &count)) != RAD_OK)
         goto done;

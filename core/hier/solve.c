@@ -28,11 +28,21 @@
  * 2. The error bound (rad_hier.h): in each direction a <- b a link adds
  *    rho_a (dG / A_a) B_b to a's q (the error of F); (rho_a v_b var_b)^2 to
  *    its d, v_b the kernel's largest deviation over b (in a's units) and
- *    var_b how far B strays from b's mean (a leaf's from its gathered
- *    gradient, an inner element's from the leaves below), which bounds the
- *    error of transporting b's mean B; and rho_a r_a B_b to its dr (the
- *    residual of the linear push over a).  Pushed down, a leaf's q and d sum
- *    the links at it and at its ancestors, its dr those at its ancestors only
+ *    var_b how far B strays from b's mean, which bounds the error of
+ *    transporting b's mean B.  A leaf's var is its gathered gradient's plus
+ *    rho r w over the links at it and its ancestors, r the largest residual
+ *    of a link's linear fit and w its source's B (sealed: its distance from
+ *    the farthest of the leaf's sources): the part of B no linear function
+ *    holds (a ceiling element over the edge of a box top close under it is
+ *    bright over the box and not beside it, and the box top sees mostly the
+ *    bright part); an inner element's var is the farthest leaf below.  The
+ *    oracle, its tightening included, weighs a source by its slope's var
+ *    only: the residuals' refine many links that gain little, and in a
+ *    sealed scene lit by a small bright source refining further moves its
+ *    leaves' rows, which the normalization turns into an error of the
+ *    direct light.  And rho_a r_a B_b to its dr (the residual of the linear
+ *    push over a).  Pushed down, a leaf's q and d sum the links at it and
+ *    at its ancestors, its dr those at its ancestors only
  *    (its own average is exact); a leaf whose cap scaled its irradiance down
  *    adds to q what the cap took off (the link terms bound the error of the
  *    uncapped sum).  The sources' variations add as independent errors, so
@@ -664,16 +674,127 @@ static void pull_gradient(rad_hier *h, int e)
     }
 }
 
-void hier_inner_spread(rad_hier *h)
+/* Each leaf below e: var from its gB, plus, with res, what the links'
+ * linear fits leave out of its irradiance at it and its ancestors (up, and
+ * res at each element: rho r w summed over its own links, w as
+ * residual_weight). */
+static void leaf_var_below(rad_hier *h, int e, const double up[3], const double *res)
 {
-    size_t n = h->nroots;
+    double r[3];
+    for (int c = 0; c < 3; c++)
+        r[c] = up[c] + (res ? res[3 * (size_t)e + (size_t)c] : 0.0);
+    hier_elem *x = &h->el[e];
+    if (x->first_child < 0) {
+        hier_leaf_var(x);
+        for (int c = 0; c < 3; c++)
+            x->var[c] += r[c];
+        return;
+    }
+    for (int k = 0; k < 4; k++)
+        leaf_var_below(h, x->first_child + k, r, res);
+}
+
+/* The range of B (lo, hi: 3 per element) of the sources of the element
+ * links at e and its ancestors: a parent's range widened by e's own. */
+static void range_below(rad_hier *h, int e, const double up_lo[3], const double up_hi[3],
+                        double *lo, double *hi)
+{
+    for (int c = 0; c < 3; c++) {
+        size_t i = 3 * (size_t)e + (size_t)c;
+        lo[i] = rad_dmin(lo[i], up_lo[c]);
+        hi[i] = rad_dmax(hi[i], up_hi[c]);
+    }
+    const hier_elem *x = &h->el[e];
+    if (x->first_child < 0)
+        return;
+    for (int k = 0; k < 4; k++)
+        range_below(h, x->first_child + k, lo + 3 * (size_t)e, hi + 3 * (size_t)e, lo, hi);
+}
+
+/* What a residual of the link bringing source s's light to an element whose
+ * sources' B range over lo..hi (channel c) is multiplied by in the
+ * element's variation.  Unsealed, s's B.  Sealed, the true form factors at
+ * a point sum to 1, so the residuals of a point's links sum to a linear
+ * function and only B's differences between its sources count; but a
+ * residual stands against those of other links that may be ancestors'
+ * links whose nodes missed what this link's saw (a ceiling element over
+ * the edge of a box top close under it sees the bright top on one side
+ * and, beside it, the darker room the top hides), so against the farthest
+ * of the sources. */
+static double residual_weight(const rad_hier *h, const hier_elem *s, double lo, double hi, int c)
+{
+    if (!h->p.sealed)
+        return s->B[c];
+    return rad_dmax(fabs(s->B[c] - lo), fabs(s->B[c] - hi));
+}
+
+/* rho r w per element and channel, summed over its own element links
+ * (leaf_var_below's res); NULL when out of memory. */
+static double *link_residuals(rad_hier *h)
+{
+    size_t n = h->nroots, m = 3 * h->nel + 1;
+    double *res = calloc(3 * m, sizeof *res);
+    if (!res)
+        return NULL;
+    double *lo = res + m, *hi = lo + m;
+    for (size_t i = 0; i < m; i++) {
+        lo[i] = INFINITY;
+        hi[i] = -INFINITY;
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        for (int c = 0; c < 3; c++) {
+            size_t ia = 3 * (size_t)l->a + (size_t)c, ib = 3 * (size_t)l->b + (size_t)c;
+            double Ba = h->el[l->a].B[c], Bb = h->el[l->b].B[c];
+            lo[ia] = rad_dmin(lo[ia], Bb);
+            hi[ia] = rad_dmax(hi[ia], Bb);
+            lo[ib] = rad_dmin(lo[ib], Ba);
+            hi[ib] = rad_dmax(hi[ib], Ba);
+        }
+    }
     int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++) {
-        double lo[3], hi[3];
+        double up_lo[3] = {INFINITY, INFINITY, INFINITY};
+        double up_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        range_below(h, (int)t, up_lo, up_hi, lo, hi);
+    }
+    for (size_t k = 0; k < h->nln; k++) {
+        const hier_link *l = &h->ln[k];
+        if (l->a < 0)
+            continue;
+        const hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+        for (int c = 0; c < 3; c++) {
+            size_t ch = (size_t)c * n;
+            size_t ia = 3 * (size_t)l->a + (size_t)c, ib = 3 * (size_t)l->b + (size_t)c;
+            res[ia] += h->rho[(size_t)a->face + ch] * l->ra *
+                       residual_weight(h, b, lo[ia], hi[ia], c);
+            res[ib] += h->rho[(size_t)b->face + ch] * l->rb *
+                       residual_weight(h, a, lo[ib], hi[ib], c);
+        }
+    }
+    return res;
+}
+
+rad_status hier_inner_spread(rad_hier *h, int residuals)
+{
+    size_t n = h->nroots;
+    double *res = residuals ? link_residuals(h) : NULL;
+    if (residuals && !res)
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the variation of %zu elements",
+                         h->nel);
+    int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
+    for (long long t = 0; t < (long long)n; t++) {
+        double lo[3], hi[3], zero[3] = {0.0, 0.0, 0.0};
+        leaf_var_below(h, (int)t, zero, res);
         pull_gradient(h, (int)t);
         spread(h, (int)t, lo, hi);
     }
+    free(res);
+    return RAD_OK;
 }
 
 /* The local errors of F over every element, area-weighted, the channels
@@ -687,13 +808,15 @@ static double local_sum(const rad_hier *h)
     return sum;
 }
 
-rad_status hier_error_estimate(rad_hier *h)
+rad_status hier_error_estimate(rad_hier *h, int residuals)
 {
     double t0 = rad_sys_seconds();
     size_t n = h->nroots;
     int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
     h->iter_err = iteration_error(h);
-    hier_inner_spread(h);
+    rad_status st = hier_inner_spread(h, residuals);
+    if (st != RAD_OK)
+        return st;
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++) {
         hier_elem *x = &h->el[e];
@@ -719,7 +842,7 @@ rad_status hier_error_estimate(rad_hier *h)
         }
     }
     double element_part = h->ncl ? local_sum(h) : 0.0;
-    rad_status st = hier_cluster_local(h);
+    st = hier_cluster_local(h);
     if (st != RAD_OK)
         return st;
     double all = h->ncl ? local_sum(h) : 0.0;
@@ -868,7 +991,7 @@ rad_status rad_hier_solve(rad_hier *h)
             h->p.max_tighten > 0) {
             /* nothing left above the thresholds: where the bound still exceeds
                eps R, tighten them (refine.c) and go on */
-            if ((st = hier_error_estimate(h)) == RAD_OK && hier_tighten_failing(h) > 0)
+            if ((st = hier_error_estimate(h, 0)) == RAD_OK && hier_tighten_failing(h) > 0)
                 st = rad_hier_refine(h, &n);
         }
         if (st != RAD_OK || n == 0)
@@ -883,6 +1006,6 @@ rad_status rad_hier_solve(rad_hier *h)
     if (st == RAD_OK)
         st = solve_share(h, h->p.final_share);
     if (st == RAD_OK)
-        st = hier_error_estimate(h);
+        st = hier_error_estimate(h, 1);
     return st;
 }
