@@ -172,6 +172,24 @@ static double compare_figure(const char *table, const char *key)
                         table, key);
 }
 
+/* The table `radkit solve ARGS` wrote to table (ARGS name it with --out),
+ * NULL after a failure (checked); and its header's key as a number (-1
+ * when missing). */
+static char *solve_table_text(const char *const *args, const char *table)
+{
+    char *out = NULL, *err = NULL;
+    CHECK_MSG(harness_radkit_run("solve", args, &out, &err) == 0, "%s", err ? err : "");
+    free(out);
+    free(err);
+    return harness_read_file(table);
+}
+
+static double header_figure(const char *text, const char *key)
+{
+    char buf[64];
+    return text && harness_header(text, key, buf, sizeof buf) ? atof(buf) : -1.0;
+}
+
 /* The Cornell box against the committed Monte Carlo reference
  * (experiments/reference: area-weighted relative standard error 8e-5):
  * hierarchical radiosity, with and without clusters, with its defaults and
@@ -578,16 +596,11 @@ static void check_slit(const char *method, const char *eps, double l1_max, doubl
 {
     const char *scene = "scenes/slit/slit.obj", *reference = "experiments/reference/data/slit.tsv";
     const char *table = harness_temp_path("slit.tsv");
-    char *out = NULL, *err = NULL, buf[64];
-    CHECK(harness_radkit_run("solve", (const char *[]){harness_path(scene), "--method", method,
-                                                       "--eps", eps, "--out", table, "--quiet",
-                                                       NULL},
-                             &out, &err) == 0);
-    free(out);
-    free(err);
-    char *text = harness_read_file(table);
-    double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
-    long cluster_links = text && harness_header(text, "links_cluster", buf, sizeof buf) ? atol(buf) : 0;
+    char *text = solve_table_text((const char *[]){harness_path(scene), "--method", method, "--eps",
+                                                   eps, "--out", table, "--quiet", NULL},
+                                  table);
+    double est = header_figure(text, "error_estimate");
+    long cluster_links = (long)header_figure(text, "links_cluster");
     free(text);
     CHECK_MSG(strcmp(method, "cluster") != 0 || cluster_links > 0, "cluster: %ld cluster links",
               cluster_links);
@@ -640,26 +653,18 @@ TEST(box_top_under_a_lit_ceiling_within_the_estimate)
     char scene[1024], reference[1024];
     snprintf(scene, sizeof scene, "%s", harness_path("scenes/contact/box_under_ceiling.obj"));
     snprintf(reference, sizeof reference, "%s", harness_temp_path("box_under_ceiling_mc.tsv"));
-    char *out = NULL, *err = NULL, buf[64];
-    CHECK(harness_radkit_run("solve", (const char *[]){scene, "--method", "mc", "--samples",
-                                                       "20000", "--seed", "1", "--out",
-                                                       reference, "--quiet", NULL},
-                             &out, &err) == 0);
-    free(out);
-    free(err);
+    free(solve_table_text((const char *[]){scene, "--method", "mc", "--samples", "20000", "--seed",
+                                           "1", "--out", reference, "--quiet", NULL},
+                          reference));
     const char *runs[][2] = {{"hier", "p0"}, {"cluster", "p0"}, {"hier", "p1"}, {"hier", "p2"}};
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
         const char *table = harness_temp_path("box_under_ceiling.tsv");
         int p0 = strcmp(runs[k][1], "p0") == 0; /* cluster takes no --basis */
-        CHECK(harness_radkit_run("solve", (const char *[]){scene, "--method", runs[k][0],
-                                                           "--out", table, "--quiet",
-                                                           p0 ? NULL : "--basis", runs[k][1],
-                                                           NULL},
-                                 &out, &err) == 0);
-        free(out);
-        free(err);
-        char *text = harness_read_file(table);
-        double est = text && harness_header(text, "error_estimate", buf, sizeof buf) ? atof(buf) : -1;
+        char *text = solve_table_text((const char *[]){scene, "--method", runs[k][0], "--out",
+                                                       table, "--quiet", p0 ? NULL : "--basis",
+                                                       runs[k][1], NULL},
+                                      table);
+        double est = header_figure(text, "error_estimate");
         free(text);
         double worst = scene_figure(scene, reference, table, "error_worst");
         double se = scene_figure(scene, reference, table, "reference_se_worst");
