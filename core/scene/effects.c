@@ -75,7 +75,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->near_one = 0.5;
     p->max_amplification = 1e6;
     p->contact_rel_tol = 1e-6;
-    p->contact_near_rel = 1e-2;
+    p->contact_near_rel = 0.1;
 }
 
 void rad_scene_effects_list(const rad_effects_plan *plan,
