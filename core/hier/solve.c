@@ -35,7 +35,9 @@
  *    the farthest of the leaf's sources): the part of B no linear function
  *    holds (a ceiling element over the edge of a box top close under it is
  *    bright over the box and not beside it, and the box top sees mostly the
- *    bright part); an inner element's var is the farthest leaf below.  The
+ *    bright part), up to rho times the range of its sources' B, since its
+ *    irradiance is a mean of them; an inner element's var is the farthest
+ *    leaf below.  The
  *    oracle, its tightening included, weighs a source by its slope's var
  *    only: the residuals' refine many links that gain little, and in a
  *    sealed scene lit by a small bright source refining further moves its
@@ -677,21 +679,47 @@ static void pull_gradient(rad_hier *h, int e)
 /* Each leaf below e: var from its gB, plus, with res, what the links'
  * linear fits leave out of its irradiance at it and its ancestors (up, and
  * res at each element: rho r w summed over its own links, w as
- * residual_weight). */
-static void leaf_var_below(rad_hier *h, int e, const double up[3], const double *res)
+ * residual_weight), as far as the range of its sources' B allows: its
+ * irradiance at any point is a mean of the B its sources take (sealed; or
+ * lies between 0 and their largest, where the rows fall short of 1), so B
+ * cannot stray further than rho times that range.  The residuals' sum
+ * bounds each link's part separately, and with hundreds of links at a
+ * large element it exceeds what any mean of the sources could reach.
+ * lo, hi: the range at each element (link_residuals); glo, ghi: every
+ * leaf's, since cluster links may bring any (NULL without them). */
+typedef struct {
+    const double *res, *lo, *hi, *glo, *ghi;
+} var_sources;
+
+static void leaf_var_below(rad_hier *h, int e, const double up[3], const var_sources *vs)
 {
     double r[3];
     for (int c = 0; c < 3; c++)
-        r[c] = up[c] + (res ? res[3 * (size_t)e + (size_t)c] : 0.0);
+        r[c] = up[c] + (vs ? vs->res[3 * (size_t)e + (size_t)c] : 0.0);
     hier_elem *x = &h->el[e];
     if (x->first_child < 0) {
         hier_leaf_var(x);
-        for (int c = 0; c < 3; c++)
-            x->var[c] += r[c];
+        for (int c = 0; c < 3; c++) {
+            double add = r[c];
+            if (vs) {
+                size_t i = 3 * (size_t)e + (size_t)c;
+                double lo = vs->lo[i], hi = vs->hi[i];
+                if (vs->glo) {
+                    lo = rad_dmin(lo, vs->glo[c]);
+                    hi = rad_dmax(hi, vs->ghi[c]);
+                }
+                if (!h->p.sealed)
+                    lo = rad_dmin(lo, 0.0);
+                double cap = h->rho[(size_t)x->face + (size_t)c * h->nroots] * (hi - lo);
+                if (hi >= lo && isfinite(cap))
+                    add = rad_dmin(add, rad_dmax(0.0, cap - x->var[c]));
+            }
+            x->var[c] += add;
+        }
         return;
     }
     for (int k = 0; k < 4; k++)
-        leaf_var_below(h, x->first_child + k, r, res);
+        leaf_var_below(h, x->first_child + k, r, vs);
 }
 
 /* The range of B (lo, hi: 3 per element) of the sources of the element
@@ -728,8 +756,9 @@ static double residual_weight(const rad_hier *h, const hier_elem *s, double lo, 
     return rad_dmax(fabs(s->B[c] - lo), fabs(s->B[c] - hi));
 }
 
-/* rho r w per element and channel, summed over its own element links
- * (leaf_var_below's res); NULL when out of memory. */
+/* rho r w per element and channel, summed over its own element links,
+ * then the range of its sources' B at it and its ancestors: res, lo, hi,
+ * 3 nel + 1 each, for leaf_var_below; NULL when out of memory. */
 static double *link_residuals(rad_hier *h)
 {
     size_t n = h->nroots, m = 3 * h->nel + 1;
@@ -778,18 +807,47 @@ static double *link_residuals(rad_hier *h)
     return res;
 }
 
+/* The leaves' extremes of B per channel. */
+static void leaf_extremes(const rad_hier *h, double lo[3], double hi[3])
+{
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        for (int c = 0; c < 3; c++) {
+            lo[c] = rad_dmin(lo[c], x->B[c]);
+            hi[c] = rad_dmax(hi[c], x->B[c]);
+        }
+    }
+}
+
 rad_status hier_inner_spread(rad_hier *h, int residuals)
 {
-    size_t n = h->nroots;
+    size_t n = h->nroots, m = 3 * h->nel + 1;
     double *res = residuals ? link_residuals(h) : NULL;
     if (residuals && !res)
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the variation of %zu elements",
                          h->nel);
+    double glo[3], ghi[3];
+    var_sources vs = {res, NULL, NULL, NULL, NULL};
+    if (res) {
+        vs.lo = res + m;
+        vs.hi = res + 2 * m;
+    }
+    if (res && h->ncln > 0) {
+        leaf_extremes(h, glo, ghi);
+        vs.glo = glo;
+        vs.ghi = ghi;
+    }
     int threads = hier_threads(h), chunk = hier_root_chunk(n, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (n > 1)
     for (long long t = 0; t < (long long)n; t++) {
         double lo[3], hi[3], zero[3] = {0.0, 0.0, 0.0};
-        leaf_var_below(h, (int)t, zero, res);
+        leaf_var_below(h, (int)t, zero, res ? &vs : NULL);
         pull_gradient(h, (int)t);
         spread(h, (int)t, lo, hi);
     }
