@@ -11,30 +11,17 @@
 #include "hier_internal.h"
 #include "rad_hier.h"
 #include "rad_vis.h"
+#include "squares.h"
 
 static const double rate[4] = {0.95, 0.2, 0.6, 0.5};
 
-/* Two unit squares facing each other 1 apart: four triangles, the
- * hierarchy's four leaves (nothing refined). */
+/* The facing squares' hierarchy, its four leaves (nothing refined). */
 static rad_hier *four_leaves(rad_vis **vis)
 {
-    static const double xyz[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
-                                   0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-    static const int tri[12] = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6};
-    double rho[12], E[12];
-    for (int k = 0; k < 12; k++) {
-        rho[k] = 0.5;
-        E[k] = k % 4 >= 2 ? 1.0 : 0.0;
-    }
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    *vis = NULL;
-    CHECK(rad_vis_create(xyz, 8, tri, 4, &vp, vis) == RAD_OK);
     rad_hier_params p;
     rad_hier_params_default(&p);
     p.anderson = 1;
-    rad_hier *h = NULL;
-    CHECK(*vis && rad_hier_create(xyz, 8, tri, 4, rho, E, *vis, &p, &h) == RAD_OK);
+    rad_hier *h = facing_squares(&p, vis);
     if (h && rad_hier_leaf_count(h) != 4) {
         CHECK_MSG(0, "%zu leaves, not the four triangles", rad_hier_leaf_count(h));
         rad_hier_destroy(h);

@@ -13,29 +13,16 @@
 #include "hier_internal.h"
 #include "rad_hier.h"
 #include "rad_vis.h"
+#include "squares.h"
 
-/* A unit square lit by an emitting one facing it 1 apart, solved with
- * the defaults: a refined hierarchy whose leaves have links at several
- * levels. */
+/* The facing squares solved at eps 0.01: a refined hierarchy whose leaves
+ * have links at several levels. */
 static rad_hier *two_squares(rad_vis **vis)
 {
-    static const double xyz[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
-                                   0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-    static const int tri[12] = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6};
-    double rho[12], E[12];
-    for (int k = 0; k < 12; k++) {
-        rho[k] = 0.5;
-        E[k] = k % 4 >= 2 ? 1.0 : 0.0;
-    }
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    *vis = NULL;
-    CHECK(rad_vis_create(xyz, 8, tri, 4, &vp, vis) == RAD_OK);
     rad_hier_params p;
     rad_hier_params_default(&p);
     p.eps = 0.01;
-    rad_hier *h = NULL;
-    CHECK(*vis && rad_hier_create(xyz, 8, tri, 4, rho, E, *vis, &p, &h) == RAD_OK);
+    rad_hier *h = facing_squares(&p, vis);
     if (h && rad_hier_solve(h) != RAD_OK) {
         CHECK_MSG(0, "the two squares did not solve");
         rad_hier_destroy(h);
