@@ -5,6 +5,7 @@
  * furnaces and the Monte Carlo reference are in test_furnace.c and
  * test_hier.c, beside hier's; here, a cluster link's visibility between
  * two slabs against the closed form. */
+#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -168,13 +169,17 @@ enum { PEAK_HELD = 1 };
  * last huge page).  Then through the program (a process of its own, no
  * heap left by other runs): a limit 30% above the peak the run reports
  * unchecked lets it finish within the share, so the forecast bounds what
- * is made and does not refuse everything. */
+ * is made and does not refuse everything.  Each run in process starts from
+ * a trimmed heap: free memory that earlier tests left resident would take
+ * part of a run's arrays without growing the resident set, and the growth
+ * measured unchecked would then fall short of what a later run needs. */
 static void memory_check_holds(const char *scene_path, rad_solve_params p, const char *const args[])
 {
     rad_scene *scene = harness_scene_load(scene_path, NULL);
     if (!scene)
         return;
     unsetenv("RADKIT_MEMORY_LIMIT");
+    malloc_trim(0);
     double base = rad_sys_rss_bytes(), grown = 0.0;
     if (peak_since_reset(1)) {
         rad_solution *s = NULL;
@@ -186,6 +191,7 @@ static void memory_check_holds(const char *scene_path, rad_solve_params p, const
     }
     const double share[3] = {0.5, 0.95, 1.05};
     for (int k = 0; k < 3 && grown > 0.0; k++) {
+        malloc_trim(0);
         base = rad_sys_rss_bytes();
         double limit = (base + share[k] * grown) / RAD_SYS_MEMORY_SHARE;
         char text[64];
