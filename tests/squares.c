@@ -2,6 +2,18 @@
 
 #include "harness.h"
 
+rad_hier *test_hier_of(const double *xyz, size_t nv, const int *tri, size_t nt, const double *rho,
+                       const double *E, const rad_hier_params *p, rad_vis **vis)
+{
+    rad_vis_params vp;
+    rad_vis_params_default(&vp);
+    *vis = NULL;
+    CHECK(rad_vis_create(xyz, nv, tri, nt, &vp, vis) == RAD_OK);
+    rad_hier *h = NULL;
+    CHECK(*vis && rad_hier_create(xyz, nv, tri, nt, rho, E, *vis, p, &h) == RAD_OK);
+    return h;
+}
+
 rad_hier *facing_squares(const rad_hier_params *p, rad_vis **vis)
 {
     static const double xyz[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
@@ -12,11 +24,5 @@ rad_hier *facing_squares(const rad_hier_params *p, rad_vis **vis)
         rho[k] = 0.5;
         E[k] = k % 4 >= 2 ? 1.0 : 0.0;
     }
-    rad_vis_params vp;
-    rad_vis_params_default(&vp);
-    *vis = NULL;
-    CHECK(rad_vis_create(xyz, 8, tri, 4, &vp, vis) == RAD_OK);
-    rad_hier *h = NULL;
-    CHECK(*vis && rad_hier_create(xyz, 8, tri, 4, rho, E, *vis, p, &h) == RAD_OK);
-    return h;
+    return test_hier_of(xyz, 8, tri, 4, rho, E, p, vis);
 }

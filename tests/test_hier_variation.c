@@ -4,7 +4,9 @@
  * furthest a mean of them can move the leaf's irradiance; below that, the
  * residuals count in full.  The residuals are set by the test: large ones
  * (10, where a fit's residual is a fraction of its form factor) give the
- * sum of rho r w far above the range, small ones (1e-6) far below it. */
+ * sum of rho r w far above the range, small ones (1e-6) far below it; on
+ * two facing squares (open: the range from 0) and inside a closed cube
+ * (sealed: from the smallest source B). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,20 +17,55 @@
 #include "rad_vis.h"
 #include "squares.h"
 
-/* The facing squares solved at eps 0.01: a refined hierarchy whose leaves
- * have links at several levels. */
-static rad_hier *two_squares(rad_vis **vis)
+/* h solved at eps 0.01 (NULL, h destroyed, if it does not solve). */
+static rad_hier *solved(rad_hier *h)
 {
-    rad_hier_params p;
-    rad_hier_params_default(&p);
-    p.eps = 0.01;
-    rad_hier *h = facing_squares(&p, vis);
     if (h && rad_hier_solve(h) != RAD_OK) {
-        CHECK_MSG(0, "the two squares did not solve");
+        CHECK_MSG(0, "did not solve: %s", rad_error_message());
         rad_hier_destroy(h);
         h = NULL;
     }
     return h;
+}
+
+static rad_vec3 vertex(const double *xyz, int v)
+{
+    return rad_vec3_make(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+}
+
+/* The inside of the unit cube, its top emitting 1, every face reflecting
+ * 0.5: a sealed scene (every point sees only front faces), so a leaf's
+ * irradiance is a mean of its sources' B and the range starts at the
+ * smallest of them, not at 0. */
+static rad_hier *closed_cube(rad_vis **vis, const rad_hier_params *p)
+{
+    static const int quad[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                   {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    double xyz[24], rho[36], E[36];
+    int tri[36];
+    for (int v = 0; v < 8; v++)
+        for (int a = 0; a < 3; a++)
+            xyz[3 * v + a] = (v >> a) & 1;
+    rad_vec3 centre = rad_vec3_make(0.5, 0.5, 0.5);
+    for (int f = 0; f < 6; f++) {
+        const int *q = quad[f];
+        int t[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+        for (int k = 0; k < 2; k++) {
+            rad_vec3 p0 = vertex(xyz, t[k][0]), p1 = vertex(xyz, t[k][1]),
+                     p2 = vertex(xyz, t[k][2]);
+            rad_vec3 n = rad_vec3_cross(rad_vec3_sub(p1, p0), rad_vec3_sub(p2, p0));
+            int in = rad_vec3_dot(n, rad_vec3_sub(centre, p0)) > 0.0; /* wound towards the centre */
+            int *out = tri + 3 * (2 * f + k);
+            out[0] = t[k][0];
+            out[1] = in ? t[k][1] : t[k][2];
+            out[2] = in ? t[k][2] : t[k][1];
+        }
+    }
+    for (int k = 0; k < 36; k++) {
+        rho[k] = 0.5;
+        E[k] = k % 12 == 10 || k % 12 == 11 ? 1.0 : 0.0; /* the top, z = 1 */
+    }
+    return test_hier_of(xyz, 8, tri, 12, rho, E, p, vis);
 }
 
 /* Every link's residuals set to r. */
@@ -56,15 +93,11 @@ static double range_cap(const rad_hier *h, int e, int c)
     return hi >= lo ? h->rho[(size_t)x->face + (size_t)c * h->nroots] * (hi - lo) : INFINITY;
 }
 
-TEST(residual_variation_within_the_sources_range)
+/* The checks on a solved hierarchy h (what: its name in the messages). */
+static void cap_holds(rad_hier *h, const char *what)
 {
-    rad_vis *vis = NULL;
-    rad_hier *h = two_squares(&vis);
-    if (!h) {
-        rad_vis_destroy(vis);
-        return;
-    }
-    CHECK_MSG(h->ncln == 0, "%zu cluster links: the range would take every leaf's B", h->ncln);
+    CHECK_MSG(h->ncln == 0, "%s: %zu cluster links: the range would take every leaf's B", what,
+              h->ncln);
     double *slope = calloc(3 * h->nel, sizeof *slope);
     CHECK(slope != NULL);
     CHECK(hier_inner_spread(h, 0) == RAD_OK);
@@ -88,13 +121,14 @@ TEST(residual_variation_within_the_sources_range)
             capped += x->var[c] > s && fabs(x->var[c] - allowed) <= 1e-12 * fmax(1.0, allowed);
         }
     }
-    printf("# %d leaves, %zu links: with residuals 10, %d leaf channels at the range, "
+    printf("# %s: %d leaves, %zu links: with residuals 10, %d leaf channels at the range, "
            "the largest excess over it %.3g\n",
-           leaves, h->nln, capped, worst_over);
+           what, leaves, h->nln, capped, worst_over);
     CHECK(leaves > 4);
-    CHECK_MSG(worst_over <= 1e-12, "a leaf's var exceeds rho times its sources' range by %.3g",
-              worst_over);
-    CHECK_MSG(capped > 0, "no leaf's var reached the range: the test does not reach the cap");
+    CHECK_MSG(worst_over <= 1e-12, "%s: a leaf's var exceeds rho times its sources' range by %.3g",
+              what, worst_over);
+    CHECK_MSG(capped > 0, "%s: no leaf's var reached the range: the test does not reach the cap",
+              what);
     /* small residuals: they count in full */
     set_residuals(h, 1e-6);
     CHECK(hier_inner_spread(h, 1) == RAD_OK);
@@ -103,9 +137,28 @@ TEST(residual_variation_within_the_sources_range)
         if (x->first_child < 0 && x->var[0] > slope[3 * e])
             added++;
     }
-    printf("# with residuals 1e-6, %d of %d leaves' var above their slope's\n", added, leaves);
-    CHECK_MSG(added == leaves, "only %d of %d leaves count the small residuals", added, leaves);
+    printf("# %s: with residuals 1e-6, %d of %d leaves' var above their slope's\n", what, added,
+           leaves);
+    CHECK_MSG(added == leaves, "%s: only %d of %d leaves count the small residuals", what, added,
+              leaves);
     free(slope);
+}
+
+TEST(residual_variation_within_the_sources_range)
+{
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.eps = 0.01;
+    rad_vis *vis = NULL;
+    rad_hier *h = solved(facing_squares(&p, &vis));
+    if (h)
+        cap_holds(h, "facing squares (open)");
+    rad_hier_destroy(h);
+    rad_vis_destroy(vis);
+    p.sealed = 1;
+    h = solved(closed_cube(&vis, &p));
+    if (h)
+        cap_holds(h, "closed cube (sealed)");
     rad_hier_destroy(h);
     rad_vis_destroy(vis);
 }
