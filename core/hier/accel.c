@@ -34,11 +34,13 @@
  * T >= q (T = q + rho K T with K >= 0): a large cluster's gather brackets
  * its intensity with the square root of moments of what it carries, real
  * only where those values are non-negative.
- * Mixing starts after HIER_ACCEL_WARMUP plain steps: most solves between
- * refinement rounds end before (each step shrinking the change two- or
- * threefold), and their history would cost memory (about 600 bytes a
- * leaf) for nothing; a solve whose arrays the machine has not the memory
- * for goes on with plain steps.
+ * Mixing of B starts after HIER_ACCEL_WARMUP_B plain steps: most solves
+ * between refinement rounds end before (each step shrinking the change two-
+ * or threefold), and their history would cost memory (about 600 bytes a
+ * leaf) for nothing.  The error transport runs to bound_tol from q, never
+ * in so few steps, and its history is a quarter of B's (T has no slope):
+ * its mixing starts after HIER_ACCEL_WARMUP_T.  A solve whose arrays the
+ * machine has not the memory for goes on with plain steps.
  * Shared among processes (split_gather), every process holds every
  * element's values after a step's exchange, and mixes all of them alike. */
 #include "hier_internal.h"
@@ -157,7 +159,8 @@ static double *dg_of(const hier_accel *a, int j) { return df_of(a, j) + 3 * a->n
 rad_status hier_accel_save(rad_hier *h)
 {
     hier_accel *a = &h->acc;
-    if (h->p.anderson > 0 && ++a->steps == HIER_ACCEL_WARMUP + 1) {
+    int warmup = a->carry == CARRY_B ? HIER_ACCEL_WARMUP_B : HIER_ACCEL_WARMUP_T;
+    if (h->p.anderson > 0 && ++a->steps == warmup + 1) {
         rad_status st = start(h);
         if (st != RAD_OK)
             return st;

@@ -172,9 +172,9 @@ enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CIN
        HIER_GATHER_ARRAYS };
 
 /* The history of accel.c's Anderson mixing of the solve's steps. */
-enum { HIER_ACCEL_MAX = RAD_HIER_ANDERSON_MAX, HIER_ACCEL_WARMUP = 8 };
+enum { HIER_ACCEL_MAX = RAD_HIER_ANDERSON_MAX, HIER_ACCEL_WARMUP_B = 8, HIER_ACCEL_WARMUP_T = 2 };
 typedef struct hier_accel {
-    int on;                /* 1: mixing (from step HIER_ACCEL_WARMUP + 1 of a solve) */
+    int on;                /* 1: mixing (from step HIER_ACCEL_WARMUP_B or _T + 1 of a solve) */
     int steps;             /* the steps of this solve so far */
     int carry;             /* CARRY_B or CARRY_T */
     int width;             /* doubles of a leaf's state (B and gB, or T) */
@@ -329,7 +329,7 @@ int hier_pair_may_touch(const rad_hier *h, int face_r, int face_s);
 /* Start a solve of carry (CARRY_B or CARRY_T) over the current leaves. */
 void hier_accel_begin(rad_hier *h, int carry);
 /* Before a step: note the state it starts from (mixing starts after
- * HIER_ACCEL_WARMUP plain steps, where the machine has the memory). */
+ * HIER_ACCEL_WARMUP_B or _T plain steps, where the machine has the memory). */
 rad_status hier_accel_save(rad_hier *h);
 /* After a step that did not meet its test: the next state to start from. */
 void hier_accel_mix(rad_hier *h);
