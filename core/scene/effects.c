@@ -149,12 +149,24 @@ static int behind(const double *xyz, const int *ti, const int *tj, double rel_to
 rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan)
 {
+    rad_mesh_contacts cut;
+    rad_status st = rad_scene_effects_plan_cut(s, mesh, params, plan, &cut);
+    rad_mesh_contacts_free(&cut);
+    return st;
+}
+
+rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
+                                      const rad_effects_params *params, rad_effects_plan *plan,
+                                      rad_mesh_contacts *cut)
+{
+    if (cut)
+        memset(cut, 0, sizeof *cut);
     rad_effects_params defaults;
     if (!params) {
         rad_scene_effects_params_default(&defaults);
         params = &defaults;
     }
-    if (!s || !mesh || !plan)
+    if (!s || !mesh || !plan || !cut)
         return RAD_ERROR(RAD_EINVAL, "rad_scene_effects_plan: NULL argument");
     if (rad_mesh_face_count(mesh) != s->nt)
         return RAD_ERROR(RAD_EINVAL, "rad_scene_effects_plan: the mesh has %d faces, the scene %d",
@@ -292,12 +304,12 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
         settle(&plan->clustering, params->clustering, 1, why);
     }
     /* 7. contact */
-    rad_mesh_contacts ct;
     rad_status st = rad_mesh_split_contacts(s->xyz, (size_t)s->nv, s->tri, (size_t)s->nt,
                                             params->contact_rel_tol, params->contact_near_rel,
-                                            &ct);
+                                            cut);
     if (st != RAD_OK)
         return st;
+    const rad_mesh_contacts ct = *cut;
     plan->contact_faces = (int)ct.faces_split;
     plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
     if (ct.faces_split > 0)
@@ -311,7 +323,6 @@ rad_status rad_scene_effects_plan(const rad_scene *s, const rad_mesh *mesh,
     else
         snprintf(why, sizeof why, "no triangle stands on (or just above) another's inside: "
                  "nothing to cut");
-    rad_mesh_contacts_free(&ct);
     settle(&plan->contact, params->contact, plan->contact_faces > 0, why);
     if (amp > params->max_amplification)
         snprintf(plan->refusal, sizeof plan->refusal, "the largest reflectance %.10g is within "

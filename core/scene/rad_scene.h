@@ -260,6 +260,14 @@ typedef struct rad_effects_plan {
 /* Decide the plan for a scene and its mesh (built from the same triangles). */
 rad_status rad_scene_effects_plan(const rad_scene *scene, const rad_mesh *mesh,
                                   const rad_effects_params *params, rad_effects_plan *plan);
+/* The same, and the contact cut the plan's contact decision is made from
+ * (rad_mesh_split_contacts with params' tolerances; the caller frees it with
+ * rad_mesh_contacts_free, on success or not), so that a solve that cuts
+ * along the contacts need not cut again: on a scene of a million triangles
+ * the cut takes seconds. */
+rad_status rad_scene_effects_plan_cut(const rad_scene *scene, const rad_mesh *mesh,
+                                      const rad_effects_params *params, rad_effects_plan *plan,
+                                      rad_mesh_contacts *cut);
 
 /* The decisions in a fixed order with their names ("occlusion", "colour",
  * "facing_away", "singular", "reflectance", "clustering", "contact"), for

@@ -96,16 +96,11 @@ static void prepared_free(prepared *pr)
 }
 
 /* With the plan's contact on, the triangles hier meshes become the pieces
- * of rad_mesh_split_contacts (prepare set the input's). */
+ * of the plan's contact cut (prepare kept it, and set the input's). */
 static rad_status pieces_make(prepared *pr, const rad_solution *s)
 {
     if (!s->plan.contact.on)
         return RAD_OK;
-    rad_status st = rad_mesh_split_contacts(pr->xyz, pr->nv, pr->tri, pr->nt,
-                                            s->used.effects.contact_rel_tol,
-                                            s->used.effects.contact_near_rel, &pr->cut);
-    if (st != RAD_OK)
-        return st;
     size_t n = pr->cut.nt, faces = (size_t)pr->faces;
     if (!(pr->cut_rho = malloc(n * 6 * sizeof *pr->cut_rho)))
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu pieces", n);
@@ -219,11 +214,13 @@ static rad_status prepare(const rad_scene *scene, rad_solution *s, prepared *pr)
     /* whether clustering pays depends on the oracle's tightening */
     s->used.effects.tightening = s->used.hier.max_tighten > 0;
     if (st == RAD_OK)
-        st = rad_scene_effects_plan(scene, pr->mesh, &s->used.effects, &s->plan);
+        st = rad_scene_effects_plan_cut(scene, pr->mesh, &s->used.effects, &s->plan, &pr->cut);
     if (st == RAD_OK)
         st = apply_plan(s);
     if (st != RAD_OK)
         return st;
+    if (!s->plan.contact.on) /* nothing to cut: the pieces would be the input */
+        rad_mesh_contacts_free(&pr->cut);
     size_t n = (size_t)pr->faces;
     if (!(pr->rho = malloc(n * 6 * sizeof *pr->rho)))
         return RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu faces", n);
