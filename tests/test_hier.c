@@ -1011,6 +1011,50 @@ TEST(hier_rejects_bad_parameters)
     rad_hier_destroy(NULL);
 }
 
+/* The roots are made on every thread; a refused triangle is still named
+ * as the first in order, whichever thread met it.  100 000 triangles (the
+ * parallel path starts above 65 536), two of them bad: the first is named;
+ * mended, the second is. */
+TEST(hier_create_names_the_first_bad_triangle)
+{
+    const size_t n = 100000;
+    double *xyz = malloc(9 * n * sizeof *xyz), *rho = malloc(3 * n * sizeof *rho);
+    double *E = calloc(3 * n, sizeof *E);
+    int *tri = malloc(3 * n * sizeof *tri);
+    if (!xyz || !rho || !E || !tri) {
+        CHECK(0);
+        goto done;
+    }
+    for (size_t t = 0; t < n; t++) {
+        const double x = (double)(t % 1000), y = (double)(t / 1000);
+        const double corner[9] = {x, y, 0, x + 1, y, 0, x, y + 1, 0};
+        memcpy(xyz + 9 * t, corner, sizeof corner);
+        for (int k = 0; k < 3; k++) {
+            tri[3 * t + (size_t)k] = (int)(3 * t + (size_t)k);
+            rho[t + (size_t)k * n] = 0.5;
+        }
+    }
+    tri[3 * 97001 + 1] = (int)(3 * n); /* out of range */
+    xyz[9 * 70003 + 4] = NAN;          /* a non-finite vertex, earlier */
+    rad_hier_params p;
+    rad_hier_params_default(&p);
+    p.cluster = 1;
+    p.threads = 2;
+    rad_hier *h = NULL;
+    CHECK(rad_hier_create(xyz, 3 * n, tri, n, rho, E, NULL, &p, &h) == RAD_EINPUT && !h);
+    CHECK_MSG(strstr(rad_error_message(), "triangle 70003: non-finite vertex") != NULL, "%s",
+              rad_error_message());
+    xyz[9 * 70003 + 4] = 0.0;
+    CHECK(rad_hier_create(xyz, 3 * n, tri, n, rho, E, NULL, &p, &h) == RAD_EINPUT && !h);
+    CHECK_MSG(strstr(rad_error_message(), "triangle 97001: vertex index") != NULL, "%s",
+              rad_error_message());
+done:
+    free(xyz);
+    free(rho);
+    free(E);
+    free(tri);
+}
+
 /* The Cornell box solved with params p[0] and p[1]: their stats, and the
  * largest difference of a face's radiosity over the second run's R; 0 when a
  * run failed. */

@@ -215,8 +215,13 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
         double p = 0.0;
         rad_vec3 m = rad_vec3_make(0.0, 0.0, 0.0);
         for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
+            /* an input triangle's root element has its index: the normal
+               first, the element only for a triangle that faces w */
+            double d = rad_vec3_dot(h->normal[h->corder[i]], w);
+            if (!(d > 0.0))
+                continue;
             const hier_elem *e = &h->el[h->corder[i]];
-            double a = e->area * rad_dmax(0.0, rad_vec3_dot(h->normal[e->face], w));
+            double a = e->area * d;
             p += a;
             m = rad_vec3_add(m, rad_vec3_scale(e->c, a));
         }
@@ -265,11 +270,9 @@ static void facing_of(const rad_hier *h, const end_view *x, rad_vec3 w, facing_s
     f->m = 0;
     if (x->elem >= 0 || x->cl->count > CLUSTER_SMALL)
         return;
-    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
-        const hier_elem *t = &h->el[h->corder[i]];
-        if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
-            f->t[f->m++] = t;
-    }
+    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++)
+        if (rad_vec3_dot(h->normal[h->corder[i]], w) > 0.0) /* its root element's index */
+            f->t[f->m++] = &h->el[h->corder[i]];
 }
 
 /* Sample point k of end x, seen from the direction w (unit, from x towards
@@ -302,9 +305,9 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, const facing_
         e = NULL;
         for (int j = 0; j < CLUSTER_TRIES && !e; j++) {
             int m = k + CLUSTER_RAYS * j;
-            const hier_elem *t = &h->el[h->corder[x->cl->first + (m * x->cl->count) / spread]];
-            if (rad_vec3_dot(h->normal[t->face], w) > 0.0)
-                e = t;
+            int t = h->corder[x->cl->first + (m * x->cl->count) / spread];
+            if (rad_vec3_dot(h->normal[t], w) > 0.0) /* t: its root element's index */
+                e = &h->el[t];
         }
         if (!e)
             e = &h->el[h->corder[x->cl->first + (k * x->cl->count) / spread]];
@@ -445,25 +448,8 @@ static void finish(const rad_hier *h, const end_view *x, const end_view *y,
     out->by_size = g->kern > rad_dmax(g->rel_x, g->rel_y) + (mixed ? 1.0 : 0.0);
 }
 
-static signed char decide(const rad_hier *h, const hier_clink *l, double target);
-
-/* Whether the oracle (decide, at target) splits the link the same way
- * whatever its rays would see: then out holds one such outcome and no ray
- * is cast.  The link is examined in the pass's next generation, with the
- * same values, and replaced; its G is never used. */
 static int split_whatever_seen(const rad_hier *h, const end_view *x, const end_view *y,
-                               const link_geometry *g, double target, hier_clink *out)
-{
-    signed char first = 0;
-    for (int open = 0; open <= CLUSTER_RAYS; open++) { /* the last: every ray open */
-        finish(h, x, y, g, (double)open / CLUSTER_RAYS, open > 0 && open < CLUSTER_RAYS, out);
-        signed char d = decide(h, out, target);
-        if (d == 0 || (open > 0 && d != first))
-            return 0;
-        first = d;
-    }
-    return 1;
-}
+                               const link_geometry *g, double target, hier_clink *out);
 
 /* Estimate the link of ends a and b; 0 when nothing of one can reach the
  * other (every normal of one turned away from the other's sphere, or the
@@ -827,6 +813,19 @@ static double term(const rad_hier *h, const end_values *r, const end_values *s, 
 /* One pass: target > 0 refines by the bound (refine.c's rule), target = 0
  * only links whose spheres meet.  Links made are examined in the same pass,
  * generation by generation. */
+/* The oracle's decision on link l (target > 0, the ends' values x and y):
+ * 0 keep it, else split_link's split_b + 2. */
+static signed char decide_by(const rad_hier *h, const hier_clink *l, double target,
+                             const end_values *x, const end_values *y)
+{
+    double share = h->p.link_share * target;
+    double ta = term(h, x, y, l->ea, l->va) / (share * x->scale);
+    double tb = term(h, y, x, l->eb, l->vb) / (share * y->scale);
+    if (!(ta > 1.0 || tb > 1.0))
+        return 0;
+    return (signed char)((l->by_size ? -1 : ta >= tb) + 2);
+}
+
 /* The oracle's decision on link l: 0 keep it, else split_link's split_b + 2. */
 static signed char decide(const rad_hier *h, const hier_clink *l, double target)
 {
@@ -837,12 +836,28 @@ static signed char decide(const rad_hier *h, const hier_clink *l, double target)
     end_values x, y;
     values(h, l->a, &x);
     values(h, l->b, &y);
-    double share = h->p.link_share * target;
-    double ta = term(h, &x, &y, l->ea, l->va) / (share * x.scale);
-    double tb = term(h, &y, &x, l->eb, l->vb) / (share * y.scale);
-    if (!(ta > 1.0 || tb > 1.0))
-        return 0;
-    return (signed char)((l->by_size ? -1 : ta >= tb) + 2);
+    return decide_by(h, l, target, &x, &y);
+}
+
+/* Whether the oracle (decide, at target > 0) splits the link the same way
+ * whatever its rays would see: then out holds one such outcome and no ray
+ * is cast.  The link is examined in the pass's next generation, with the
+ * same values, and replaced; its G is never used. */
+static int split_whatever_seen(const rad_hier *h, const end_view *x, const end_view *y,
+                               const link_geometry *g, double target, hier_clink *out)
+{
+    end_values vx, vy;
+    values(h, out->a, &vx);
+    values(h, out->b, &vy);
+    signed char first = 0;
+    for (int open = 0; open <= CLUSTER_RAYS; open++) { /* the last: every ray open */
+        finish(h, x, y, g, (double)open / CLUSTER_RAYS, open > 0 && open < CLUSTER_RAYS, out);
+        signed char d = decide_by(h, out, target, &vx, &vy);
+        if (d == 0 || (open > 0 && d != first))
+            return 0;
+        first = d;
+    }
+    return 1;
 }
 
 static rad_status refine_pass(rad_hier *h, double target, long long *count)
@@ -1014,14 +1029,20 @@ rad_status hier_cluster_create(rad_hier *h)
         goto done;
     h->ncl = rad_cluster_node_count(tree);
     /* on huge pages: the nodes alone are about 1 kB a triangle, and a
-       4 KB page's first touch is a fault.  crecv stays calloc's: the
-       solve writes it first, and the memory check counts its pages from
-       then (memory.c) */
-    h->cl = rad_sys_calloc_huge(h->ncl, sizeof *h->cl);
+       4 KB page's first touch is a fault (zeroed below on every thread).
+       crecv stays calloc's: the solve writes it first, and the memory
+       check counts its pages from then (memory.c) */
+    int threads = hier_threads(h);
+    h->cl = rad_sys_alloc_huge(h->ncl * sizeof *h->cl);
     h->corder = rad_sys_alloc_huge(n * sizeof *h->corder);
     h->cemit = rad_sys_alloc_huge(6 * n * sizeof *h->cemit);
     h->crecv = calloc(3 * n, sizeof *h->crecv);
     const rad_cluster_node *nd = rad_cluster_nodes(tree);
+    if (h->cl) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+        for (long long i = 0; i < (long long)h->ncl; i++)
+            memset(&h->cl[i], 0, sizeof *h->cl);
+    }
     size_t nmom = 0;
     for (size_t i = 0; h->cl && i < h->ncl; i++)
         h->cl[i].mom = reads_moments(h, nd[i].count) ? (int)nmom++ : -1;
@@ -1032,7 +1053,8 @@ rad_status hier_cluster_create(rad_hier *h)
         goto done;
     }
     memcpy(h->corder, rad_cluster_order(tree), n * sizeof *h->corder);
-    for (size_t i = 0; i < h->ncl; i++) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
         hier_clus *x = &h->cl[i];
         const rad_cluster_node *m = &nd[i];
         rad_vec3 lo = rad_vec3_make(m->lo[0], m->lo[1], m->lo[2]);

@@ -193,6 +193,53 @@ rad_status hier_split(rad_hier *h, int e)
 
 #define HIER_BLOCK_TABLE_MAX 8192 /* input triangles: a table of at most 32 MB */
 
+/* Root element t (input triangle t), and the largest emission and
+ * reflectance so far (*emax, *rmax); RAD_EINPUT for a triangle that cannot
+ * be one, with the message only when report is set (the caller's thread
+ * holds it). */
+static rad_status root_make(rad_hier *h, const double *xyz, size_t nverts, const int *tri,
+                            const double *rho, const double *E, size_t t, int report,
+                            double *emax, double *rmax)
+{
+    size_t ntris = h->nroots;
+    hier_elem *e = &h->el[t];
+    memset(e, 0, sizeof *e);
+    for (int v = 0; v < 3; v++) {
+        int k = tri[3 * t + (size_t)v];
+        if (k < 0 || (size_t)k >= nverts)
+            return report ? RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: vertex index %d out of "
+                                                  "range", t, k)
+                          : RAD_EINPUT;
+        e->p[v] = rad_vec3_make(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
+        if (!rad_vec3_is_finite(e->p[v]))
+            return report ? RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: non-finite vertex", t)
+                          : RAD_EINPUT;
+    }
+    if (rad_geom_triangle_is_degenerate(e->p[0], e->p[1], e->p[2], h->p.ff.degenerate_rel_tol))
+        return report ? RAD_ERROR(RAD_EINPUT, "hier: triangle %zu is degenerate", t) : RAD_EINPUT;
+    e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
+    e->size = rad_geom_triangle_longest_edge(e->p);
+    e->c = rad_geom_triangle_centroid(e->p[0], e->p[1], e->p[2]);
+    h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
+    e->parent = e->first_child = -1;
+    e->cap = 1.0;
+    e->face = (int)t;
+    for (int c = 0; c < 3; c++) {
+        double r = rho[t + c * ntris], em = E[t + c * ntris];
+        if (!(r >= 0.0 && r < 1.0) || !(em >= 0.0) || !isfinite(em))
+            return report ? RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: reflectance must lie in "
+                                                  "[0,1) and emission be finite and >= 0 "
+                                                  "(channel %d)", t, c)
+                          : RAD_EINPUT;
+        e->B[c] = em;
+        *emax = fmax(*emax, em);
+        *rmax = fmax(*rmax, r);
+    }
+    return RAD_OK;
+}
+
+static size_t size_min(size_t a, size_t b) { return a < b ? a : b; }
+
 rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, size_t ntris,
                            const double *rho, const double *E, const rad_vis *vis,
                            const rad_hier_params *params, rad_hier **out)
@@ -244,44 +291,22 @@ rad_status rad_hier_create(const double *xyz, size_t nverts, const int *tri, siz
     }
     if ((st = hier_grow_elems(h, ntris)) != RAD_OK)
         goto fail;
-    for (size_t t = 0; t < ntris; t++) {
-        hier_elem *e = &h->el[t];
-        memset(e, 0, sizeof *e);
-        for (int v = 0; v < 3; v++) {
-            int k = tri[3 * t + (size_t)v];
-            if (k < 0 || (size_t)k >= nverts) {
-                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: vertex index %d out of range", t,
-                               k);
-                goto fail;
-            }
-            e->p[v] = rad_vec3_make(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]);
-            if (!rad_vec3_is_finite(e->p[v])) {
-                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: non-finite vertex", t);
-                goto fail;
-            }
-        }
-        if (rad_geom_triangle_is_degenerate(e->p[0], e->p[1], e->p[2], p.ff.degenerate_rel_tol)) {
-            st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu is degenerate", t);
+    {
+        /* in parallel: the elements' pages are first touched here, and on a
+           scene of a million triangles faulting them in on one thread takes
+           seconds; a refused triangle is reported as the first in order */
+        size_t bad = ntris;
+        double emax = 0.0, rmax = 0.0;
+#pragma omp parallel for schedule(static) reduction(min : bad) reduction(max : emax, rmax) num_threads(hier_threads(h)) if (ntris > 65536)
+        for (long long t = 0; t < (long long)ntris; t++)
+            if (root_make(h, xyz, nverts, tri, rho, E, (size_t)t, 0, &emax, &rmax) != RAD_OK)
+                bad = size_min(bad, (size_t)t);
+        if (bad < ntris) {
+            st = root_make(h, xyz, nverts, tri, rho, E, bad, 1, &emax, &rmax);
             goto fail;
         }
-        e->area = rad_geom_triangle_area(e->p[0], e->p[1], e->p[2]);
-        e->size = rad_geom_triangle_longest_edge(e->p);
-        e->c = rad_geom_triangle_centroid(e->p[0], e->p[1], e->p[2]);
-        h->normal[t] = rad_geom_triangle_normal(e->p[0], e->p[1], e->p[2]);
-        e->parent = e->first_child = -1;
-        e->cap = 1.0;
-        e->face = (int)t;
-        for (int c = 0; c < 3; c++) {
-            double r = rho[t + c * ntris], em = E[t + c * ntris];
-            if (!(r >= 0.0 && r < 1.0) || !(em >= 0.0) || !isfinite(em)) {
-                st = RAD_ERROR(RAD_EINPUT, "hier: triangle %zu: reflectance must lie in [0,1) "
-                                           "and emission be finite and >= 0 (channel %d)", t, c);
-                goto fail;
-            }
-            e->B[c] = em;
-            h->E_max = fmax(h->E_max, em);
-            h->rho_max = fmax(h->rho_max, r);
-        }
+        h->E_max = emax;
+        h->rho_max = rmax;
     }
     h->nel = ntris;
     /* Without clustering every pair of input triangles is estimated: refuse
