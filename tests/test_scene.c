@@ -545,6 +545,52 @@ TEST(scene_effects_facing_away_count_independent)
     rad_scene_destroy(s);
 }
 
+/* The plan's contact decision is made from a cut the caller may keep
+ * (rad_scene_effects_plan_cut), which the solve then meshes instead of
+ * cutting again: it is the cut rad_mesh_split_contacts makes with the
+ * plan's tolerances, piece for piece, and the plan's counts are its own.
+ * The box under the lit ceiling is cut (its top's outline on the ceiling);
+ * the Cornell box, with the defaults' hover share, too (its blocks stand on
+ * the floor).  A NULL cut is refused. */
+TEST(scene_effects_plan_keeps_its_contact_cut)
+{
+    const char *scenes[] = {"scenes/contact/box_under_ceiling.obj", "scenes/cornell/cornell.obj"};
+    for (int k = 0; k < 2; k++) {
+        rad_scene *s = harness_scene_load(scenes[k], NULL);
+        if (!s)
+            continue;
+        rad_mesh *m = NULL;
+        CHECK(rad_mesh_create(rad_scene_vertices(s), rad_scene_vertex_count(s),
+                              rad_scene_triangles(s), rad_scene_triangle_count(s), NULL,
+                              &m) == RAD_OK);
+        rad_effects_params ep;
+        rad_scene_effects_params_default(&ep);
+        rad_effects_plan plan;
+        rad_mesh_contacts kept, direct;
+        CHECK(rad_scene_effects_plan_cut(s, m, &ep, &plan, &kept) == RAD_OK);
+        CHECK(rad_mesh_split_contacts(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
+                                      rad_scene_triangles(s),
+                                      (size_t)rad_scene_triangle_count(s), ep.contact_rel_tol,
+                                      ep.contact_near_rel, &direct) == RAD_OK);
+        CHECK_MSG(kept.faces_split > 0 && plan.contact.on, "%s: %zu faces cut", scenes[k],
+                  kept.faces_split);
+        CHECK(kept.nt == direct.nt && kept.nv == direct.nv &&
+              kept.faces_split == direct.faces_split && kept.segments == direct.segments);
+        if (kept.nt == direct.nt && kept.nv == direct.nv)
+            CHECK(memcmp(kept.tri, direct.tri, 3 * kept.nt * sizeof *kept.tri) == 0 &&
+                  memcmp(kept.parent, direct.parent, kept.nt * sizeof *kept.parent) == 0 &&
+                  memcmp(kept.xyz, direct.xyz, 3 * kept.nv * sizeof *kept.xyz) == 0);
+        CHECK(plan.contact_faces == (int)kept.faces_split &&
+              plan.contact_pieces ==
+                  (int)(kept.nt - ((size_t)rad_scene_triangle_count(s) - kept.faces_split)));
+        rad_mesh_contacts_free(&kept);
+        rad_mesh_contacts_free(&direct);
+        CHECK(rad_scene_effects_plan_cut(s, m, &ep, &plan, NULL) == RAD_EINVAL);
+        rad_mesh_destroy(m);
+        rad_scene_destroy(s);
+    }
+}
+
 /* A face repeated on the same side (in any rotation of its corners) adds no
  * surface; dozens of copies made every pair behind them minutes of
  * visibility.  Copies are dropped and counted, the first kept; the other
