@@ -770,8 +770,9 @@ static rad_status run_hier(rad_solution *s, prepared *pr, double t_start)
     rad_hier_get_stats(h, &s->hier);
     hier_figures(s);
     size_t n = rad_hier_leaf_count(h);
-    leaf = malloc(n * 4 * sizeof *leaf);
-    leaf_face = malloc(n * sizeof *leaf_face);
+    /* zeroed: the compiler cannot see that rad_hier_leaves writes them all */
+    leaf = calloc(n * 4, sizeof *leaf);
+    leaf_face = calloc(n, sizeof *leaf_face);
     if (!leaf || !leaf_face) {
         st = RAD_ERROR(RAD_ENOMEM, "solve: no memory for %zu elements", n);
         goto done;
