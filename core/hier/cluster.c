@@ -810,9 +810,6 @@ static double term(const rad_hier *h, const end_values *r, const end_values *s, 
 
 /* ---- refinement ---------------------------------------------------------- */
 
-/* One pass: target > 0 refines by the bound (refine.c's rule), target = 0
- * only links whose spheres meet.  Links made are examined in the same pass,
- * generation by generation. */
 /* The oracle's decision on link l (target > 0, the ends' values x and y):
  * 0 keep it, else split_link's split_b + 2. */
 static signed char decide_by(const rad_hier *h, const hier_clink *l, double target,
@@ -860,6 +857,9 @@ static int split_whatever_seen(const rad_hier *h, const end_view *x, const end_v
     return 1;
 }
 
+/* One pass: target > 0 refines by the bound (refine.c's rule), target = 0
+ * only links whose spheres meet.  Links made are examined in the same pass,
+ * generation by generation. */
 static rad_status refine_pass(rad_hier *h, double target, long long *count)
 {
     job_list cj = {NULL, 0, 0}, sj = {NULL, 0, 0};

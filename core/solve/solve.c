@@ -219,7 +219,9 @@ static rad_status prepare(const rad_scene *scene, rad_solution *s, prepared *pr)
         st = apply_plan(s);
     if (st != RAD_OK)
         return st;
-    if (!s->plan.contact.on) /* nothing to cut: the pieces would be the input */
+    /* only hier and cluster mesh the pieces (pieces_make), and only when
+       the plan cuts */
+    if (!s->plan.contact.on || (s->method != RAD_SOLVE_HIER && s->method != RAD_SOLVE_CLUSTER))
         rad_mesh_contacts_free(&pr->cut);
     size_t n = (size_t)pr->faces;
     if (!(pr->rho = malloc(n * 6 * sizeof *pr->rho)))
