@@ -2,9 +2,11 @@
  * triangles (every triangle once, ranges nested, boxes holding their
  * triangles, areas summing, cones holding every normal), each split leaving
  * both sides an eighth at least, determinism, objects kept whole where
- * planes separate them, bad input refused, and the bound of what a node's
+ * planes separate them, the same tree on one thread and on two, bad input
+ * refused, and the bound of what a node's
  * triangles turn towards a cone of directions against its triangles. */
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -137,6 +139,32 @@ TEST(cluster_hierarchy_invariants_on_random_soups)
         free(xyz);
         free(tri);
     }
+}
+
+/* Past 65 536 triangles the nine orders are sorted on every thread: the
+ * tree is the one a single thread builds, node for node. */
+TEST(cluster_same_tree_on_one_thread_and_two)
+{
+    const size_t n = 70000;
+    int threads = omp_get_max_threads();
+    double *xyz;
+    int *tri;
+    omp_set_num_threads(1);
+    rad_cluster_tree *t = soup_tree(n, 7, 1, &xyz, &tri), *u = NULL;
+    omp_set_num_threads(2);
+    CHECK(rad_cluster_build(xyz, 3 * n, tri, n, 1, &u) == RAD_OK);
+    omp_set_num_threads(threads);
+    if (t && u) {
+        check_tree(u, xyz, tri, n, 1);
+        CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
+        CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
+        CHECK(memcmp(rad_cluster_nodes(t), rad_cluster_nodes(u),
+                     rad_cluster_node_count(t) * sizeof(rad_cluster_node)) == 0);
+    }
+    rad_cluster_destroy(t);
+    rad_cluster_destroy(u);
+    free(xyz);
+    free(tri);
 }
 
 /* The tree of scene s, one triangle per leaf, its invariants checked;

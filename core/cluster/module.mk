@@ -1,0 +1,3 @@
+# rad_cluster sorts its nine orders on every thread.
+CFLAGS  += -fopenmp
+LDFLAGS += -fopenmp
