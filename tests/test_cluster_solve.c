@@ -298,8 +298,9 @@ TEST(cluster_and_hier_refuse_more_links_than_max_links)
 }
 
 /* Estimates run in parallel, each into its own slot, in job order, and the
- * cluster links' intensities are computed in parallel and summed in link
- * order: the table is the same to the bit on one thread and on two.  The
+ * cluster links' intensities, and their terms of the error bound, are
+ * computed in parallel and summed in link order: the table and the bound are
+ * the same to the bit on one thread and on two.  The
  * Cornell box ends with element links only; 64 boxes at eps 3 keep some
  * 28 000 cluster links, enough for the gather to run on both threads. */
 static void same_answer_on_one_and_two_threads(const char *path, double eps, size_t min_cluster)
@@ -309,6 +310,7 @@ static void same_answer_on_one_and_two_threads(const char *path, double eps, siz
         return;
     double *B[2] = {NULL, NULL};
     size_t links[2] = {0, 0}, clinks = 0;
+    double bound[2][3] = {{0}};
     int faces = 0;
     for (int t = 0; t < 2; t++) {
         rad_solve_params p;
@@ -324,6 +326,9 @@ static void same_answer_on_one_and_two_threads(const char *path, double eps, siz
         faces = s->faces;
         links[t] = s->hier.links;
         clinks = s->hier.links_cluster;
+        bound[t][0] = s->hier.bound_leaf_max;
+        bound[t][1] = s->hier.bound_face_max;
+        bound[t][2] = s->hier.bound_mean;
         B[t] = malloc(3 * (size_t)faces * sizeof *B[t]);
         memcpy(B[t], s->face_B, 3 * (size_t)faces * sizeof *B[t]);
         rad_solution_destroy(s);
@@ -331,6 +336,8 @@ static void same_answer_on_one_and_two_threads(const char *path, double eps, siz
     CHECK_MSG(links[0] == links[1] && links[0] > 0, "%s: links %zu and %zu", path, links[0],
               links[1]);
     CHECK_MSG(clinks >= min_cluster, "%s: %zu cluster links", path, clinks);
+    CHECK_MSG(memcmp(bound[0], bound[1], sizeof bound[0]) == 0 && bound[0][1] > 0.0,
+              "%s: bounds %.17g and %.17g", path, bound[0][1], bound[1][1]);
     if (B[0] && B[1])
         CHECK_MSG(memcmp(B[0], B[1], 3 * (size_t)faces * sizeof *B[0]) == 0, "%s", path);
     free(B[0]);

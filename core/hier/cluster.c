@@ -130,6 +130,15 @@ typedef struct end_view {
     const hier_clus *cl;   /* the cluster, or NULL */
 } end_view;
 
+/* The radius of element e's bounding sphere about its centroid. */
+static double elem_radius(const hier_elem *e)
+{
+    double r = 0.0;
+    for (int k = 0; k < 3; k++)
+        r = rad_dmax(r, rad_vec3_norm(rad_vec3_sub(e->p[k], e->c)));
+    return r;
+}
+
 static void view(const rad_hier *h, int id, end_view *v)
 {
     if (id >= 0) {
@@ -138,10 +147,9 @@ static void view(const rad_hier *h, int id, end_view *v)
         return;
     }
     const hier_elem *e = &h->el[-1 - id];
-    double r = 0.0;
+    double r = elem_radius(e);
     rad_vec3 lo = e->p[0], hi = e->p[0];
     for (int k = 0; k < 3; k++) {
-        r = rad_dmax(r, rad_vec3_norm(rad_vec3_sub(e->p[k], e->c)));
         lo = rad_vec3_make(rad_dmin(lo.x, e->p[k].x), rad_dmin(lo.y, e->p[k].y), rad_dmin(lo.z, e->p[k].z));
         hi = rad_vec3_make(rad_dmax(hi.x, e->p[k].x), rad_dmax(hi.y, e->p[k].y), rad_dmax(hi.z, e->p[k].z));
     }
@@ -585,12 +593,10 @@ static rad_status queue_pair(job_list *cj, job_list *sj, int a, int b)
     return a < 0 && b < 0 ? push_job(sj, -1 - a, -1 - b) : push_job(cj, a, b);
 }
 
-/* The radius of end id's bounding sphere. */
+/* The radius of end id's bounding sphere (view's). */
 static double end_radius(const rad_hier *h, int id)
 {
-    end_view v;
-    view(h, id, &v);
-    return v.radius;
+    return id >= 0 ? h->cl[id].radius : elem_radius(&h->el[-1 - id]);
 }
 
 /* Replace link k by the links of one end's parts to the other end: a
@@ -1505,6 +1511,81 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
     return RAD_OK;
 }
 
+/* Link l's terms at those of its ends whose receiver index (a cluster's,
+ * or ncl + an element's, as in h->cinc_start) lies in [lo, hi): its error
+ * e, the source's B (its range) and the variation's square at a cluster,
+ * rho e times the weight and the variation's square at an element. */
+static void local_link(rad_hier *h, const hier_clink *l, size_t lo, size_t hi)
+{
+    const int ends[2] = {l->a, l->b};
+    int mine[2];
+    for (int s = 0; s < 2; s++) {
+        size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
+        mine[s] = r >= lo && r < hi;
+    }
+    if (!mine[0] && !mine[1])
+        return;
+    size_t n = h->nroots;
+    double e[2] = {l->ea, l->eb}, F[2] = {l->va, l->vb};
+    end_values v[2];
+    values(h, l->a, &v[0]);
+    values(h, l->b, &v[1]);
+    for (int s = 0; s < 2; s++) {
+        if (!mine[s])
+            continue;
+        const end_values *r = &v[s], *src = &v[1 - s];
+        for (int c = 0; c < 3; c++) {
+            double d = F[s] * src->var[c];
+            if (ends[s] >= 0) {
+                hier_clus *x = &h->cl[ends[s]];
+                x->q[c] += e[s];
+                x->qb[c] += e[s] * src->B[c];
+                x->bmin[c] = rad_dmin(x->bmin[c], src->B[c]);
+                x->bmax[c] = rad_dmax(x->bmax[c], src->B[c]);
+                x->d[c] += d * d;
+            } else {
+                hier_elem *x = &h->el[-1 - ends[s]];
+                double rho = h->rho[(size_t)x->face + (size_t)c * n];
+                x->q[c] += rho * e[s] * weight(h, r, src, c);
+                x->d[c] += rho * rho * d * d;
+            }
+        }
+    }
+}
+
+/* Cluster i's sums of its links' terms (and its ancestors'), added to its
+ * children's, or, at a leaf, its element's share of the bound. */
+static void local_down(rad_hier *h, size_t i)
+{
+    size_t n = h->nroots;
+    hier_clus *x = &h->cl[i];
+    if (x->root >= 0) {
+        hier_elem *e = &h->el[x->root];
+        for (int c = 0; c < 3; c++) {
+            double rho = h->rho[(size_t)x->root + (size_t)c * n], w = x->qb[c];
+            if (h->p.sealed && rho > 0.0 && x->q[c] > 0.0) {
+                double H = element_H(h, e, c), span = x->bmax[c] - x->bmin[c];
+                /* weights on bmin and bmax with the sums' mean */
+                double whi = span > 0.0 ? (x->qb[c] - x->q[c] * x->bmin[c]) / span : 0.0;
+                whi = rad_dmax(0.0, rad_dmin(x->q[c], whi));
+                w = (x->q[c] - whi) * fabs(x->bmin[c] - H) + whi * fabs(x->bmax[c] - H);
+            }
+            e->q[c] += rho * w;
+            e->d[c] += rho * rho * x->d[c];
+        }
+        return;
+    }
+    for (int k = 0; k < 2; k++)
+        for (int c = 0; c < 3; c++) {
+            hier_clus *y = &h->cl[x->child[k]];
+            y->q[c] += x->q[c];
+            y->qb[c] += x->qb[c];
+            y->d[c] += x->d[c];
+            y->bmin[c] = rad_dmin(y->bmin[c], x->bmin[c]);
+            y->bmax[c] = rad_dmax(y->bmax[c], x->bmax[c]);
+        }
+}
+
 rad_status hier_cluster_local(rad_hier *h)
 {
     if (!h->ncl)
@@ -1515,7 +1596,8 @@ rad_status hier_cluster_local(rad_hier *h)
     rad_status st = gather_links(h, CLUSTER_B);
     if (st != RAD_OK)
         return st;
-    int nch = channels(h, CLUSTER_B);
+    int nch = channels(h, CLUSTER_B), threads = hier_threads(h);
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > 65536)
     for (size_t i = 0; i < n; i++) {
         const struct hier_cleaf *x = &h->cleaf[i];
         hier_elem *e = &h->el[x->root];
@@ -1530,6 +1612,7 @@ rad_status hier_cluster_local(rad_hier *h)
      * leaf the sealed weight |B_s - H| (hier_weight) is then bounded with
      * the leaf's own irradiance H, by the two-point distribution on the
      * range that gives the sums. */
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
     for (size_t i = 0; i < h->ncl; i++)
         for (int c = 0; c < 3; c++) {
             hier_clus *x = &h->cl[i];
@@ -1537,60 +1620,24 @@ rad_status hier_cluster_local(rad_hier *h)
             x->bmin[c] = INFINITY;
             x->bmax[c] = -INFINITY;
         }
-    for (size_t k = 0; k < h->ncln; k++) {
-        const hier_clink *l = &h->cln[k];
-        int ends[2] = {l->a, l->b};
-        double e[2] = {l->ea, l->eb}, F[2] = {l->va, l->vb};
-        end_values v[2];
-        values(h, l->a, &v[0]);
-        values(h, l->b, &v[1]);
-        for (int s = 0; s < 2; s++) {
-            const end_values *r = &v[s], *src = &v[1 - s];
-            for (int c = 0; c < 3; c++) {
-                double d = F[s] * src->var[c];
-                if (ends[s] >= 0) {
-                    hier_clus *x = &h->cl[ends[s]];
-                    x->q[c] += e[s];
-                    x->qb[c] += e[s] * src->B[c];
-                    x->bmin[c] = rad_dmin(x->bmin[c], src->B[c]);
-                    x->bmax[c] = rad_dmax(x->bmax[c], src->B[c]);
-                    x->d[c] += d * d;
-                } else {
-                    hier_elem *x = &h->el[-1 - ends[s]];
-                    double rho = h->rho[(size_t)x->face + (size_t)c * n];
-                    x->q[c] += rho * e[s] * weight(h, r, src, c);
-                    x->d[c] += rho * rho * d * d;
-                }
-            }
-        }
+    /* each thread sums the link ends whose receivers it holds (whole
+       receivers, as cluster_incidence shares them out): each receiver's
+       sums run in link order, the serial loop's */
+#pragma omp parallel num_threads(threads) if (h->ncln > 1024)
+    {
+        size_t lo, hi;
+        hier_thread_rows(h->cinc_start, h->ncl + h->nel, omp_get_thread_num(),
+                         omp_get_num_threads(), &lo, &hi);
+        for (size_t k = 0; k < h->ncln; k++)
+            local_link(h, &h->cln[k], lo, hi);
     }
-    for (size_t i = 0; i < h->ncl; i++) {
-        hier_clus *x = &h->cl[i];
-        if (x->root >= 0) {
-            hier_elem *e = &h->el[x->root];
-            for (int c = 0; c < 3; c++) {
-                double rho = h->rho[(size_t)x->root + (size_t)c * n], w = x->qb[c];
-                if (h->p.sealed && rho > 0.0 && x->q[c] > 0.0) {
-                    double H = element_H(h, e, c), span = x->bmax[c] - x->bmin[c];
-                    /* weights on bmin and bmax with the sums' mean */
-                    double whi = span > 0.0 ? (x->qb[c] - x->q[c] * x->bmin[c]) / span : 0.0;
-                    whi = rad_dmax(0.0, rad_dmin(x->q[c], whi));
-                    w = (x->q[c] - whi) * fabs(x->bmin[c] - H) + whi * fabs(x->bmax[c] - H);
-                }
-                e->q[c] += rho * w;
-                e->d[c] += rho * rho * x->d[c];
-            }
-            continue;
-        }
-        for (int k = 0; k < 2; k++)
-            for (int c = 0; c < 3; c++) {
-                hier_clus *y = &h->cl[x->child[k]];
-                y->q[c] += x->q[c];
-                y->qb[c] += x->qb[c];
-                y->d[c] += x->d[c];
-                y->bmin[c] = rad_dmin(y->bmin[c], x->bmin[c]);
-                y->bmax[c] = rad_dmax(y->bmax[c], x->bmax[c]);
-            }
-    }
+    /* parents before children: the nodes above the subtrees, then the
+       subtrees on every thread */
+    for (size_t k = 0; k < h->nctop; k++)
+        local_down(h, (size_t)h->ctop[k]);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (size_t k = 0; k < h->ncsub; k++)
+        for (size_t i = (size_t)h->csub[k]; i < (size_t)h->csub_end[k]; i++)
+            local_down(h, i);
     return RAD_OK;
 }

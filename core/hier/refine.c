@@ -236,12 +236,12 @@ done:
     free(up);
     if (st != RAD_OK)
         drop_replaced(h, 0, 0); /* what an error left among the links */
+    h->version++; /* the gather's incidence and the shared gather's plan are rebuilt */
     if (count > 0) {
         rad_status caps = hier_row_caps(h);
         if (st == RAD_OK)
             st = caps;
     }
-    h->version++; /* the shared gather's plan is rebuilt (exchange.c) */
     h->st.refinements += count;
     h->st.time_refine_s += rad_sys_seconds() - t0;
     if (count > 0) {

@@ -218,27 +218,50 @@ double rad_hier_row_ceiling(int sealed, double rho_max)
     return sealed ? 1.0 : 0.5 * (1.0 + 1.0 / rad_dmax(rho_max, 0.5));
 }
 
+static rad_status incidence(rad_hier *h);
+
+/* Each element's row sums, B's gather with every source 1: summed at each
+ * element over its own link ends (in link order, as the serial loop over
+ * the links would), then pushed down each tree, in parallel; shared among
+ * processes every process sums every link, as it holds no incidence. */
 rad_status hier_row_caps(rad_hier *h)
 {
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    for (size_t e = 0; e < h->nel; e++) {
+    int threads = hier_threads(h);
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
         h->el[e].Bg[0] = 0.0;
         h->el[e].Gg[0] = zero_v;
     }
-    for (size_t k = 0; k < h->nln; k++) {
-        const hier_link *l = &h->ln[k];
-        if (l->a < 0)
-            continue;
-        hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
-        a->Bg[0] += l->G / a->area;
-        a->Gg[0] = rad_vec3_add(a->Gg[0], l->ga);
-        b->Bg[0] += l->G / b->area;
-        b->Gg[0] = rad_vec3_add(b->Gg[0], l->gb);
+    rad_status st;
+    if (hier_split_on(h)) {
+        for (size_t k = 0; k < h->nln; k++) {
+            const hier_link *l = &h->ln[k];
+            if (l->a < 0)
+                continue;
+            hier_elem *a = &h->el[l->a], *b = &h->el[l->b];
+            a->Bg[0] += l->G / a->area;
+            a->Gg[0] = rad_vec3_add(a->Gg[0], l->ga);
+            b->Bg[0] += l->G / b->area;
+            b->Gg[0] = rad_vec3_add(b->Gg[0], l->gb);
+        }
+    } else {
+        if ((st = incidence(h)) != RAD_OK)
+            return st;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
+        for (long long e = 0; e < (long long)h->nel; e++) {
+            hier_elem *x = &h->el[e];
+            for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
+                x->Bg[0] += h->inc[i].F;
+                x->Gg[0] = rad_vec3_add(x->Gg[0], h->inc[i].g);
+            }
+        }
     }
-    rad_status st = hier_cluster_gather(h, CLUSTER_ONE);
-    if (st != RAD_OK)
+    if ((st = hier_cluster_gather(h, CLUSTER_ONE)) != RAD_OK)
         return st;
-    for (size_t t = 0; t < h->nroots; t++)
+    int chunk = hier_root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
         push_rows(h, (int)t, 0.0, zero_v);
     return RAD_OK;
 }
