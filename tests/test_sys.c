@@ -57,7 +57,7 @@ TEST(sys_calloc_huge_gives_zeroed_memory)
 }
 
 /* rad_sys_grow keeps the items in use through every doubling, small and
- * past RAD_SYS_HUGE_PAGE (where realloc may grow in place, remap or copy),
+ * past RAD_SYS_HUGE_PAGE (where the items are copied into a new block),
  * leaves a large enough array alone, and with none in use gives a fresh
  * block of the capacity. */
 TEST(sys_grow_keeps_what_is_used)

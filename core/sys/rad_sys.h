@@ -80,14 +80,13 @@ void *rad_sys_calloc_huge(size_t count, size_t size);
 
 /* Make *arr (`used` items of `item` bytes, capacity *cap) hold at least
  * `need` items: the capacity doubles (from `first`), so appends cost O(1)
- * on average.  The first `used` items are kept, by realloc: glibc grows a
- * block in place where it can, moves a block it mapped on its own by
- * remapping its pages, and copies one it placed on its heap (the old and the
- * new block then held at once, the new one on 4 KB pages until the advice
- * below; a large old block's pages are then handed back to the kernel); with `used` 0 the old block is freed, a large one's pages handed
- * back to the kernel, before a new one comes from rad_sys_alloc_huge.
- * Large blocks are advised onto
- * transparent huge pages either way (free them with free()).  0 when the
+ * on average.  The first `used` items are kept: a small block by realloc; a
+ * large one (RAD_SYS_HUGE_PAGE bytes and up) is copied into a new block from
+ * rad_sys_alloc_huge, the old one freed and its pages handed back to the
+ * kernel (realloc would copy a block glibc placed on its heap into 4 KB
+ * pages, each faulting on the copy's first touch).  With `used` 0 the old
+ * block is freed first, a large one's pages handed back, before a new one
+ * comes from rad_sys_alloc_huge.  Free the array with free().  0 when the
  * size overflows (*arr unchanged) or memory runs out (*arr unchanged, but
  * with `used` 0 NULL and *cap 0), 1 otherwise. */
 int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first);

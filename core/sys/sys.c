@@ -135,19 +135,27 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
         *cap = c;
         return 1;
     }
-    /* in place, remapped or copied: glibc's choice (rad_sys.h); a fresh
-       block and a copy made here would be on huge pages, but held beside
-       the old one every time, not only where realloc must copy */
-    uintptr_t was = (uintptr_t)*arr;
+    if (c * item >= RAD_SYS_HUGE_PAGE) {
+        /* a large block: realloc would copy one on glibc's heap into 4 KB
+           pages, each faulting on the copy's first touch (hier's link and
+           element arrays at a million triangles: seconds on one thread);
+           a new block is advised onto huge pages before the copy touches
+           it, and the old one's pages are handed back after */
+        void *n = rad_sys_alloc_huge(c * item);
+        if (!n)
+            return 0;
+        memcpy(n, *arr, used * item);
+        int large = *cap * item >= RAD_SYS_HUGE_PAGE;
+        free(*arr);
+        if (large)
+            malloc_trim(0);
+        *arr = n;
+        *cap = c;
+        return 1;
+    }
     void *n = realloc(*arr, c * item);
     if (!n)
         return 0;
-    /* a large block realloc copied leaves its old pages on the heap,
-       resident: handed back, as above */
-    if ((uintptr_t)n != was && *cap * item >= RAD_SYS_HUGE_PAGE)
-        malloc_trim(0);
-    if (c * item >= RAD_SYS_HUGE_PAGE)
-        advise_huge(n, c * item);
     *arr = n;
     *cap = c;
     return 1;
