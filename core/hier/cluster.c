@@ -223,15 +223,13 @@ static double projected(const rad_hier *h, const end_view *x, rad_vec3 w, double
         double p = 0.0;
         rad_vec3 m = rad_vec3_make(0.0, 0.0, 0.0);
         for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
-            /* an input triangle's root element has its index: the normal
-               first, the element only for a triangle that faces w */
-            double d = rad_vec3_dot(h->normal[h->corder[i]], w);
+            const hier_ctri *t = &h->ctri[i];
+            double d = rad_vec3_dot(t->n, w);
             if (!(d > 0.0))
                 continue;
-            const hier_elem *e = &h->el[h->corder[i]];
-            double a = e->area * d;
+            double a = t->area * d;
             p += a;
-            m = rad_vec3_add(m, rad_vec3_scale(e->c, a));
+            m = rad_vec3_add(m, rad_vec3_scale(t->c, a));
         }
         if (p > 0.0)
             *at = rad_vec3_scale(m, 1.0 / p);
@@ -269,7 +267,7 @@ static double box_gap(const end_view *x, const end_view *y)
  * the other end), in cluster order; none listed for an element or a larger
  * cluster. */
 typedef struct facing_set {
-    const hier_elem *t[CLUSTER_SMALL];
+    int t[CLUSTER_SMALL]; /* their places in cluster order */
     int m;
 } facing_set;
 
@@ -279,8 +277,8 @@ static void facing_of(const rad_hier *h, const end_view *x, rad_vec3 w, facing_s
     if (x->elem >= 0 || x->cl->count > CLUSTER_SMALL)
         return;
     for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++)
-        if (rad_vec3_dot(h->normal[h->corder[i]], w) > 0.0) /* its root element's index */
-            f->t[f->m++] = &h->el[h->corder[i]];
+        if (rad_vec3_dot(h->ctri[i].n, w) > 0.0)
+            f->t[f->m++] = i;
 }
 
 /* Sample point k of end x, seen from the direction w (unit, from x towards
@@ -301,29 +299,33 @@ static rad_vec3 sample_point(const rad_hier *h, const end_view *x, const facing_
                                                  {2.0 / 3, 1.0 / 6, 1.0 / 6},
                                                  {1.0 / 6, 2.0 / 3, 1.0 / 6},
                                                  {1.0 / 6, 1.0 / 6, 2.0 / 3}};
-    const hier_elem *e;
+    const rad_vec3 *p;
     const double *b = bary[k];
     if (x->elem >= 0) {
-        e = &h->el[x->elem];
-    } else if (x->cl->count <= CLUSTER_SMALL) {
-        e = f->m > 0 ? f->t[(k * f->m) / CLUSTER_RAYS] : &h->el[h->corder[x->cl->first]];
-        b = f->m >= CLUSTER_RAYS ? bary[0] : bary[k];
+        p = h->el[x->elem].p;
+        *tri = h->el[x->elem].face;
     } else {
-        const int spread = CLUSTER_RAYS * CLUSTER_TRIES;
-        e = NULL;
-        for (int j = 0; j < CLUSTER_TRIES && !e; j++) {
-            int m = k + CLUSTER_RAYS * j;
-            int t = h->corder[x->cl->first + (m * x->cl->count) / spread];
-            if (rad_vec3_dot(h->normal[t], w) > 0.0) /* t: its root element's index */
-                e = &h->el[t];
+        int i; /* the triangle's place in cluster order */
+        if (x->cl->count <= CLUSTER_SMALL) {
+            i = f->m > 0 ? f->t[(k * f->m) / CLUSTER_RAYS] : x->cl->first;
+            b = f->m >= CLUSTER_RAYS ? bary[0] : bary[k];
+        } else {
+            const int spread = CLUSTER_RAYS * CLUSTER_TRIES;
+            i = -1;
+            for (int j = 0; j < CLUSTER_TRIES && i < 0; j++) {
+                int at = x->cl->first + ((k + CLUSTER_RAYS * j) * x->cl->count) / spread;
+                if (rad_vec3_dot(h->ctri[at].n, w) > 0.0)
+                    i = at;
+            }
+            if (i < 0)
+                i = x->cl->first + (k * x->cl->count) / spread;
+            b = bary[0];
         }
-        if (!e)
-            e = &h->el[h->corder[x->cl->first + (k * x->cl->count) / spread]];
-        b = bary[0];
+        p = h->ctri[i].p;
+        *tri = h->corder[i]; /* an input triangle's root element has its index */
     }
-    *tri = e->face;
-    return rad_vec3_add(rad_vec3_add(rad_vec3_scale(e->p[0], b[0]), rad_vec3_scale(e->p[1], b[1])),
-                        rad_vec3_scale(e->p[2], b[2]));
+    return rad_vec3_add(rad_vec3_add(rad_vec3_scale(p[0], b[0]), rad_vec3_scale(p[1], b[1])),
+                        rad_vec3_scale(p[2], b[2]));
 }
 
 /* Whether every corner of y's box lies on or behind the plane through p
@@ -353,11 +355,9 @@ static int box_behind(const rad_hier *h, const end_view *x, const end_view *y)
         return behind_plane(x->axis, h->el[x->elem].p[0], y, tol);
     if (x->cl->count > CLUSTER_SMALL)
         return 0;
-    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++) {
-        const hier_elem *t = &h->el[h->corder[i]];
-        if (!behind_plane(h->normal[t->face], t->p[0], y, tol))
+    for (int i = x->cl->first; i < x->cl->first + x->cl->count; i++)
+        if (!behind_plane(h->ctri[i].n, h->ctri[i].p[0], y, tol))
             return 0;
-    }
     return 1;
 }
 
@@ -1059,6 +1059,21 @@ rad_status hier_cluster_create(rad_hier *h)
         goto done;
     }
     memcpy(h->corder, rad_cluster_order(tree), n * sizeof *h->corder);
+    h->ctri = rad_sys_alloc_huge(n * sizeof *h->ctri);
+    if (!h->ctri) {
+        st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
+        goto done;
+    }
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > 65536)
+    for (size_t i = 0; i < n; i++) {
+        const hier_elem *e = &h->el[h->corder[i]];
+        hier_ctri *t = &h->ctri[i];
+        t->n = h->normal[e->face];
+        for (int v = 0; v < 3; v++)
+            t->p[v] = e->p[v];
+        t->c = e->c;
+        t->area = e->area;
+    }
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
     for (long long i = 0; i < (long long)h->ncl; i++) {
         hier_clus *x = &h->cl[i];
@@ -1152,6 +1167,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->csub_end);
     free(h->ctop);
     free(h->corder);
+    free(h->ctri);
     free(h->cleaf);
     free(h->cmnode);
     free(h->csub_mom);
@@ -1406,7 +1422,7 @@ static void receive_subtree(rad_hier *h, int top, int carry)
             double v[3];
             intensity(h, in, carry, rad_vec3_scale(in->dir, -1.0), v);
             for (int m = x->first; m < x->first + x->count; m++) {
-                double d = rad_vec3_dot(h->normal[h->corder[m]], in->dir), a = 0.5 * (d + fabs(d));
+                double d = rad_vec3_dot(h->ctri[m].n, in->dir), a = 0.5 * (d + fabs(d));
                 for (int c = 0; c < nch; c++)
                     h->crecv[3 * (size_t)m + (size_t)c] += v[c] * in->kv * a;
             }

@@ -117,6 +117,14 @@ typedef struct hier_clus {
     double d[3];           /* (what the sources' variation contributes)^2, summed */
 } hier_clus;
 
+/* An input triangle as a cluster link's estimate reads it (its root
+ * element's unit normal, corners, centroid and area: two cache lines, where
+ * the root elements are long and in input order). */
+typedef struct hier_ctri {
+    rad_vec3 n, p[3], c;
+    double area;
+} hier_ctri;
+
 /* A link with a cluster of two or more triangles at one end at least; the
  * other end is a cluster or an element (two elements are joined by a
  * hier_link).  An end is a cluster index c >= 0 or an element e as -1 - e.
@@ -226,6 +234,9 @@ struct rad_hier {
     int *cmnode;
     size_t *csub_mom;
     int *corder;              /* input triangles in cluster order */
+    /* the same triangles' geometry, in cluster order (hier_ctri): what a
+       cluster link's estimate reads of a cluster's triangles, in one run */
+    struct hier_ctri *ctri;
     /* the leaf clusters in index order, each as what the gather's last pass
        reads of it (hier_cleaf): one short row, where the nodes are long */
     struct hier_cleaf *cleaf;
