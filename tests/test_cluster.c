@@ -114,6 +114,15 @@ static rad_cluster_tree *soup_tree(size_t n, unsigned seed, int leaf, double **x
     return t;
 }
 
+/* Trees t and u of the same n triangles are the same, node for node. */
+static void check_same_tree(const rad_cluster_tree *t, const rad_cluster_tree *u, size_t n)
+{
+    CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
+    CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
+    CHECK(memcmp(rad_cluster_nodes(t), rad_cluster_nodes(u),
+                 rad_cluster_node_count(t) * sizeof(rad_cluster_node)) == 0);
+}
+
 TEST(cluster_hierarchy_invariants_on_random_soups)
 {
     const size_t sizes[3] = {1, 37, 5000};
@@ -128,12 +137,8 @@ TEST(cluster_hierarchy_invariants_on_random_soups)
         /* the same input gives the same tree */
         rad_cluster_tree *u = NULL;
         CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], &u) == RAD_OK);
-        if (t && u) {
-            CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
-            CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
-            CHECK(memcmp(rad_cluster_nodes(t), rad_cluster_nodes(u),
-                         rad_cluster_node_count(t) * sizeof(rad_cluster_node)) == 0);
-        }
+        if (t && u)
+            check_same_tree(t, u, n);
         rad_cluster_destroy(t);
         rad_cluster_destroy(u);
         free(xyz);
@@ -156,10 +161,7 @@ TEST(cluster_same_tree_on_one_thread_and_two)
     omp_set_num_threads(threads);
     if (t && u) {
         check_tree(u, xyz, tri, n, 1);
-        CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
-        CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
-        CHECK(memcmp(rad_cluster_nodes(t), rad_cluster_nodes(u),
-                     rad_cluster_node_count(t) * sizeof(rad_cluster_node)) == 0);
+        check_same_tree(t, u, n);
     }
     rad_cluster_destroy(t);
     rad_cluster_destroy(u);
