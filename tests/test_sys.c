@@ -57,7 +57,8 @@ TEST(sys_calloc_huge_gives_zeroed_memory)
 }
 
 /* rad_sys_grow keeps the items in use through every doubling, small and
- * past RAD_SYS_HUGE_PAGE (where the items are copied into a new block),
+ * past RAD_SYS_HUGE_PAGE (where the items are copied into a new block on
+ * a huge page's boundary),
  * leaves a large enough array alone, and with none in use gives a fresh
  * block of the capacity. */
 TEST(sys_grow_keeps_what_is_used)
@@ -65,10 +66,13 @@ TEST(sys_grow_keeps_what_is_used)
     double *a = NULL;
     size_t cap = 0, n = 0;
     const size_t total = 3 * RAD_SYS_HUGE_PAGE / sizeof *a + 7;
+    int unaligned = 0;
     while (n < total) {
         size_t cap0 = cap;
         CHECK(rad_sys_grow((void **)&a, &cap, n, n + 1000, sizeof *a, 16));
         CHECK(cap >= n + 1000 && (cap == cap0 || cap >= 2 * cap0));
+        /* a large block is a new one from rad_sys_alloc_huge */
+        unaligned += cap * sizeof *a >= RAD_SYS_HUGE_PAGE && (uintptr_t)a % RAD_SYS_HUGE_PAGE != 0;
         for (size_t k = n; k < n + 1000; k++)
             a[k] = (double)k;
         n += 1000;
@@ -77,6 +81,7 @@ TEST(sys_grow_keeps_what_is_used)
     for (size_t k = 0; k < n; k++)
         same &= a[k] == (double)k;
     CHECK(same);
+    CHECK_MSG(unaligned == 0, "%d large blocks not on a huge page's boundary", unaligned);
     size_t full = cap;
     CHECK(rad_sys_grow((void **)&a, &cap, n, cap, sizeof *a, 16) && cap == full);
     CHECK(rad_sys_grow((void **)&a, &cap, 0, 4 * full, sizeof *a, 16) && cap == 4 * full);
