@@ -1,4 +1,6 @@
 # rad_mesh is the CGAL shim (header-only CGAL 5 with GMP/MPFR for exact predicates).
-# It is C++, so the program links with $(CXX) and needs the C++ runtime.
+# It is C++, so the program links with $(CXX) and needs the C++ runtime.  OpenMP:
+# the contact cut examines its grid cells on every thread.
 LDLIBS := -lgmp -lmpfr $(LDLIBS)
 PKGS   += libcgal-dev libgmp-dev libmpfr-dev
+CXXFLAGS += -fopenmp
