@@ -137,9 +137,9 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     }
     if (c * item >= RAD_SYS_HUGE_PAGE) {
         /* a large block: realloc would copy one on glibc's heap into 4 KB
-           pages, each faulting on the copy's first touch (hier's link and
-           element arrays at a million triangles: seconds on one thread);
-           a new block is advised onto huge pages before the copy touches
+           pages, each faulting on the copy's first touch, on one thread
+           (hier's link and element arrays: gigabytes at a million
+           triangles); a new block is advised onto huge pages before the copy touches
            it, and the old one's pages are handed back after */
         void *n = rad_sys_alloc_huge(c * item);
         if (!n)
