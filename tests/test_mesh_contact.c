@@ -6,16 +6,14 @@
  * it stood on it; a box lifted farther, a wall along a floor's edge, a
  * triangle in the floor's plane or below it, and a triangle passing through
  * the floor, cut nothing; a bad index is refused, a degenerate triangle left
- * alone; the cut is the same on any thread count. */
+ * alone. */
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
 #include "rad_geom.h"
 #include "rad_mesh.h"
-#include "rad_scene.h"
 
 typedef struct soup {
     double xyz[3 * 64];
@@ -337,39 +335,4 @@ TEST(contact_survives_tiny_triangles_far_apart)
     CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
-}
-
-/* Past 256 occupied grid cells the cells are examined on every thread,
- * each thread's a run of them in order: the room of 1 000 boxes (12 012
- * triangles in 1 000 cells, 106 of them cut) is cut into the same pieces,
- * in the same order, on one thread and on two. */
-TEST(contact_same_cut_on_one_thread_and_two)
-{
-    rad_scene *s = harness_scene_load("scenes/many_objects/many_1000.obj", NULL);
-    if (!s)
-        return;
-    int threads = omp_get_max_threads();
-    rad_mesh_contacts m[2];
-    memset(m, 0, sizeof m);
-    for (int t = 0; t < 2; t++) {
-        omp_set_num_threads(t + 1);
-        CHECK(rad_mesh_split_contacts(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
-                                      rad_scene_triangles(s),
-                                      (size_t)rad_scene_triangle_count(s), 1e-6, 0.1,
-                                      &m[t]) == RAD_OK);
-    }
-    omp_set_num_threads(threads);
-    CHECK_MSG(m[0].faces_split > 100 && m[0].faces_split == m[1].faces_split &&
-                  m[0].segments == m[1].segments,
-              "%zu and %zu triangles cut, %zu and %zu segments", m[0].faces_split,
-              m[1].faces_split, m[0].segments, m[1].segments);
-    CHECK(m[0].nv == m[1].nv && m[0].nt == m[1].nt);
-    if (m[0].nv == m[1].nv && m[0].nt == m[1].nt) {
-        CHECK(memcmp(m[0].xyz, m[1].xyz, 3 * m[0].nv * sizeof *m[0].xyz) == 0);
-        CHECK(memcmp(m[0].tri, m[1].tri, 3 * m[0].nt * sizeof *m[0].tri) == 0);
-        CHECK(memcmp(m[0].parent, m[1].parent, m[0].nt * sizeof *m[0].parent) == 0);
-    }
-    rad_mesh_contacts_free(&m[0]);
-    rad_mesh_contacts_free(&m[1]);
-    rad_scene_destroy(s);
 }

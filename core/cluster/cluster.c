@@ -157,35 +157,25 @@ typedef struct build_ctx {
     int leaf_size;
 } build_ctx;
 
-/* Sort the nine orders (ties by triangle index), each on its own thread
- * with its own buffer (they are independent, and each result is the same
- * whichever thread made it); 0 when out of memory. */
+/* Sort the nine orders (ties by triangle index); 0 when out of memory. */
 static int sort_orders(build_ctx *bc, size_t n)
 {
+    keyed *a = malloc(2 * n * sizeof *a);
+    if (!a)
+        return 0;
     int ok = 1;
-#pragma omp parallel reduction(&& : ok) if (n > 65536)
-    {
-        keyed *a = malloc(2 * n * sizeof *a);
-        ok = a != NULL;
-#pragma omp for schedule(dynamic, 1)
-        for (int o = 0; o < ORDERS; o++) {
-            if (!a)
-                continue;
-            int kind = o / 3, axis = o % 3;
-            for (size_t i = 0; i < n; i++) {
-                const tri_info *x = &bc->ti[i];
-                a[i].key = kind == 0 ? axis_of(x->c, axis) : kind == 1 ? x->lo[axis] : x->hi[axis];
-                a[i].tri = (int)i;
-            }
-            if (!sort_keyed(a, a + n, n)) {
-                ok = 0;
-                continue;
-            }
-            for (size_t i = 0; i < n; i++)
-                bc->ord[o][i] = a[i].tri;
+    for (int o = 0; o < ORDERS && ok; o++) {
+        int kind = o / 3, axis = o % 3;
+        for (size_t i = 0; i < n; i++) {
+            const tri_info *x = &bc->ti[i];
+            a[i].key = kind == 0 ? axis_of(x->c, axis) : kind == 1 ? x->lo[axis] : x->hi[axis];
+            a[i].tri = (int)i;
         }
-        free(a);
+        ok = sort_keyed(a, a + n, n);
+        for (size_t i = 0; ok && i < n; i++)
+            bc->ord[o][i] = a[i].tri;
     }
+    free(a);
     return ok;
 }
 

@@ -39,11 +39,8 @@
 #include <cstdlib>
 #include <climits>
 #include <cstring>
-#include <new>
 #include <stdexcept>
 #include <vector>
-
-#include <omp.h>
 
 #include "cdt.hpp"
 #include "mesh_internal.hpp"
@@ -413,58 +410,33 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                         entries.emplace_back((x * dim[1] + y) * dim[2] + z, (int)t);
         }
         std::sort(entries.begin(), entries.end());
-        std::vector<size_t> cell_start; // where each occupied cell's entries begin
-        for (size_t e = 0; e < entries.size(); e++)
-            if (e == 0 || entries[e].first != entries[e - 1].first)
-                cell_start.push_back(e);
-        cell_start.push_back(entries.size());
-        long ncells = (long)cell_start.size() - 1;
-        // the cells' pairs on every thread, each thread's cells a contiguous
-        // run in order (static schedule), so that its contacts, taken thread
-        // after thread, come in the serial loop's order
-        std::vector<std::vector<std::pair<int, Segment>>> found((size_t)omp_get_max_threads());
-        int failed = 0;
-#pragma omp parallel reduction(| : failed) if (ncells > 256)
-        {
-            std::vector<std::pair<int, Segment>> &mine = found[(size_t)omp_get_thread_num()];
-#pragma omp for schedule(static)
-            for (long k = 0; k < ncells; k++) {
-                size_t e0 = cell_start[(size_t)k], e1 = cell_start[(size_t)k + 1];
-                long cell = entries[e0].first;
-                for (size_t ei = e0; ei < e1 && !failed; ei++)
-                    for (size_t ej = ei + 1; ej < e1; ej++) {
-                        int ia = entries[ei].second, ib = entries[ej].second;
-                        const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
-                        double tol = rel_tol * std::max(A.size, B.size);
-                        double ga = grow[(size_t)ia], gb = grow[(size_t)ib];
-                        bool overlap = true;
-                        long home = 0;
-                        for (int i = 0; i < 3; i++) {
-                            overlap = overlap && B.lo[i] - gb <= A.hi[i] + ga &&
-                                      A.lo[i] - ga <= B.hi[i] + gb;
-                            home = home * dim[i] + cell_of(i, std::max(A.lo[i] - ga, B.lo[i] - gb));
-                        }
-                        if (!overlap || home != cell)
-                            continue;
-                        Segment sg;
-                        try { // no exception may leave the parallel region
-                            if (contact(A, B, tol, std::max(tol, near_rel * B.size), &sg))
-                                mine.emplace_back(ia, sg);
-                            if (contact(B, A, tol, std::max(tol, near_rel * A.size), &sg))
-                                mine.emplace_back(ib, sg);
-                        } catch (...) {
-                            failed = 1;
-                            break;
-                        }
-                    }
-            }
-        }
-        if (failed)
-            throw std::bad_alloc();
         std::vector<std::vector<Segment>> segs(nt);
-        for (const std::vector<std::pair<int, Segment>> &v : found)
-            for (const std::pair<int, Segment> &f : v)
-                segs[(size_t)f.first].push_back(f.second);
+        for (size_t e0 = 0, e1; e0 < entries.size(); e0 = e1) {
+            long cell = entries[e0].first;
+            for (e1 = e0; e1 < entries.size() && entries[e1].first == cell; e1++) {
+            }
+            for (size_t ei = e0; ei < e1; ei++)
+                for (size_t ej = ei + 1; ej < e1; ej++) {
+                    int ia = entries[ei].second, ib = entries[ej].second;
+                    const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
+                    double tol = rel_tol * std::max(A.size, B.size);
+                    double ga = grow[(size_t)ia], gb = grow[(size_t)ib];
+                    bool overlap = true;
+                    long home = 0;
+                    for (int i = 0; i < 3; i++) {
+                        overlap = overlap && B.lo[i] - gb <= A.hi[i] + ga &&
+                                  A.lo[i] - ga <= B.hi[i] + gb;
+                        home = home * dim[i] + cell_of(i, std::max(A.lo[i] - ga, B.lo[i] - gb));
+                    }
+                    if (!overlap || home != cell)
+                        continue;
+                    Segment sg;
+                    if (contact(A, B, tol, std::max(tol, near_rel * B.size), &sg))
+                        segs[(size_t)ia].push_back(sg);
+                    if (contact(B, A, tol, std::max(tol, near_rel * A.size), &sg))
+                        segs[(size_t)ib].push_back(sg);
+                }
+        }
         // a triangle's segments in one order, whatever found them first
         for (std::vector<Segment> &v : segs)
             std::sort(v.begin(), v.end(), [](const Segment &x, const Segment &y) {
