@@ -103,6 +103,18 @@ void *rad_sys_calloc_huge(size_t count, size_t size)
     return p;
 }
 
+/* Free block p of `bytes`, a large one's pages handed back to the kernel
+ * (malloc_trim): glibc keeps a freed heap block's pages resident, and
+ * whether a block of some megabytes lies on its heap or in a mapping of its
+ * own depends on what was freed before, so the same run's peak would vary
+ * and the memory check (hier/memory.c) could not count on it. */
+static void release(void *p, size_t bytes)
+{
+    free(p);
+    if (bytes >= RAD_SYS_HUGE_PAGE)
+        malloc_trim(0);
+}
+
 int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first)
 {
     if (need <= *cap)
@@ -116,16 +128,8 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     if (c > SIZE_MAX / item)
         return 0;
     if (used == 0) {
-        /* nothing to keep: the old block goes before the new one comes, and
-           a large one's pages go back to the kernel (malloc_trim): glibc
-           keeps a freed heap block's pages resident, and whether a block of
-           some megabytes lies on its heap or in a mapping of its own
-           depends on what was freed before, so the same run's peak would
-           vary and the memory check (hier/memory.c) could not count on it */
-        int large = *cap * item >= RAD_SYS_HUGE_PAGE;
-        free(*arr);
-        if (large)
-            malloc_trim(0);
+        /* nothing to keep: the old block goes before the new one comes */
+        release(*arr, *cap * item);
         *arr = NULL;
         *cap = 0;
         void *n = rad_sys_alloc_huge(c * item);
@@ -137,18 +141,13 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     }
     if (c * item >= RAD_SYS_HUGE_PAGE) {
         /* a large block: realloc would copy one on glibc's heap into 4 KB
-           pages, each faulting on the copy's first touch, on one thread
-           (hier's link and element arrays: gigabytes at a million
-           triangles); a new block is advised onto huge pages before the copy touches
-           it, and the old one's pages are handed back after */
+           pages, each faulting on the copy's first touch, on one thread; a
+           new block is advised onto huge pages before the copy touches it */
         void *n = rad_sys_alloc_huge(c * item);
         if (!n)
             return 0;
         memcpy(n, *arr, used * item);
-        int large = *cap * item >= RAD_SYS_HUGE_PAGE;
-        free(*arr);
-        if (large)
-            malloc_trim(0);
+        release(*arr, *cap * item);
         *arr = n;
         *cap = c;
         return 1;
