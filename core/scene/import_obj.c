@@ -202,8 +202,8 @@ static rad_status ignore(obj_reader *r, const char *file, int line, const char *
  * at most 19 significant digits making an integer m <= 2^53, and at most
  * 22 after the point, so that m and 10^k are exact doubles and m / 10^k
  * rounds once, as strtod does.  0 for any other token (strtod reads it):
- * an OBJ's coordinates are nearly all plain decimals, which strtod's
- * general path (arbitrary precision) takes several times longer to read. */
+ * an OBJ's coordinates are nearly all plain decimals, which need none of
+ * strtod's arbitrary-precision path. */
 static int plain_decimal(const char *tok, double *out)
 {
     static const double ten[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
