@@ -662,12 +662,14 @@ TEST(slit_in_a_thin_slab_against_the_monte_carlo_reference)
  * a loop's couplings beyond the constants'), and the light a local error
  * moves into a gap crosses it again and again (every estimate carries its
  * local errors through the transport).  With the defaults every basis must
- * converge and its estimates bound its errors against the Monte Carlo
- * reference. */
+ * converge within 1% (L1) of the Monte Carlo reference and its estimates
+ * bound its errors: p1's positivity limiter cuts slopes at the gaps, whose
+ * couplings, unless charged to the leaf's constant, made 0.7% more light
+ * than the ceiling emits (L1 1.1%). */
 TEST(hier_narrow_gaps_at_reflectance_0_99_converge_within_their_estimates)
 {
     check_bases_at("scenes/many_objects/many_27_seed2.obj",
-                   "experiments/reference/data/many_27_rho99.tsv", "0.1", "0.99", 0, 0.03, 0.8);
+                   "experiments/reference/data/many_27_rho99.tsv", "0.1", "0.99", 0, 0.01, 0.8);
 }
 
 /* One box whose top lies 1.5 cm under the emitting ceiling

@@ -41,6 +41,12 @@ typedef struct hp_elem {
                                 element its children's departure from its B plus
                                 theirs) */
     double row[HP_M];        /* leaf: the irradiance of B = 1 everywhere (its row) */
+    double send[HP_M];       /* leaf, sealed: the power a unit of each coefficient
+                                brings the leaves as their normalized irradiance
+                                counts it (solve.c, hp_rows) */
+    double charge[3];        /* leaf, sealed, m > 1: what the positivity limiter's cut
+                                of its slopes would send, as a change of the constant
+                                (solve.c, leaf_update): taken off the constant it sends */
     double q[3];             /* the errors its own links bring (W/m^2); on a leaf after
                                 the estimate, summed with its ancestors' */
     double T[3], Tg[3];      /* the transported error (mean value) and its gather */
@@ -90,6 +96,8 @@ struct rad_hierp {
     size_t nln, capln;
     rad_hier_stats st;
     double last_change, last_vmax; /* the last step's change (relative to vmax) and largest mean */
+    double gain[3]; /* sealed: the power the leaves send over what their sends count
+                       (solve.c, copy_sources), each leaf's irradiance's factor */
     /* the links at each element, in link order (solve.c: gathers run in
        parallel over the receivers): link k's end at element e is
        inc[inc_start[e] .. inc_start[e + 1]) as 2 k + (e is its b), and

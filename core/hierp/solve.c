@@ -16,7 +16,19 @@
  *    H + (u - row) H_0 / row_0 (u the unit function): a uniform radiosity
  *    then gathers exactly itself, so the hierarchy's approximations move
  *    light around without creating or losing any, which reflectance near 1
- *    would amplify.  Elsewhere a row whose mean exceeds the ceiling of
+ *    would amplify.  A source's power reaches the leaves through the
+ *    couplings' columns, which are not exact: in the exact transport of a
+ *    sealed scene a slope (a zero-mean variation) sends no power, but the
+ *    hierarchy's couplings of a slope do not sum to zero over the
+ *    receivers.  Each leaf's send (hp_rows) says what a unit of each of
+ *    its coefficients brings the leaves as their normalized irradiance
+ *    counts power.  The positivity limiter (limit) cuts slopes, all one
+ *    way at narrow gaps: what its cut would send is taken off the constant
+ *    the leaf sends (charge), so that it moves light without making any.
+ *    And each step multiplies every leaf's irradiance by the gain, the
+ *    power the leaves send over what their sends count (copy_sources): 1
+ *    for a uniform radiosity, which gathers itself, and otherwise taking
+ *    back what the columns' error would make or lose.  In an open scene a row whose mean exceeds the ceiling of
  *    rad_hier_row_ceiling (between 1 and 1 / rho_max) is scaled back to it,
  *    so that the step contracts; what that takes off a leaf is charged to
  *    its error (3).
@@ -132,16 +144,12 @@ static inline void gather_elem(const rad_hierp *h, size_t e, int unit, const int
 
 /* Every element's H from its own links, in parallel over the elements, each
  * summing its links in link order: the result does not depend on the
- * thread count.  The push follows, per tree (push_rows, step_tree). */
+ * thread count.  The sources are the copy Bs (unit: B = 1 everywhere).  The
+ * push follows, per tree (push_rows, step_tree). */
 static void gather(rad_hierp *h, int unit)
 {
     int m = h->m;
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-    if (!unit)
-        for (size_t e = 0; e < h->nel; e++)
-            for (int c = 0; c < 3; c++)
-                memcpy(h->Bs + (e * 3 + (size_t)c) * (size_t)m, h->el[e].B[c],
-                       (size_t)m * sizeof *h->Bs);
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
     for (long long e = 0; e < (long long)h->nel; e++) {
         switch (m) {
@@ -150,6 +158,65 @@ static void gather(rad_hierp *h, int unit)
         default: gather_elem(h, (size_t)e, unit, HP_M); break; /* p2: m = 6 */
         }
     }
+}
+
+/* What leaf x sends in channel c, into v: its B, and sealed with what the
+ * limiter's change of its slopes sends taken off its constant (2 in the
+ * header). */
+static void sent(const rad_hierp *h, const hp_elem *x, int c, double *v)
+{
+    memcpy(v, x->B[c], (size_t)h->m * sizeof *v);
+    if (h->p.sealed && h->m > 1)
+        v[0] -= x->charge[c];
+}
+
+/* Each inner element's copy in Bs: the projection of its children's. */
+static void pull_sources(rad_hierp *h)
+{
+    int m = h->m;
+    for (size_t e = h->nel; e-- > 0;) { /* a parent comes before its children */
+        const hp_elem *x = &h->el[e];
+        if (x->first_child < 0)
+            continue;
+        double *v = h->Bs + e * 3 * (size_t)m;
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < m; r++) {
+                double t = 0.0;
+                for (int ch = 0; ch < 4; ch++) {
+                    const double *y = h->Bs + (size_t)(x->first_child + ch) * 3 * (size_t)m;
+                    for (int s = 0; s < m; s++)
+                        t += h->P[ch][s][r] * y[c * m + s];
+                }
+                v[c * m + r] = t;
+            }
+    }
+}
+
+/* The gather's sources: every element's B into Bs; sealed, what the leaves
+ * send and, on the inner elements, its projection, and the step's gain. */
+static void copy_sources(rad_hierp *h)
+{
+    int m = h->m, send = h->p.sealed;
+    double leave[3] = {0.0}, counted[3] = {0.0};
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        for (int c = 0; c < 3; c++) {
+            double *v = h->Bs + (e * 3 + (size_t)c) * (size_t)m;
+            if (!send || x->first_child >= 0) {
+                memcpy(v, x->B[c], (size_t)m * sizeof *v);
+                continue;
+            }
+            sent(h, x, c, v);
+            leave[c] += sqrt(x->area) * x->B[c][0];
+            for (int k = 0; k < m; k++)
+                counted[c] += x->send[k] * v[k];
+        }
+    }
+    if (!send)
+        return;
+    pull_sources(h);
+    for (int c = 0; c < 3; c++)
+        h->gain[c] = counted[c] > 0.0 && leave[c] > 0.0 ? leave[c] / counted[c] : 1.0;
 }
 
 /* The per-element parts of the push, the step and the pull, with m (the
@@ -222,15 +289,23 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
         if (h->p.sealed && r0 > 0.0) {
             double s = t[0] / r0;
             for (int k = 0; k < m; k++)
-                t[k] += ((k == 0 ? sa : 0.0) - x->row[k]) * s;
+                t[k] = (t[k] + ((k == 0 ? sa : 0.0) - x->row[k]) * s) * h->gain[c];
         } else if (r0 > h->row_ceiling * sa) {
             for (int k = 0; k < m; k++)
                 t[k] *= h->row_ceiling * sa / r0;
         }
+        double u[HP_M];
+        memcpy(u, t, sizeof u);
         if (m > 1 || t[0] < 0.0)
             limit(h, t, m);
         size_t f = (size_t)x->face + (size_t)c * n;
         double rho = h->rho[f];
+        if (h->p.sealed && m > 1) {
+            double d = 0.0;
+            for (int k = 1; k < m; k++)
+                d += x->send[k] * (t[k] - u[k]);
+            x->charge[c] = x->send[0] > 0.0 ? rho * d / x->send[0] : 0.0;
+        }
         double old = x->B[c][0];
         for (int k = 0; k < m; k++)
             x->B[c][k] = rho * t[k] + x->Em[c][k];
@@ -240,7 +315,7 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
     }
 }
 
-enum visit_part { VISIT_PUSH_ROWS, VISIT_PUSH, VISIT_LEAF, VISIT_PULL };
+enum visit_part { VISIT_PUSH_ROWS, VISIT_PUSH_SEND, VISIT_PUSH, VISIT_LEAF, VISIT_PULL };
 
 /* always inlined: each case of visit gets its own copy with m constant */
 __attribute__((always_inline)) static inline void visit_m(const rad_hierp *h, hp_elem *x,
@@ -251,6 +326,10 @@ __attribute__((always_inline)) static inline void visit_m(const rad_hierp *h, hp
     case VISIT_PUSH_ROWS:
         push_elem(h, x, 1, m);
         memcpy(x->row, x->H[0], sizeof x->row);
+        break;
+    case VISIT_PUSH_SEND:
+        push_elem(h, x, 1, m);
+        memcpy(x->send, x->H[0], sizeof x->send);
         break;
     case VISIT_PUSH: push_elem(h, x, 3, m); break;
     case VISIT_LEAF: leaf_update(h, x, change, vmax, m); break;
@@ -268,25 +347,45 @@ static void visit(const rad_hierp *h, hp_elem *x, enum visit_part part, double *
     }
 }
 
-/* The rows' push down the tree of element e. */
-static void push_rows(rad_hierp *h, int e)
+/* The rows' (or the sends') push down the tree of element e. */
+static void push_rows(rad_hierp *h, int e, enum visit_part part)
 {
     hp_elem *x = &h->el[e];
-    visit(h, x, VISIT_PUSH_ROWS, NULL, NULL);
+    visit(h, x, part, NULL, NULL);
     if (x->first_child >= 0)
         for (int ch = 0; ch < 4; ch++)
-            push_rows(h, x->first_child + ch);
+            push_rows(h, x->first_child + ch, part);
+}
+
+static void push_all(rad_hierp *h, enum visit_part part)
+{
+    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 64)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        push_rows(h, (int)t, part);
 }
 
 void hp_rows(rad_hierp *h)
 {
     gather(h, 1);
-    int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (h->nel > 64)
-    for (long long t = 0; t < (long long)h->nroots; t++)
-        push_rows(h, (int)t);
+    push_all(h, VISIT_PUSH_ROWS);
+    if (!h->p.sealed)
+        return;
+    /* send = L g, L the gather with its push and pull (symmetric: a link's
+       K one way and K^T the other, the push P and the pull P^T) and g the
+       leaves' weights as their normalized irradiance counts power, A / row_0
+       on the constant: a leaf receives A t_0 / sqrt(A) = A H_0 / row_0 */
+    int m = h->m;
+    memset(h->Bs, 0, h->nel * 3 * (size_t)m * sizeof *h->Bs);
+    for (size_t e = 0; e < h->nel; e++) {
+        const hp_elem *x = &h->el[e];
+        if (x->first_child < 0)
+            h->Bs[e * 3 * (size_t)m] = x->row[0] > 0.0 ? x->area / x->row[0] : sqrt(x->area);
+    }
+    pull_sources(h);
+    gather(h, 0);
+    push_all(h, VISIT_PUSH_SEND);
 }
-
 /* Push, leaf update and pull over the tree of element e (parents are pushed
  * before their children and pulled after them). */
 static void step_tree(rad_hierp *h, int e, double *change, double *vmax)
@@ -306,6 +405,7 @@ static void step_tree(rad_hierp *h, int e, double *change, double *vmax)
  * The trees are independent after the gather: in parallel over them. */
 static void step(rad_hierp *h, double *change, double *vmax)
 {
+    copy_sources(h);
     gather(h, 0);
     int threads = h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
     double ch = 0.0, vm = 0.0;
@@ -339,8 +439,8 @@ static void drop_couplings(rad_hierp *h, size_t k)
     l->constant = 1;
 }
 
-/* How far the last step moved leaf e's function: a bound over the element
- * and the channels of its B against the step's copy of the one before (Bs). */
+/* How far the last step moved what leaf e sends: a bound over the element
+ * and the channels against the step's copy of the one before (Bs). */
 static double moved(const rad_hierp *h, size_t e)
 {
     const hp_elem *x = &h->el[e];
@@ -348,8 +448,9 @@ static double moved(const rad_hierp *h, size_t e)
     double v = 0.0;
     for (int c = 0; c < 3; c++) {
         double d[HP_M];
+        sent(h, x, c, d);
         for (int k = 0; k < h->m; k++)
-            d[k] = x->B[c][k] - old[c * h->m + k];
+            d[k] -= old[c * h->m + k];
         v = rad_dmax(v, hp_poly_bound(h, d, x->area));
     }
     return v;
