@@ -37,13 +37,18 @@ static void face(soup *s, int a, int b, int c)
     s->nt++;
 }
 
-/* The floor [0, 2]^2 at z = 0 facing +z, cut by its diagonal from (0, 0) to
- * (2, 2): triangles 0 and 1. */
-static void floor2(soup *s)
+/* The floor [0, L]^2 at z = 0 facing +z, cut by its diagonal from (0, 0) to
+ * (L, L): triangles 0 and 1. */
+static void floor_of(soup *s, double L)
 {
-    int a = vert(s, 0, 0, 0), b = vert(s, 2, 0, 0), c = vert(s, 2, 2, 0), d = vert(s, 0, 2, 0);
+    int a = vert(s, 0, 0, 0), b = vert(s, L, 0, 0), c = vert(s, L, L, 0), d = vert(s, 0, L, 0);
     face(s, a, b, c);
     face(s, a, c, d);
+}
+
+static void floor2(soup *s)
+{
+    floor_of(s, 2.0);
 }
 
 /* A box of half side h around (x, y) turned by deg degrees, from z0 to z0
@@ -161,7 +166,7 @@ TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
         floor2(&s);
         box(&s, 0.3, lift[h], fp);
         rad_mesh_contacts m;
-        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) ==
               RAD_OK);
         CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
         /* the bottom edges of four side triangles: the two that cross the
@@ -180,10 +185,39 @@ TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
         rad_mesh_contacts_free(&m);
         if (h == 1) {
             CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.0,
-                                          &m) == RAD_OK);
+                                          0.0, &m) == RAD_OK);
             CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
             rad_mesh_contacts_free(&m);
         }
+    }
+}
+
+/* A box (half side 0.3, height 0.7: its side triangles' longest edge 0.92)
+ * hovering 15 cm (0.16 of that) above a floor.  Over an 8 m floor, whose
+ * triangles are more than RAD_MESH_HOVER_LARGE times larger, the reach over
+ * a large triangle (a quarter) cuts the floor along the footprint, and the
+ * reach over any (a tenth) alone cuts nothing; over the 2 m floor (3.1
+ * times larger) a quarter over large triangles cuts nothing either. */
+TEST(contact_hovering_reaches_further_over_a_large_triangle)
+{
+    for (int big = 0; big < 2; big++) {
+        soup s = {0};
+        double fp[4][2], L = big ? 8.0 : 2.0;
+        floor_of(&s, L);
+        box_at(&s, 0.5 * L, 0.5 * L, 30.0, 0.3, 0.15, fp);
+        rad_mesh_contacts m;
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.25,
+                                      &m) == RAD_OK);
+        CHECK_MSG(m.faces_split == (big ? 2u : 0u), "floor %g m: %zu cut", L, m.faces_split);
+        if (big) {
+            check_pieces(&s, &m);
+            CHECK_NEAR(footprint_area(&m, m.nt - 10, fp), 0.36, 1e-12, 0.0);
+        }
+        rad_mesh_contacts_free(&m);
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.1,
+                                      &m) == RAD_OK);
+        CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
+        rad_mesh_contacts_free(&m);
     }
 }
 
@@ -202,7 +236,7 @@ static void cut_floor_under_box(double x, double y, double deg, double h, size_t
     double fp[4][2];
     floor2(&s);
     box_at(&s, x, y, deg, h, 0.0, fp);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, m) ==
           RAD_OK);
     CHECK(m->faces_split == split);
     check_pieces(&s, m);
@@ -270,7 +304,7 @@ TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
     for (int k = 0; k < 2; k++) {
         rad_mesh_contacts m;
         CHECK(rad_mesh_split_contacts(cases[k]->xyz, (size_t)cases[k]->nv, cases[k]->tri,
-                                      (size_t)cases[k]->nt, 1e-6, 1e-2, &m) == RAD_OK);
+                                      (size_t)cases[k]->nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
         CHECK_MSG(m.faces_split == 0 && m.nt == (size_t)cases[k]->nt, "case %d: %zu cut", k,
                   m.faces_split);
         CHECK(memcmp(m.tri, cases[k]->tri, 3 * (size_t)cases[k]->nt * sizeof(int)) == 0);
@@ -287,7 +321,7 @@ TEST(contact_a_triangle_through_the_floor_cuts_nothing)
     int a = vert(&s, 0.5, 1.2, -0.5), b = vert(&s, 1.5, 1.2, -0.5), c = vert(&s, 1.0, 1.2, 0.5);
     face(&s, a, c, b);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 3);
     rad_mesh_contacts_free(&m);
 }
@@ -297,24 +331,30 @@ TEST(contact_refuses_bad_input)
     soup s = {0};
     floor2(&s);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, &m) != RAD_OK);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, 1e-2, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, 1e-2, &m) !=
+          RAD_OK);
+    /* the reach over a large triangle is at least the reach over any */
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.05, &m) ==
+          RAD_EINVAL);
     /* tolerances must be finite, below 1 and not NaN (an infinite one would
        ask the candidate grid for no end of cells) */
     const double bad[3] = {INFINITY, NAN, 1.0};
     for (int k = 0; k < 3; k++) {
         CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, bad[k],
-                                      &m) == RAD_EINVAL);
+                                      bad[k], &m) == RAD_EINVAL);
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2,
+                                      bad[k], &m) == RAD_EINVAL);
         CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, bad[k], 1e-2,
-                                      &m) == RAD_EINVAL);
+                                      1e-2, &m) == RAD_EINVAL);
     }
     s.tri[1] = 17;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) ==
           RAD_EINPUT);
     CHECK(m.xyz == NULL && m.nt == 0);
     /* a degenerate triangle (0, 0, 2) neither cuts nor is cut */
     s.tri[1] = 0;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
 }
@@ -332,7 +372,7 @@ TEST(contact_survives_tiny_triangles_far_apart)
     c = vert(&s, 1e200, 1e200 + 1e185, 1e200);
     face(&s, a, b, c);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
 }

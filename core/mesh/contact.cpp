@@ -11,7 +11,9 @@
 //  2. For triangles A and B, an edge of B on A's plane (both ends within
 //     tol of it), or else hovering over it (both ends within near, B's
 //     near_rel times its longest edge: under a box a hair above the floor
-//     the floor is as dark as under one standing on it), is a contact
+//     the floor is as dark as under one standing on it; near_rel_large
+//     times it over an A at least RAD_MESH_HOVER_LARGE times B's size, whose
+//     elements average the patch B sees with much else), is a contact
 //     segment on A, projected onto A's plane, when the rest of B lies in
 //     front of A and the edge passes through A's inside (its part within A
 //     is not on A's boundary).  A triangle that passes through another (vertices
@@ -297,14 +299,16 @@ extern "C" void rad_mesh_contacts_free(rad_mesh_contacts *c)
 
 extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri,
                                               size_t nt, double rel_tol, double near_rel,
-                                              rad_mesh_contacts *out)
+                                              double near_rel_large, rad_mesh_contacts *out)
 {
     if (!out)
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument");
     std::memset(out, 0, sizeof *out);
     if ((!xyz && nv) || (!tri && nt) || !(rel_tol >= 0.0 && rel_tol < 1.0) ||
-        !(near_rel >= 0.0 && near_rel < 1.0))
-        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument, or a tolerance outside [0, 1)");
+        !(near_rel >= 0.0 && near_rel < 1.0) ||
+        !(near_rel_large >= near_rel && near_rel_large < 1.0))
+        return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument, a tolerance outside [0, 1), or "
+                                     "near_rel_large below near_rel");
     rad_status st = radmesh::guarded("contacts", [&]() -> rad_status {
         std::vector<Tri> T(nt);
         for (size_t t = 0; t < nt; t++) {
@@ -352,8 +356,8 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         // step 1: candidate pairs from a uniform grid of about 2 n cells,
         // cells about twice the mean triangle's size: every triangle is
         // entered in the cells its box meets, grown by the on-plane reach
-        // and by how far it may hover over another (near_rel times its own
-        // size), and a pair is examined in the one cell that holds the low
+        // and by how far it may hover over another (near_rel_large times its
+        // own size), and a pair is examined in the one cell that holds the low
         // corner of the two grown boxes' overlap, so once
         double max_size = 0.0, mean_size = 0.0, glo[3] = {0, 0, 0}, ghi[3] = {0, 0, 0};
         size_t nok = 0;
@@ -372,9 +376,13 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         double reach = 0.0; // the largest growth
         for (size_t t = 0; t < nt; t++)
             if (T[t].ok) {
-                grow[t] = rel_tol * max_size + near_rel * T[t].size;
+                grow[t] = rel_tol * max_size + near_rel_large * T[t].size;
                 reach = std::max(reach, grow[t]);
             }
+        // how far, times its own size, B may hover over A and still cut it
+        auto hover = [&](const Tri &A, const Tri &B) {
+            return A.size >= RAD_MESH_HOVER_LARGE * B.size ? near_rel_large : near_rel;
+        };
         double h = nok ? 2.0 * mean_size / (double)nok : 1.0;
         long dim[3];
         for (;;) {
@@ -431,9 +439,9 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                     if (!overlap || home != cell)
                         continue;
                     Segment sg;
-                    if (contact(A, B, tol, std::max(tol, near_rel * B.size), &sg))
+                    if (contact(A, B, tol, std::max(tol, hover(A, B) * B.size), &sg))
                         segs[(size_t)ia].push_back(sg);
-                    if (contact(B, A, tol, std::max(tol, near_rel * A.size), &sg))
+                    if (contact(B, A, tol, std::max(tol, hover(B, A) * A.size), &sg))
                         segs[(size_t)ib].push_back(sg);
                 }
         }

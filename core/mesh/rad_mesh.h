@@ -140,10 +140,16 @@ rad_status rad_mesh_refine_max_edge(const rad_mesh *mesh, double max_edge, size_
 rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double **xyz_out,
                                    size_t *nv_out, int **tri_out, int **leaf_out, size_t *nt_out);
 
+/* A triangle whose longest edge is at least this many times another's is
+ * large beside it (rad_mesh_split_contacts' near_rel_large). */
+#define RAD_MESH_HOVER_LARGE 4.0
+
 /* Input triangles cut along their contact lines (contact.cpp): where an
  * edge of another triangle lies on a triangle's plane (within rel_tol times
  * the longer of the two triangles' longest edges), or failing that hovers
- * over it (within near_rel times its own triangle's longest edge), with the
+ * over it (within near_rel times its own triangle's longest edge, or
+ * near_rel_large times it over a triangle large beside its own:
+ * RAD_MESH_HOVER_LARGE), with the
  * rest of it in front, and that edge (projected onto the plane) passes
  * through the triangle's inside, the triangle is triangulated with it as a
  * constraint (a box standing on a floor, or a hair above it, cuts the floor
@@ -154,7 +160,7 @@ rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double
  * refuse is dropped and counted; triangles without contact are copied as they are,
  * in order; a triangle without a normal (degenerate, not finite) neither
  * cuts nor is cut.  RAD_EINVAL for a NULL argument or a tolerance outside
- * [0, 1) (an infinite one would ask the candidate grid for no end of cells), RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
+ * [0, 1) (an infinite one would ask the candidate grid for no end of cells) or near_rel_large below near_rel, RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
  * RAD_EGEOM from the geometry kernel. */
 typedef struct rad_mesh_contacts {
     double *xyz;
@@ -168,7 +174,8 @@ typedef struct rad_mesh_contacts {
                            longest edge squared) */
 } rad_mesh_contacts;
 rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri, size_t nt,
-                                   double rel_tol, double near_rel, rad_mesh_contacts *out);
+                                   double rel_tol, double near_rel, double near_rel_large,
+                                   rad_mesh_contacts *out);
 void rad_mesh_contacts_free(rad_mesh_contacts *c);
 
 /* OFF with full double precision. */

@@ -76,6 +76,7 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->max_amplification = 1e6;
     p->contact_rel_tol = 1e-6;
     p->contact_near_rel = 0.1;
+    p->contact_near_rel_large = 0.25;
 }
 
 void rad_scene_effects_list(const rad_effects_plan *plan,
@@ -306,7 +307,7 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
     /* 7. contact */
     rad_status st = rad_mesh_split_contacts(s->xyz, (size_t)s->nv, s->tri, (size_t)s->nt,
                                             params->contact_rel_tol, params->contact_near_rel,
-                                            cut);
+                                            params->contact_near_rel_large, cut);
     if (st != RAD_OK)
         return st;
     const rad_mesh_contacts ct = *cut;
@@ -314,9 +315,11 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
     plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
     if (ct.faces_split > 0)
         snprintf(why, sizeof why, "%d input triangles have others standing on them, or "
-                 "within %.3g%% of their size above, along %zu segments: hier cuts them into "
+                 "within %.3g%% of their size above (%.3g%% over one %g times larger), "
+                 "along %zu segments: hier cuts them into "
                  "%d pieces%s so that no element straddles a jump of the radiosity",
-                 plan->contact_faces, 100.0 * params->contact_near_rel, ct.segments,
+                 plan->contact_faces, 100.0 * params->contact_near_rel,
+                 100.0 * params->contact_near_rel_large, RAD_MESH_HOVER_LARGE, ct.segments,
                  plan->contact_pieces,
                  ct.slivers ? " (slivers where segments cross at a hair's angle dropped)"
                             : "");

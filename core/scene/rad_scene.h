@@ -198,6 +198,12 @@ typedef struct rad_effects_params {
                                  a box a tenth of its size away the radiosity still
                                  turns within about that distance of its outline,
                                  often narrower than the elements min_area allows) */
+    double contact_near_rel_large; /* the same over a triangle large beside the edge's
+                                      (RAD_MESH_HOVER_LARGE times its size; default
+                                      0.25: a box side a fifth of its size from a
+                                      wall sees mostly the patch its own shadow
+                                      darkens, which the wall's elements, each
+                                      much larger, average with the lit wall) */
 } rad_effects_params;
 
 /* Everything automatic; clustering from 2.5e5 facing pairs among
@@ -206,7 +212,8 @@ typedef struct rad_effects_params {
  * 20000 faces; grey within 1e-12;
  * plane tolerance 1e-12;
  * reflectance near 1 from 0.5; refusal beyond an amplification of 10^6;
- * contact within 1e-6. */
+ * contact within 1e-6, hovering within 0.1 of a triangle's size (0.25 over
+ * one RAD_MESH_HOVER_LARGE times larger). */
 void rad_scene_effects_params_default(rad_effects_params *params);
 
 typedef struct rad_effect_decision {
@@ -233,7 +240,8 @@ typedef struct rad_effects_plan {
      * every pair of input triangles (rad_hier params.cluster). */
     rad_effect_decision clustering;
     /* on: some triangle has another standing on it (or hovering within
-     * contact_near_rel of its size above it) along a segment through its
+     * contact_near_rel of its size above it, contact_near_rel_large above a
+     * triangle large beside it) along a segment through its
      * inside (rad_mesh_split_contacts):
      * hierarchical radiosity cuts it there before meshing, so that no
      * element straddles the line where its radiosity jumps. */
