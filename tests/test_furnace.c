@@ -616,6 +616,20 @@ TEST(lattice_shadow_against_the_monte_carlo_reference)
     }
 }
 
+/* scenes/contact/NAME.obj, one box in the lit room, into scene, and a Monte
+ * Carlo run of it (20 000 paths a face, seed 1) into reference. */
+static void one_box_reference(const char *name, char scene[1024], char reference[1024])
+{
+    char rel[256], ref[256];
+    snprintf(rel, sizeof rel, "scenes/contact/%s.obj", name);
+    snprintf(ref, sizeof ref, "%s_mc.tsv", name);
+    snprintf(scene, 1024, "%s", harness_path(rel));
+    snprintf(reference, 1024, "%s", harness_temp_path(ref));
+    free(solve_table_text((const char *[]){scene, "--method", "mc", "--samples", "20000", "--seed",
+                                           "1", "--out", reference, "--quiet", NULL},
+                          reference));
+}
+
 /* One box whose side lies 8.5 cm (0.11 of its triangles' size) from a wall
  * and whose top lies 16 cm under the emitting ceiling
  * (scenes/contact/box_beside_wall.obj, box 342 of the room of 343): the
@@ -631,11 +645,7 @@ TEST(lattice_shadow_against_the_monte_carlo_reference)
 TEST(box_side_beside_a_wall_within_8_percent)
 {
     char scene[1024], reference[1024];
-    snprintf(scene, sizeof scene, "%s", harness_path("scenes/contact/box_beside_wall.obj"));
-    snprintf(reference, sizeof reference, "%s", harness_temp_path("box_beside_wall_mc.tsv"));
-    free(solve_table_text((const char *[]){scene, "--method", "mc", "--samples", "20000", "--seed",
-                                           "1", "--out", reference, "--quiet", NULL},
-                          reference));
+    one_box_reference("box_beside_wall", scene, reference);
     const char *methods[] = {"hier", "cluster"};
     for (size_t k = 0; k < 2; k++) {
         const char *table = harness_temp_path("box_beside_wall.tsv");
@@ -729,11 +739,7 @@ TEST(hier_narrow_gaps_at_reflectance_0_99_converge_within_their_estimates)
 TEST(box_top_under_a_lit_ceiling_within_the_estimate)
 {
     char scene[1024], reference[1024];
-    snprintf(scene, sizeof scene, "%s", harness_path("scenes/contact/box_under_ceiling.obj"));
-    snprintf(reference, sizeof reference, "%s", harness_temp_path("box_under_ceiling_mc.tsv"));
-    free(solve_table_text((const char *[]){scene, "--method", "mc", "--samples", "20000", "--seed",
-                                           "1", "--out", reference, "--quiet", NULL},
-                          reference));
+    one_box_reference("box_under_ceiling", scene, reference);
     const char *runs[][2] = {{"hier", "p0"}, {"cluster", "p0"}, {"hier", "p1"}, {"hier", "p2"}};
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
         const char *table = harness_temp_path("box_under_ceiling.tsv");
