@@ -27,11 +27,11 @@
  *    the leaf sends (charge, in units of sqrt(A), what a unit constant
  *    sends in the exact transport, not of the leaf's own send, which is
  *    small where the leaf sees little), so that it moves light without
- *    making any.
- *    And each step multiplies every leaf's irradiance by the gain, the
- *    power the leaves send over what their sends count (copy_sources): 1
- *    for a uniform radiosity, which gathers itself, and otherwise taking
- *    back what the columns' error would make or lose.  In an open scene a row whose mean exceeds the ceiling of
+ *    making any.  And each step multiplies every leaf's irradiance by the
+ *    gain, the power the leaves send over what their sends count
+ *    (copy_sources): 1 for a uniform radiosity, which gathers itself, and
+ *    otherwise taking back what the columns' error would make or lose.
+ *    In an open scene a row whose mean exceeds the ceiling of
  *    rad_hier_row_ceiling (between 1 and 1 / rho_max) is scaled back to it,
  *    so that the step contracts; what that takes off a leaf is charged to
  *    its error (3).
@@ -226,7 +226,8 @@ static void copy_sources(rad_hierp *h)
     pull_sources(h);
     for (int c = 0; c < 3; c++)
         h->gain[c] = counted[c] > 0.0 && leave[c] > 0.0
-                         ? rad_dmin(1.0 + HP_GAIN_MAX, rad_dmax(1.0 - HP_GAIN_MAX, leave[c] / counted[c]))
+                         ? rad_dmin(1.0 + HP_GAIN_MAX,
+                                    rad_dmax(1.0 - HP_GAIN_MAX, leave[c] / counted[c]))
                          : 1.0;
 }
 
@@ -397,6 +398,7 @@ void hp_rows(rad_hierp *h)
     gather(h, 0);
     push_all(h, VISIT_PUSH_SEND);
 }
+
 /* Push, leaf update and pull over the tree of element e (parents are pushed
  * before their children and pulled after them). */
 static void step_tree(rad_hierp *h, int e, double *change, double *vmax)

@@ -149,18 +149,19 @@ rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double
  * the longer of the two triangles' longest edges), or failing that hovers
  * over it (within near_rel times its own triangle's longest edge, or
  * near_rel_large times it over a triangle large beside its own:
- * RAD_MESH_HOVER_LARGE), with the
- * rest of it in front, and that edge (projected onto the plane) passes
- * through the triangle's inside, the triangle is triangulated with it as a
- * constraint (a box standing on a floor, or a hair above it, cuts the floor
- * along its footprint).  Triangles that pass through each other
- * cut nothing.  The output holds the input's vertices and
- * then the new ones; every piece keeps its input triangle's orientation and
- * names it in parent[]; a sliver that the scene's degenerate test would
- * refuse is dropped and counted; triangles without contact are copied as they are,
- * in order; a triangle without a normal (degenerate, not finite) neither
- * cuts nor is cut.  RAD_EINVAL for a NULL argument or a tolerance outside
- * [0, 1) (an infinite one would ask the candidate grid for no end of cells) or near_rel_large below near_rel, RAD_EINPUT for a bad index (naming its triangle), RAD_ENOMEM,
+ * RAD_MESH_HOVER_LARGE), with the rest of it in front, and that edge
+ * (projected onto the plane) passes through the triangle's inside, the
+ * triangle is triangulated with it as a constraint (a box standing on a
+ * floor, or a hair above it, cuts the floor along its footprint).
+ * Triangles that pass through each other cut nothing.  The output holds the
+ * input's vertices and then the new ones; every piece keeps its input
+ * triangle's orientation and names it in parent[]; a sliver that the
+ * scene's degenerate test would refuse is dropped and counted; triangles
+ * without contact are copied as they are, in order; a triangle without a
+ * normal (degenerate, not finite) neither cuts nor is cut.  RAD_EINVAL for
+ * a NULL argument, a tolerance outside [0, 1) (an infinite one would ask
+ * the candidate grid for no end of cells) or near_rel_large below
+ * near_rel; RAD_EINPUT for a bad index (naming its triangle); RAD_ENOMEM;
  * RAD_EGEOM from the geometry kernel. */
 typedef struct rad_mesh_contacts {
     double *xyz;
