@@ -315,14 +315,12 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
     plan->contact_pieces = (int)(ct.nt - ((size_t)s->nt - ct.faces_split));
     if (ct.faces_split > 0)
         snprintf(why, sizeof why, "%d input triangles have others standing on them, or "
-                 "within %.3g%% of their size above (%.3g%% over one %g times larger), "
-                 "along %zu segments: hier cuts them into "
-                 "%d pieces%s so that no element straddles a jump of the radiosity",
+                 "within %.3g%% of their size above (%.3g%% over one %d times larger), "
+                 "along %zu segments: hier cuts them into %d pieces%s so that no element "
+                 "straddles a radiosity jump",
                  plan->contact_faces, 100.0 * params->contact_near_rel,
-                 100.0 * params->contact_near_rel_large, RAD_MESH_HOVER_LARGE, ct.segments,
-                 plan->contact_pieces,
-                 ct.slivers ? " (slivers where segments cross at a hair's angle dropped)"
-                            : "");
+                 100.0 * params->contact_near_rel_large, (int)RAD_MESH_HOVER_LARGE, ct.segments,
+                 plan->contact_pieces, ct.slivers ? " (hair-angle slivers dropped)" : "");
     else
         snprintf(why, sizeof why, "no triangle stands on (or just above) another's inside: "
                  "nothing to cut");
