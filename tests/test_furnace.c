@@ -639,8 +639,7 @@ static void one_box_reference(const char *name, char scene[1024], char reference
  * quarter of the box's size over them: the patches under the side and the
  * top become pieces of their own, whose elements no longer average them
  * with the lit surface around.  At the defaults hier's and cluster's worst
- * face must be within 8% of R of a Monte Carlo run (11.6% when the cut
- * reached a tenth over every triangle and missed both) and under the
+ * face must be within 8% of R of a Monte Carlo run and under the
  * estimate. */
 TEST(box_side_beside_a_wall_within_8_percent)
 {
@@ -717,8 +716,8 @@ TEST(slit_in_a_thin_slab_against_the_monte_carlo_reference)
  * local errors through the transport).  With the defaults every basis must
  * converge within 1% (L1) of the Monte Carlo reference and its estimates
  * bound its errors: p1's positivity limiter cuts slopes at the gaps, whose
- * couplings, unless charged to the leaf's constant, made 0.7% more light
- * than the ceiling emits (L1 1.1%). */
+ * couplings send power into the room unless what they send is charged to
+ * the leaf's constant (hierp/solve.c). */
 TEST(hier_narrow_gaps_at_reflectance_0_99_converge_within_their_estimates)
 {
     check_bases_at("scenes/many_objects/many_27_seed2.obj",

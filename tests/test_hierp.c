@@ -434,8 +434,9 @@ static void check_power(const rad_scene *scene, const rad_solution *s, const cha
  * contract, whose loop's higher couplings solve.c drops.  With the defaults the
  * solve must converge to rows that are finite, nonnegative and conserve
  * power: what the ceiling emits, the faces absorb, sum A (1 - rho) (B - E)
- * / rho over the faces, per channel, to 1e-5 (the solve's tolerance; the
- * normalized rows alone were 0.1% off). */
+ * / rho over the faces, per channel, to 1e-5 (the solve's tolerance: the
+ * leaves' sends and the step's gain make what they send arrive whole,
+ * hierp/solve.c). */
 TEST(hierp_sealed_leaves_that_see_little_conserve_power)
 {
     rad_scene *scene = harness_scene_load("scenes/many_objects/many_27_seed2.obj", NULL);

@@ -209,9 +209,11 @@ static void copy_sources(rad_hierp *h)
     double leave[3] = {0.0}, counted[3] = {0.0};
     for (size_t e = 0; e < h->nel; e++) {
         const hp_elem *x = &h->el[e];
+        if (send && x->first_child >= 0)
+            continue; /* pull_sources writes it */
         for (int c = 0; c < 3; c++) {
             double *v = h->Bs + (e * 3 + (size_t)c) * (size_t)m;
-            if (!send || x->first_child >= 0) {
+            if (!send) {
                 memcpy(v, x->B[c], (size_t)m * sizeof *v);
                 continue;
             }
@@ -306,13 +308,15 @@ static inline void leaf_update(const rad_hierp *h, hp_elem *x, double *change, d
             for (int k = 0; k < m; k++)
                 t[k] *= h->row_ceiling * sa / r0;
         }
+        int charged = h->p.sealed && m > 1; /* the limiter's cut is charged */
         double u[HP_M];
-        memcpy(u, t, sizeof u);
+        if (charged)
+            memcpy(u, t, sizeof u);
         if (m > 1 || t[0] < 0.0)
             limit(h, t, m);
         size_t f = (size_t)x->face + (size_t)c * n;
         double rho = h->rho[f];
-        if (h->p.sealed && m > 1) {
+        if (charged) {
             double d = 0.0;
             for (int k = 1; k < m; k++)
                 d += x->send[k] * (t[k] - u[k]);

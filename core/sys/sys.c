@@ -104,11 +104,11 @@ void *rad_sys_calloc_huge(size_t count, size_t size)
 }
 
 /* Free block p of `bytes`, a large one's pages handed back to the kernel
- * (malloc_trim): glibc keeps a freed heap block's pages resident, and a
- * block of some megabytes lies on its heap or in a mapping of its own
- * depending on what was freed before; handing the pages back makes a run's
- * resident memory independent of that, which the memory check
- * (hier/memory.c) counts on. */
+ * (malloc_trim): glibc keeps a freed heap block's pages resident, and
+ * whether a block of some megabytes lies on its heap or in a mapping of its
+ * own depends on the heap's state; handing the pages back makes a run's
+ * resident memory independent of it, which the memory check (hier/memory.c)
+ * counts on. */
 static void release(void *p, size_t bytes)
 {
     free(p);
