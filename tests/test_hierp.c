@@ -491,6 +491,37 @@ TEST(hierp_error_transport_converges_at_reflectance_0_99)
     rad_scene_destroy(scene);
 }
 
+/* 27 boxes (gen/many_objects.py 27 2) with every reflectance 0.999, p1 with
+ * the defaults: a late round's couplings make a mode that grows by a few %
+ * a step, to many orders of magnitude within the slow watch's window
+ * (2 / (1 - rho) steps), and at 0.999 a mode that large takes tens of
+ * thousands of steps to decay once its couplings are dropped.  The watch
+ * must see the fast growth and go on from the state before it (solve.c):
+ * the run ends, its faces finite and nonnegative, and the power the
+ * ceiling emits absorbed by the faces to 1e-3 (the solve's tolerance
+ * multiplied by up to 1 / (1 - rho)). */
+TEST(hierp_converges_at_reflectance_0_999_in_narrow_gaps)
+{
+    rad_scene_params sp;
+    rad_scene_params_default(&sp);
+    sp.has_rho = 1;
+    sp.no_cross_check = 1;
+    sp.rho[0] = sp.rho[1] = sp.rho[2] = 0.999;
+    rad_scene *scene = harness_scene_load("scenes/many_objects/many_27_seed2.obj", &sp);
+    if (!scene)
+        return;
+    rad_solve_params p;
+    rad_solve_params_default(&p);
+    p.method = RAD_SOLVE_HIER;
+    p.basis = 1;
+    rad_solution *s = NULL;
+    CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
+    if (s)
+        check_power(scene, s, "27 boxes, rho 0.999, p1", 1e-3);
+    rad_solution_destroy(s);
+    rad_scene_destroy(scene);
+}
+
 /* Two congruent triangles facing each other across a gap of an eighth of
  * their size: the point form factor falls from the middle to the corners
  * alike on both sides, so the two sides' estimates of G agree while both

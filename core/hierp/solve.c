@@ -60,6 +60,11 @@
    (hp_solve_links). */
 #define HP_GAIN_MAX 0.01
 
+/* The watch's fast test (hp_solve_links): a change this many times the
+   round's lowest, after at least this many steps of the round. */
+#define HP_GROWTH 1e3
+#define HP_GROWTH_STEPS 20
+
 rad_status hp_incidence(rad_hierp *h)
 {
     if (h->inc_valid && h->inc_nel == h->nel)
@@ -517,19 +522,49 @@ static size_t drop_unstable(rad_hierp *h)
     return dropped;
 }
 
+/* The leaves' coefficients and charges, saved at (into != 0) or restored
+ * from the step whose change was the round's lowest (hp_solve_links). */
+static void keep_state(rad_hierp *h, double *good, int into)
+{
+    size_t w = 3 * (size_t)HP_M + 3;
+    for (size_t e = 0; e < h->nel; e++) {
+        hp_elem *x = &h->el[e];
+        double *g = good + e * w;
+        if (into) {
+            memcpy(g, x->B, sizeof x->B);
+            memcpy(g + 3 * HP_M, x->charge, sizeof x->charge);
+        } else {
+            memcpy(x->B, g, sizeof x->B);
+            memcpy(x->charge, g + 3 * HP_M, sizeof x->charge);
+        }
+    }
+}
+
 rad_status hp_solve_links(rad_hierp *h, double tol)
 {
     double t0 = rad_sys_seconds();
     rad_status st = RAD_OK;
     /* a step contracts the error by q or better (3 below), so over w steps
        the change falls by e^-2 or more: a change that has not fallen at all
-       over w steps belongs to a mode that does not contract */
+       over w steps belongs to a mode that does not contract.  One that grows
+       fast is seen sooner: a contracting step's change does not rise far
+       above the lowest it reached, so a change HP_GROWTH times that lowest
+       belongs to such a mode too.  After its couplings are dropped the solve
+       goes on from the state of that lowest change, which the mode had not
+       yet swamped (a mode grown large would take ln(size) / (1 - rho) steps
+       to decay). */
     double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
     int w = q < 1.0 ? (int)rad_dmin(4000.0, rad_dmax(20.0, ceil(2.0 / (1.0 - q)))) : 4000;
     double *past = h->m > 1 ? malloc((size_t)w * sizeof *past) : NULL;
-    if (h->m > 1 && !past)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory");
+    double *good = h->m > 1 ? malloc(h->nel * (3 * (size_t)HP_M + 3) * sizeof *good) : NULL;
+    if (h->m > 1 && (!past || !good)) {
+        free(past);
+        free(good);
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the solve's watch (%zu elements)",
+                         h->nel);
+    }
     int since = 0;
+    double low = INFINITY, kept = INFINITY; /* the round's lowest change; the saved state's */
     for (int it = 0;; it++, since++) {
         if (it >= h->p.max_iterations) {
             st = RAD_ERROR(RAD_ENUMERIC, "hier: gather/push-pull did not converge in %d steps "
@@ -549,16 +584,26 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
         if (change <= tol * vmax)
             break;
         if (past) {
-            if (since >= w && change >= past[since % w] && change > 1e-10 * vmax &&
-                drop_unstable(h) > 0) {
+            int slow = since >= w && change >= past[since % w];
+            int fast = since >= HP_GROWTH_STEPS && change > HP_GROWTH * low;
+            if ((slow || fast) && change > 1e-10 * vmax && drop_unstable(h) > 0) {
+                if (kept < INFINITY)
+                    keep_state(h, good, 0);
                 hp_rows(h);
                 since = -1;
+                low = kept = INFINITY;
                 continue;
             }
             past[since % w] = change;
+            low = rad_dmin(low, change);
+            if (change < 0.5 * kept) { /* saves at most log2 of the round's fall */
+                keep_state(h, good, 1);
+                kept = change;
+            }
         }
     }
     free(past);
+    free(good);
     h->st.residual = h->last_change;
     h->st.time_solve_s += rad_sys_seconds() - t0;
     return st;

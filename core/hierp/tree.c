@@ -105,7 +105,8 @@ rad_status hp_grow_elems(rad_hierp *h, size_t extra)
     if (h->nel + extra > h->capel &&
         (st = hp_memory_check(h,
                               (double)(h->nel + extra - h->capel) *
-                                  (sizeof *h->el + 3 * HP_M * sizeof *h->Bs + sizeof *h->inc_start),
+                                  (sizeof *h->el + (6 * HP_M + 3) * sizeof *h->Bs +
+                                   sizeof *h->inc_start),
                               "elements", h->nel + extra - h->capel)) != RAD_OK)
         return st;
     if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
