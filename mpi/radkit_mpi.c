@@ -295,6 +295,38 @@ int main(int argc, char **argv)
     }
     if ((st = agree(first)) != RAD_OK)
         goto grid_done;
+    /* a sealed scene's rows closed on the diagonal, as rad_radiosity_close_rows
+       does serially: the row sums gathered (each stored G_ij, i > j, serves
+       rows i and j), and each diagonal entry set on the rank that holds it */
+    double rows_closed = 0.0;
+    if (sol.plan.sealed) {
+        double *rs = calloc(nn, sizeof *rs);
+        if ((st = agree(rs ? RAD_OK : RAD_ERROR(RAD_ENOMEM, "solve: no memory"))) != RAD_OK) {
+            free(rs);
+            goto grid_done;
+        }
+        for (int lj = 0; lj < nloc; lj++) {
+            int j = global_index(lj, nb, mycol, npcol);
+            for (int li = 0; li < mloc; li++) {
+                int i = global_index(li, nb, myrow, nprow);
+                double g = Gloc[(size_t)li + (size_t)lj * (size_t)lld];
+                if (i > j) {
+                    rs[i] += g;
+                    rs[j] += g;
+                }
+            }
+        }
+        MPI_Allreduce(MPI_IN_PLACE, rs, (int)nn, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+        for (int lj = 0; lj < nloc; lj++) {
+            int j = global_index(lj, nb, mycol, npcol);
+            for (int li = 0; li < mloc; li++)
+                if (global_index(li, nb, myrow, nprow) == j)
+                    Gloc[(size_t)li + (size_t)lj * (size_t)lld] = area[j] - rs[j];
+        }
+        for (size_t i = 0; i < nn; i++)
+            rows_closed = fmax(rows_closed, fabs(area[i] - rs[i]) / area[i]);
+        free(rs);
+    }
     double t_assembled = rad_sys_seconds();
 
     /* ---- solve: the symmetric form, one pdposv per group of channels ----
@@ -302,7 +334,8 @@ int main(int argc, char **argv)
      *   (A_i / rho_i) B_i - sum_{j reflecting} G_ij B_j
      *       = (A_i / rho_i) E_i + sum_{z not reflecting} G_iz E_z,
      * and B_z = E_z for the others: S = diag(A / rho) - G on the reflecting
-     * faces (symmetric positive definite: rows of G sum to at most A), the
+     * faces (symmetric positive definite: rows of G sum to at most A, a closed
+     * row's diagonal included), the
      * identity elsewhere.  Only S's lower triangle is read, as computed. */
     int descA[9], descB[9], three = 3;
     descinit_(descA, &n, &n, &nb, &nb, &izero, &izero, &ctx, &lld, &info);
@@ -337,7 +370,7 @@ int main(int argc, char **argv)
                 size_t k = (size_t)li + (size_t)lj * (size_t)lld;
                 double g = Gloc[k];
                 if (i == j)
-                    Kloc[k] = rc[i] > 0.0 ? area[i] / rc[i] : 1.0;
+                    Kloc[k] = rc[i] > 0.0 ? area[i] / rc[i] - g : 1.0;
                 else if (i > j)
                     Kloc[k] = rc[i] > 0.0 && rc[j] > 0.0 ? -g : 0.0;
                 else
@@ -384,18 +417,20 @@ int main(int argc, char **argv)
     free(y);
     MPI_Allreduce(x, B, (int)(3 * nn), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     /* the residual from the definition: r = E + rho G B / A - B, row sums
-       gathered (each stored G_ij, i > j, serves rows i and j) */
+       gathered (each stored G_ij, i > j, serves rows i and j; a closed
+       diagonal entry its own row) */
     memset(x, 0, nn * 3 * sizeof *x);
     for (int lj = 0; lj < nloc; lj++) {
         int j = global_index(lj, nb, mycol, npcol);
         for (int li = 0; li < mloc; li++) {
             int i = global_index(li, nb, myrow, nprow);
             double g = Gloc[(size_t)li + (size_t)lj * (size_t)lld];
-            if (i <= j || g == 0.0)
+            if (i < j || g == 0.0)
                 continue;
             for (int c = 0; c < 3; c++) {
                 x[(size_t)i + (size_t)c * nn] += g * B[(size_t)j + (size_t)c * nn];
-                x[(size_t)j + (size_t)c * nn] += g * B[(size_t)i + (size_t)c * nn];
+                if (i > j)
+                    x[(size_t)j + (size_t)c * nn] += g * B[(size_t)i + (size_t)c * nn];
             }
         }
     }
@@ -428,6 +463,7 @@ int main(int argc, char **argv)
         as.kernel_evals = tot[3];
         as.rays = rays_tot;
         sol.assembly = as;
+        sol.assembly.rows_closed = rows_closed;
         sol.dense.method = RAD_DENSE_CHOLESKY;
         sol.dense.factorizations = factorizations;
         sol.dense.residual = residual;

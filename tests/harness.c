@@ -175,6 +175,36 @@ rad_scene *harness_scene_load_at(const char *file, int line, const char *rel,
     return s;
 }
 
+void harness_check_power_at(const char *file, int line, const rad_scene *scene,
+                            const rad_solution *s, const char *what, double tol)
+{
+    const int *mat = rad_scene_triangle_materials(scene);
+    const rad_scene_material *m = rad_scene_materials(scene);
+    if (s->faces != rad_scene_triangle_count(scene)) {
+        harness_fail(file, line, "%s: %d rows for %d triangles", what, s->faces,
+                     rad_scene_triangle_count(scene));
+        return;
+    }
+    for (int c = 0; c < 3; c++) {
+        double emitted = 0.0, absorbed = 0.0;
+        int bad = 0;
+        for (int f = 0; f < s->faces; f++) {
+            double B = s->face_B[f + (size_t)c * (size_t)s->faces], A = s->face_area[f];
+            double rho = m[mat[f]].rho[c], E = m[mat[f]].emission[c];
+            bad += !isfinite(B) || B < 0.0 || !(rho > 0.0); /* H = (B - E) / rho */
+            emitted += A * E;
+            absorbed += A * (1.0 - rho) * (B - E) / rho;
+        }
+        printf("# %s, channel %d: emitted %.9g, absorbed %.9g\n", what, c, emitted, absorbed);
+        if (bad)
+            harness_fail(file, line, "%s, channel %d: %d rows not finite, negative or not reflecting", what, c,
+                         bad);
+        if (!(fabs(absorbed - emitted) <= tol * emitted))
+            harness_fail(file, line, "%s, channel %d: absorbed %g of %g", what, c, absorbed,
+                         emitted);
+    }
+}
+
 rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, double rho)
 {
     rad_scene_params sp;

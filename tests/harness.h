@@ -11,6 +11,7 @@
 
 #include "rad_geom.h"
 #include "rad_scene.h"
+#include "rad_solve.h"
 
 typedef void (*harness_fn)(void);
 void harness_register(const char *name, const char *file, harness_fn fn);
@@ -78,6 +79,16 @@ rad_status harness_scene_load_status(const char *rel, const rad_scene_params *pa
  * faces), loaded as harness_scene_load does. */
 #define harness_furnace_load(rel, rho) harness_furnace_load_at(__FILE__, __LINE__, rel, rho)
 rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, double rho);
+
+/* Per channel: every face's B finite and nonnegative, and the power the
+ * emitters give out absorbed by the faces, sum A (1 - rho) (B - E) / rho
+ * (the scene's materials' rho, every one > 0, and E), within tol of it
+ * (relative); failures
+ * at the caller's line, the figures printed with `what`. */
+#define harness_check_power(scene, s, what, tol)                                    \
+    harness_check_power_at(__FILE__, __LINE__, scene, s, what, tol)
+void harness_check_power_at(const char *file, int line, const rad_scene *scene,
+                            const rad_solution *s, const char *what, double tol);
 
 /* The tests' one scene writer: `text` into a file of /tmp named after the
  * process id and `name` (e.g. "order.obj"), so parallel runs do not collide;

@@ -400,32 +400,6 @@ TEST(hierp_answer_independent_of_threads)
     rad_scene_destroy(scene);
 }
 
-/* Per channel: every face's B finite and nonnegative, and the power the
- * emitters give out absorbed by the faces, sum A (1 - rho) (B - E) / rho,
- * within tol of it. */
-static void check_power(const rad_scene *scene, const rad_solution *s, const char *what,
-                        double tol)
-{
-    const int *mat = rad_scene_triangle_materials(scene);
-    const rad_scene_material *m = rad_scene_materials(scene);
-    CHECK(s->faces == rad_scene_triangle_count(scene));
-    for (int c = 0; c < 3; c++) {
-        double emitted = 0.0, absorbed = 0.0;
-        int bad = 0;
-        for (int f = 0; f < s->faces; f++) {
-            double B = s->face_B[f + (size_t)c * (size_t)s->faces], A = s->face_area[f];
-            double rho = m[mat[f]].rho[c], E = m[mat[f]].emission[c];
-            bad += !isfinite(B) || B < 0.0;
-            emitted += A * E;
-            absorbed += A * (1.0 - rho) * (B - E) / rho;
-        }
-        printf("# %s, channel %d: emitted %.9g, absorbed %.9g\n", what, c, emitted, absorbed);
-        CHECK_MSG(bad == 0, "%s, channel %d: %d rows not finite or negative", what, c, bad);
-        CHECK_MSG(fabs(absorbed - emitted) <= tol * emitted, "%s, channel %d: absorbed %g of %g",
-                  what, c, absorbed, emitted);
-    }
-}
-
 /* In a sealed scene each leaf's irradiance is divided by its row.  On 27
  * boxes (gen/many_objects.py 27 2) p1 at eps 0.04 makes leaves that see
  * little (rows of a few % of their area, the tails of an ancestor's linear
@@ -450,7 +424,7 @@ TEST(hierp_sealed_leaves_that_see_little_conserve_power)
     rad_solution *s = NULL;
     CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
     if (s)
-        check_power(scene, s, "27 boxes (seed 2) p1 eps 0.04", 1e-5);
+        harness_check_power(scene, s, "27 boxes (seed 2) p1 eps 0.04", 1e-5);
     rad_solution_destroy(s);
     rad_scene_destroy(scene);
 }
@@ -485,7 +459,7 @@ TEST(hierp_error_transport_converges_at_reflectance_0_99)
         printf("# 64 boxes, rho 0.99, p1: estimate %.3g, links reduced %zu\n",
                s->hier.bound_face_max, s->hier.links_constant);
         CHECK(isfinite(s->hier.bound_face_max) && s->hier.bound_face_max > 0.0);
-        check_power(scene, s, "64 boxes, rho 0.99, p1", 1e-4);
+        harness_check_power(scene, s, "64 boxes, rho 0.99, p1", 1e-4);
     }
     rad_solution_destroy(s);
     rad_scene_destroy(scene);
@@ -517,7 +491,7 @@ TEST(hierp_converges_at_reflectance_0_999_in_narrow_gaps)
     rad_solution *s = NULL;
     CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
     if (s)
-        check_power(scene, s, "27 boxes, rho 0.999, p1", 1e-3);
+        harness_check_power(scene, s, "27 boxes, rho 0.999, p1", 1e-3);
     rad_solution_destroy(s);
     rad_scene_destroy(scene);
 }

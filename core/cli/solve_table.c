@@ -57,8 +57,9 @@ static void print_work(FILE *out, const rad_solution *s)
                      "# pairs_visibility_sampled = %lld\n# visibility_error = %.3e\n",
                 as->pairs, as->pairs_not_facing, as->pairs_occlusion_tested, as->pairs_sampled,
                 as->visibility_error);
-        fprintf(out, "# pairs_out_of_range = %lld\n# rays = %llu\n# kernel_evals = %lld\n",
-                as->pairs_out_of_range, as->rays, as->kernel_evals);
+        fprintf(out, "# pairs_out_of_range = %lld\n# rows_closed = %.3e\n# rays = %llu\n"
+                     "# kernel_evals = %lld\n",
+                as->pairs_out_of_range, as->rows_closed, as->rays, as->kernel_evals);
         fprintf(out, "# systems = %d\n# solver_factorizations = %d\n# solver_iterations = %d\n"
                      "# solver_residual = %.3e\n# rcond = %.3e\n",
                 s->systems, s->dense.factorizations, s->dense.iterations, s->dense.residual,

@@ -45,7 +45,8 @@ typedef struct rad_dense_params {
      * share one factorization (a grey scene: one system); 0 factors every
      * channel on its own (the effects plan's colour decision forced on). */
     int share_channels;
-    /* 0 (default): couplings are form factors, every entry >= 0, and the
+    /* 0 (default): couplings are form factors, every entry >= 0 (a diagonal
+     * entry >= -A_i: a sealed scene's closed row, rad_radiosity_close_rows), and the
      * emission and the answer >= 0 (checked); 1: the couplings of a
      * polynomial basis (rad_basis), whose entries, emission coefficients and
      * solution coefficients may have either sign (only finiteness checked). */

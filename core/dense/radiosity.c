@@ -10,7 +10,9 @@
  * S is positive definite: its diagonal A_i/rho_i - G_ii is positive and
  *     (A_i/rho_i - G_ii) - sum_{j != i} |G_ij| = A_i/rho_i - A_i sum_j F_ij
  *                                            >= A_i (1/rho_i - 1) > 0
- * when sum_j F_ij <= 1 and 0 < rho_i < 1 (G >= 0), so S is strictly diagonally
+ * when sum_j F_ij <= 1 and 0 < rho_i < 1 (G >= 0 off the diagonal; a closed
+ * row's negative G_ii, rad_radiosity_close_rows, adds |G_ii| to both sides
+ * while its row sums to A_i), so S is strictly diagonally
  * dominant with a positive diagonal, and by Gershgorin's theorem a symmetric
  * such matrix has only positive eigenvalues.
  * Faces with rho_i = 0 reflect nothing: B_i = E_i exactly.  They are eliminated:
@@ -113,10 +115,14 @@ static rad_status check_input(int n, const double *G, const double *area, const 
         }
     }
     size_t nn = (size_t)n * (size_t)n;
-    for (size_t k = 0; k < nn; k++)
-        if (!isfinite(G[k]) || (G[k] < 0.0 && !signed_couplings))
+    for (size_t k = 0; k < nn; k++) {
+        size_t i = k % (size_t)n;
+        /* a closed row's diagonal may be negative (rad_radiosity_close_rows) */
+        double least = i == k / (size_t)n ? -area[i] : 0.0;
+        if (!isfinite(G[k]) || (G[k] < least && !signed_couplings))
             return RAD_ERROR(RAD_EINPUT, "dense solve: coupling entry (%zu, %zu) is %g",
                              k % (size_t)n, k / (size_t)n, G[k]);
+    }
     return RAD_OK;
 }
 

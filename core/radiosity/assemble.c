@@ -205,3 +205,19 @@ rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, cons
                          bad_message);
     return RAD_OK;
 }
+
+double rad_radiosity_close_rows(double *G, const double *areas, int n)
+{
+    size_t nn = n > 0 ? (size_t)n : 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < nn; i++) {
+        double r = 0.0;
+        for (size_t j = 0; j < nn; j++) /* G is symmetric: row i read as column i */
+            r += G[j + i * nn];
+        double d = areas[i] - r;
+        G[i + i * nn] += d;
+        if (areas[i] > 0.0)
+            worst = rad_dmax(worst, fabs(d) / areas[i]);
+    }
+    return worst;
+}

@@ -54,6 +54,8 @@ typedef struct rad_radiosity_stats {
     double visibility_error;          /* sum of the visible integrals' error estimates,
                                          over the sum of their G (relative) */
     long long pairs_out_of_range;     /* form-factor estimates flagged outside [0,1] */
+    double rows_closed;               /* sealed: the largest |1 - sum_j F_ij| moved to a
+                                         diagonal (rad_radiosity_close_rows); else 0 */
     long long kernel_evals;
     unsigned long long rays;
     double seconds;
@@ -69,6 +71,16 @@ typedef struct rad_radiosity_stats {
 rad_status rad_radiosity_assemble(const double *xyz, const int *tri, int n, const rad_vis *vis,
                                   const rad_radiosity_params *params, double *G, double *areas,
                                   rad_radiosity_stats *stats);
+
+/* Close the rows of a sealed scene's G (n x n, column-major; every point
+ * sees only front faces, so the exact rows sum to the areas): each row's
+ * deficit or excess, A_i - sum_j G_ij, joins its diagonal G_ii.  G stays
+ * symmetric, so a uniform radiosity gathers exactly itself (the furnace
+ * holds whatever the form factors' error, which 1 / (1 - rho) would
+ * amplify) and the power the faces send arrives whole.  G_ii may then be
+ * negative, down to -A_i (the dense solvers accept that).  Returns the
+ * largest |A_i - sum_j G_ij| / A_i. */
+double rad_radiosity_close_rows(double *G, const double *areas, int n);
 
 /* One pair's coupling G_ij (= G_ji) exactly as rad_radiosity_assemble
  * computes it (the smaller index first, so either order gives the same

@@ -568,6 +568,8 @@ static rad_status run_dense(rad_solution *s, prepared *pr, double t_start)
                                 &u->assembly, G, areas, &s->assembly);
     if (st != RAD_OK)
         goto done;
+    if (s->plan.sealed)
+        s->assembly.rows_closed = rad_radiosity_close_rows(G, areas, n);
     if (u->basis > 0 || u->emission) {
         if ((st = basis_solve(s, mesh, vis, G, areas, rho, E, B, t_vis)) != RAD_OK)
             goto done;
