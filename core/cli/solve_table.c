@@ -85,6 +85,8 @@ static void print_work(FILE *out, const rad_solution *s)
                 hs->tightened_share);
         if (hs->clusters > 0)
             fprintf(out, "# error_local_cluster = %.4f\n", hs->local_cluster);
+        if (hs->gain > 0.0)
+            fprintf(out, "# gain = %.6f\n", hs->gain);
         fprintf(out, "# rays = %llu\n# kernel_evals = %lld\n", hs->rays, hs->kernel_evals);
         fprintf(out, "# iterations_bound = %lld\n# time_estimate_cluster_s = %.4f\n"
                      "# time_estimate_element_s = %.4f\n# time_bound_s = %.4f\n",
@@ -165,6 +167,7 @@ rad_status solve_write_stats_ranks(const char *path, const rad_solution *s, doub
         {"links_bound", (double)hs->links_bound},
         {"tightenings", hs->tightenings},
         {"tightened_share", hs->tightened_share},
+        {"gain", hs->gain},
         {"error_local_cluster", hs->local_cluster},
         {"clusters", (double)hs->clusters},
         {"links_cluster", (double)hs->links_cluster},

@@ -19,6 +19,8 @@ typedef struct hier_elem {
     int face;                /* input triangle */
     int depth;
     double B[3];             /* radiosity (area average) */
+    double Hn[3];            /* leaf, sealed: the step's normalized irradiance, cap x the
+                                gathered value, before the gain (solve.c) */
     double Bg[3];            /* irradiance gathered by its own links, at the centroid ... */
     rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
     rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
@@ -216,6 +218,7 @@ struct rad_hier {
     int stepped;
     double last_change;       /* relative */
     double last_bmax;         /* the largest leaf B of the last step */
+    double gain[3];           /* sealed: the last step's gain per channel (solve.c) */
     double T_tail;            /* what the error transport's last step leaves of its
                                  fixed point (absolute; solve.c) */
     double iter_err;          /* what the last step's change leaves of the fixed point

@@ -279,6 +279,9 @@ typedef struct rad_hier_stats {
                              thresholds of some input triangles (at most max_tighten) */
     double tightened_share; /* the sum over the tightenings of the share of the scene's
                              area each quarters (0 .. tightenings) */
+    double gain;          /* sealed: the last step's gain farthest from 1 over the
+                             channels, the power the leaves send over what reaches
+                             them (solve.c); 0 where the scene is not sealed */
 } rad_hier_stats;
 
 /* Build the roots (one per input triangle; xyz: 3 * nverts doubles, tri:

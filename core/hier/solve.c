@@ -64,7 +64,8 @@
  *    round_min of the links, then solves to tol and computes the bound.
  * Shared among processes with split_gather (exchange.c), a step gathers only
  * the link ends in this process's input triangles, pushes and pulls only
- * their trees, and exchanges the elements' new values. */
+ * their trees, and exchanges the elements' new values (sealed, before the
+ * gain, which every process then applies to the whole tree alike). */
 #include "hier_internal.h"
 
 #include <float.h>
@@ -76,6 +77,12 @@
 #include "rad_sys.h"
 
 #include <omp.h>
+
+/* The gain (apply_gain) stays above HIER_GAIN_MIN: the links' column errors
+   are a few 1e-4 of the power at the defaults and some % at coarse
+   settings; the bound only keeps a first step's sums, far from the answer,
+   from darkening every leaf. */
+#define HIER_GAIN_MIN 0.5
 
 int hier_threads(const rad_hier *h)
 {
@@ -99,6 +106,7 @@ void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, 
     *hi = b;
 }
 
+
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
@@ -108,19 +116,84 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
     size_t n = h->nroots, f = (size_t)x->face;
     for (int c = 0; c < 3; c++) {
         double r = rho[f + c * n];
+        if (h->p.sealed) { /* B waits for the step's gain (apply_gain) */
+            x->Hn[c] = x->cap * tot0[c];
+            rad_vec3 g = totg[c];
+            if (x->row0 > 0.0)
+                g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
+            x->gB[c] = rad_vec3_scale(g, r * x->cap);
+            continue;
+        }
         double b = E[f + c * n] + r * x->cap * tot0[c];
         /* a non-finite b makes the change infinite, which the caller reports */
         *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
         *vmax = rad_dmax(*vmax, fabs(b));
         x->B[c] = b;
-        /* sealed, the row is normalized pointwise: B's slope is that of
-           the irradiance over the row sum (0 in a furnace) */
-        rad_vec3 g = totg[c];
-        if (h->p.sealed && x->row0 > 0.0)
-            g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
-        x->gB[c] = rad_vec3_scale(g, r * x->cap);
+        x->gB[c] = rad_vec3_scale(totg[c], r * x->cap);
     }
     hier_leaf_var(x);
+}
+
+/* Sealed: the normalized rows make a uniform radiosity gather exactly
+ * itself, but the links' columns are not exact, so a varying one delivers
+ * a little more or less power than its sources send, which reflectance
+ * near 1 multiplies by up to 1 / (1 - rho) (a percent at 0.99 where a box
+ * sits close under a lit ceiling).  So each step multiplies every leaf's
+ * normalized irradiance by the gain, the power the leaves send, sum A B
+ * with the step's old B, over what reaches them, sum A Hn, per channel (1
+ * for a uniform radiosity), held between HIER_GAIN_MIN and the row ceiling
+ * (so that the step still contracts); then each leaf
+ * takes B = E + rho gain Hn (its slope and variation scaled alike), the
+ * step's change is measured, and the inner elements take their children's
+ * means again.  The sums run over the elements in index order, so that
+ * the answer does not depend on the threads or the processes. */
+static void apply_gain(rad_hier *h, double *change, double *vmax)
+{
+    double sent[3] = {0.0, 0.0, 0.0}, got[3] = {0.0, 0.0, 0.0};
+    for (size_t e = 0; e < h->nel; e++) {
+        const hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        for (int c = 0; c < 3; c++) {
+            sent[c] += x->area * x->B[c];
+            got[c] += x->area * x->Hn[c];
+        }
+    }
+    /* the step contracts by rho_max x gain: held under rad_hier_row_ceiling's
+       (1 + 1 / rho_max) / 2, it contracts by (1 + rho_max) / 2 at most */
+    double top = rad_hier_row_ceiling(0, h->rho_max);
+    h->st.gain = 1.0;
+    for (int c = 0; c < 3; c++) {
+        double g = got[c] > 0.0 && isfinite(sent[c]) ? sent[c] / got[c] : 1.0;
+        h->gain[c] = rad_dmin(top, rad_dmax(HIER_GAIN_MIN, g));
+        if (fabs(h->gain[c] - 1.0) > fabs(h->st.gain - 1.0))
+            h->st.gain = h->gain[c];
+    }
+    const double *rho = h->rho, *E = h->E;
+    size_t n = h->nroots;
+    double ch = 0.0, vm = 0.0;
+    int threads = hier_threads(h);
+#pragma omp parallel for schedule(static) reduction(max : ch, vm) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        size_t f = (size_t)x->face;
+        for (int c = 0; c < 3; c++) {
+            double b = E[f + c * n] + rho[f + c * n] * h->gain[c] * x->Hn[c];
+            double d = fabs(b - x->B[c]);
+            ch = isfinite(b) ? (d > ch ? d : ch) : INFINITY;
+            vm = fabs(b) > vm ? fabs(b) : vm;
+            x->B[c] = b;
+            x->gB[c] = rad_vec3_scale(x->gB[c], h->gain[c]);
+        }
+        hier_leaf_var(x);
+    }
+    for (size_t e = h->nel; e-- > 0;) /* a parent comes before its children */
+        if (h->el[e].first_child >= 0)
+            hier_children_mean(h, (int)e, CARRY_B);
+    *change = ch;
+    *vmax = vm;
 }
 
 void hier_leaf_var(hier_elem *x)
@@ -477,7 +550,11 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
     *change = ch;
     *vmax = vm;
-    return split ? hier_split_exchange(h, carry, change, vmax) : RAD_OK;
+    if (split && (st = hier_split_exchange(h, carry, change, vmax)) != RAD_OK)
+        return st;
+    if (carry == CARRY_B && h->p.sealed)
+        apply_gain(h, change, vmax);
+    return RAD_OK;
 }
 
 rad_status rad_hier_step(rad_hier *h)

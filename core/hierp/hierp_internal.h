@@ -111,6 +111,10 @@ struct rad_hierp {
        B it started from (solve.c's drop_unstable reads how far it moved) */
     double *Bs;
     size_t Bs_cap;
+    /* the solve's watch: each element's coefficients and charges at the
+       round's lowest change (hp_solve_links), kept between solves like Bs */
+    double *good;
+    size_t good_cap;
     int inc_valid;
     /* the nodes of the coupling rule and the basis at them */
     double rs[HP_MAX_NODES], rt[HP_MAX_NODES], rw[HP_MAX_NODES];

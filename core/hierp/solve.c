@@ -231,11 +231,15 @@ static void copy_sources(rad_hierp *h)
     if (!send)
         return;
     pull_sources(h);
-    for (int c = 0; c < 3; c++)
+    h->st.gain = 1.0;
+    for (int c = 0; c < 3; c++) {
         h->gain[c] = counted[c] > 0.0 && leave[c] > 0.0
                          ? rad_dmin(1.0 + HP_GAIN_MAX,
                                     rad_dmax(1.0 - HP_GAIN_MAX, leave[c] / counted[c]))
                          : 1.0;
+        if (fabs(h->gain[c] - 1.0) > fabs(h->st.gain - 1.0))
+            h->st.gain = h->gain[c];
+    }
 }
 
 /* The per-element parts of the push, the step and the pull, with m (the
@@ -556,10 +560,16 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
     double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
     int w = q < 1.0 ? (int)rad_dmin(4000.0, rad_dmax(20.0, ceil(2.0 / (1.0 - q)))) : 4000;
     double *past = h->m > 1 ? malloc((size_t)w * sizeof *past) : NULL;
-    double *good = h->m > 1 ? malloc(h->nel * (3 * (size_t)HP_M + 3) * sizeof *good) : NULL;
-    if (h->m > 1 && (!past || !good)) {
+    if (h->m > 1 && h->nel > h->good_cap) {
+        double *g = realloc(h->good, h->nel * (3 * (size_t)HP_M + 3) * sizeof *g);
+        if (g) {
+            h->good = g;
+            h->good_cap = h->nel;
+        }
+    }
+    double *good = h->good;
+    if (h->m > 1 && (!past || h->nel > h->good_cap)) {
         free(past);
-        free(good);
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the solve's watch (%zu elements)",
                          h->nel);
     }
@@ -603,7 +613,6 @@ rad_status hp_solve_links(rad_hierp *h, double tol)
         }
     }
     free(past);
-    free(good);
     h->st.residual = h->last_change;
     h->st.time_solve_s += rad_sys_seconds() - t0;
     return st;

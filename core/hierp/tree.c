@@ -79,9 +79,10 @@ void hp_bound_B(rad_hierp *h)
 
 /* Refuse more of what the machine cannot hold (hier/memory.c's check, for
  * this solver's arrays: each link with its K and the two ends the solve
- * lists for it, each element with the solve's row of its coefficients;
- * the solve's arrays counted whole, as a rebuild may keep the old block
- * resident). */
+ * lists for it, each element with the solve's rows of its coefficients
+ * (Bs and the watch's copy); where the array must grow, rad_sys_grow
+ * copies what it holds into the new block before it frees the old one, so
+ * the items already made count again). */
 static rad_status hp_memory_check(const rad_hierp *h, double bytes, const char *what, size_t more)
 {
     double would, have;
@@ -104,9 +105,10 @@ rad_status hp_grow_elems(rad_hierp *h, size_t extra)
     rad_status st;
     if (h->nel + extra > h->capel &&
         (st = hp_memory_check(h,
-                              (double)(h->nel + extra - h->capel) *
-                                  (sizeof *h->el + (6 * HP_M + 3) * sizeof *h->Bs +
-                                   sizeof *h->inc_start),
+                              (double)h->nel * sizeof *h->el +
+                                  (double)(h->nel + extra - h->capel) *
+                                      (sizeof *h->el + (6 * HP_M + 3) * sizeof *h->Bs +
+                                       sizeof *h->inc_start),
                               "elements", h->nel + extra - h->capel)) != RAD_OK)
         return st;
     if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
@@ -123,7 +125,8 @@ rad_status hp_reserve_links(rad_hierp *h, size_t extra)
     size_t cap = h->capln, mm = (size_t)(h->m * h->m);
     double per_link = (double)(sizeof *h->ln + mm * sizeof *h->K +
                                2 * (sizeof *h->inc + sizeof *h->inc_src));
-    rad_status st = hp_memory_check(h, (double)extra * per_link, "links", extra);
+    size_t counted = h->nln + extra > h->capln ? h->nln + extra : extra; /* a copy when grown */
+    rad_status st = hp_memory_check(h, (double)counted * per_link, "links", extra);
     if (st != RAD_OK)
         return st;
     if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
@@ -412,6 +415,7 @@ void rad_hierp_destroy(rad_hierp *h)
     free(h->inc);
     free(h->inc_src);
     free(h->Bs);
+    free(h->good);
     free(h);
 }
 
