@@ -217,6 +217,16 @@ rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, 
     return harness_scene_load_at(file, line, rel, &sp);
 }
 
+rad_scene *harness_grey_load_at(const char *file, int line, const char *rel, double rho)
+{
+    rad_scene_params sp;
+    rad_scene_params_default(&sp);
+    sp.has_rho = 1;
+    sp.no_cross_check = 1;
+    sp.rho[0] = sp.rho[1] = sp.rho[2] = rho;
+    return harness_scene_load_at(file, line, rel, &sp);
+}
+
 const char *harness_header(const char *out, const char *key, char *buf, size_t size)
 {
     char pattern[128];

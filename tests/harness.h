@@ -79,6 +79,10 @@ rad_status harness_scene_load_status(const char *rel, const rad_scene_params *pa
  * faces), loaded as harness_scene_load does. */
 #define harness_furnace_load(rel, rho) harness_furnace_load_at(__FILE__, __LINE__, rel, rho)
 rad_scene *harness_furnace_load_at(const char *file, int line, const char *rel, double rho);
+/* The scene with every face's reflectance rho in every channel and its own
+ * emission, loaded as harness_scene_load does. */
+#define harness_grey_load(rel, rho) harness_grey_load_at(__FILE__, __LINE__, rel, rho)
+rad_scene *harness_grey_load_at(const char *file, int line, const char *rel, double rho);
 
 /* Per channel: every face's B finite and nonnegative, and the power the
  * emitters give out absorbed by the faces, sum A (1 - rho) (B - E) / rho

@@ -134,12 +134,7 @@ TEST(furnace_dense_occluded_without_refinement)
  * sends arrives whole. */
 TEST(dense_sealed_scene_conserves_power_at_reflectance_0_999)
 {
-    rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = 1;
-    sp.no_cross_check = 1;
-    sp.rho[0] = sp.rho[1] = sp.rho[2] = 0.999;
-    rad_scene *scene = harness_scene_load("scenes/contact/box_under_ceiling.obj", &sp);
+    rad_scene *scene = harness_grey_load("scenes/contact/box_under_ceiling.obj", 0.999);
     if (!scene)
         return;
     rad_solve_params p;
@@ -167,12 +162,7 @@ TEST(hier_sealed_scene_conserves_power_at_reflectance_near_1)
     const double rhos[2] = {0.99, 0.999};
     const rad_solve_method methods[2] = {RAD_SOLVE_HIER, RAD_SOLVE_CLUSTER};
     for (int r = 0; r < 2; r++) {
-        rad_scene_params sp;
-        rad_scene_params_default(&sp);
-        sp.has_rho = 1;
-        sp.no_cross_check = 1;
-        sp.rho[0] = sp.rho[1] = sp.rho[2] = rhos[r];
-        rad_scene *scene = harness_scene_load("scenes/contact/box_under_ceiling.obj", &sp);
+        rad_scene *scene = harness_grey_load("scenes/contact/box_under_ceiling.obj", rhos[r]);
         if (!scene)
             return;
         for (int m = 0; m < 2; m++) {

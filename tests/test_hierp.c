@@ -439,14 +439,11 @@ TEST(hierp_sealed_leaves_that_see_little_conserve_power)
  * receivers' rows make a uniform radiosity gather itself, the step's gain
  * makes what the leaves send arrive whole (solve.c), and reflectance 0.99
  * multiplies what is left of the solve's tolerance by up to 100. */
-TEST(hierp_error_transport_converges_at_reflectance_0_99)
+/* p1 with the defaults on `rel` with every reflectance rho: the run ends
+ * with a finite estimate and conserves power to tol. */
+static void p1_conserves_power(const char *rel, double rho, const char *what, double tol)
 {
-    rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = 1;
-    sp.no_cross_check = 1;
-    sp.rho[0] = sp.rho[1] = sp.rho[2] = 0.99;
-    rad_scene *scene = harness_scene_load("scenes/many_objects/many_64.obj", &sp);
+    rad_scene *scene = harness_grey_load(rel, rho);
     if (!scene)
         return;
     rad_solve_params p;
@@ -456,13 +453,18 @@ TEST(hierp_error_transport_converges_at_reflectance_0_99)
     rad_solution *s = NULL;
     CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
     if (s) {
-        printf("# 64 boxes, rho 0.99, p1: estimate %.3g, links reduced %zu\n",
-               s->hier.bound_face_max, s->hier.links_constant);
+        printf("# %s: estimate %.3g, links reduced %zu\n", what, s->hier.bound_face_max,
+               s->hier.links_constant);
         CHECK(isfinite(s->hier.bound_face_max) && s->hier.bound_face_max > 0.0);
-        harness_check_power(scene, s, "64 boxes, rho 0.99, p1", 1e-4);
+        harness_check_power(scene, s, what, tol);
     }
     rad_solution_destroy(s);
     rad_scene_destroy(scene);
+}
+
+TEST(hierp_error_transport_converges_at_reflectance_0_99)
+{
+    p1_conserves_power("scenes/many_objects/many_64.obj", 0.99, "64 boxes, rho 0.99, p1", 1e-4);
 }
 
 /* 27 boxes (gen/many_objects.py 27 2) with every reflectance 0.999, p1 with
@@ -476,24 +478,8 @@ TEST(hierp_error_transport_converges_at_reflectance_0_99)
  * multiplied by up to 1 / (1 - rho)). */
 TEST(hierp_converges_at_reflectance_0_999_in_narrow_gaps)
 {
-    rad_scene_params sp;
-    rad_scene_params_default(&sp);
-    sp.has_rho = 1;
-    sp.no_cross_check = 1;
-    sp.rho[0] = sp.rho[1] = sp.rho[2] = 0.999;
-    rad_scene *scene = harness_scene_load("scenes/many_objects/many_27_seed2.obj", &sp);
-    if (!scene)
-        return;
-    rad_solve_params p;
-    rad_solve_params_default(&p);
-    p.method = RAD_SOLVE_HIER;
-    p.basis = 1;
-    rad_solution *s = NULL;
-    CHECK(rad_solve_run(scene, &p, &s) == RAD_OK);
-    if (s)
-        harness_check_power(scene, s, "27 boxes, rho 0.999, p1", 1e-3);
-    rad_solution_destroy(s);
-    rad_scene_destroy(scene);
+    p1_conserves_power("scenes/many_objects/many_27_seed2.obj", 0.999, "27 boxes, rho 0.999, p1",
+                       1e-3);
 }
 
 /* Two congruent triangles facing each other across a gap of an eighth of
