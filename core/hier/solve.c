@@ -78,10 +78,8 @@
 
 #include <omp.h>
 
-/* The gain (apply_gain) stays above HIER_GAIN_MIN: the links' column errors
-   are a few 1e-4 of the power at the defaults and some % at coarse
-   settings; the bound only keeps a first step's sums, far from the answer,
-   from darkening every leaf. */
+/* The gain (apply_gain) stays above HIER_GAIN_MIN: the bound only keeps a
+   first step's sums, far from the answer, from darkening every leaf. */
 #define HIER_GAIN_MIN 0.5
 
 int hier_threads(const rad_hier *h)
@@ -137,8 +135,7 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
 /* Sealed: the normalized rows make a uniform radiosity gather exactly
  * itself, but the links' columns are not exact, so a varying one delivers
  * a little more or less power than its sources send, which reflectance
- * near 1 multiplies by up to 1 / (1 - rho) (a percent at 0.99 where a box
- * sits close under a lit ceiling).  So each step multiplies every leaf's
+ * near 1 multiplies by up to 1 / (1 - rho).  So each step multiplies every leaf's
  * normalized irradiance by the gain, the power the leaves send, sum A B
  * with the step's old B, over what reaches them, sum A Hn, per channel (1
  * for a uniform radiosity), held between HIER_GAIN_MIN and the row ceiling
