@@ -218,7 +218,6 @@ struct rad_hier {
     int stepped;
     double last_change;       /* relative */
     double last_bmax;         /* the largest leaf B of the last step */
-    double gain[3];           /* sealed: the last step's gain per channel (solve.c) */
     double T_tail;            /* what the error transport's last step leaves of its
                                  fixed point (absolute; solve.c) */
     double iter_err;          /* what the last step's change leaves of the fixed point

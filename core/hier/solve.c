@@ -104,7 +104,6 @@ void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, 
     *hi = b;
 }
 
-
 /* A leaf takes E + rho cap (value at its centroid), the linear function's
  * mean over the leaf; its slope and variation follow (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
@@ -158,13 +157,13 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
     }
     /* the step contracts by rho_max x gain: held under rad_hier_row_ceiling's
        (1 + 1 / rho_max) / 2, it contracts by (1 + rho_max) / 2 at most */
-    double top = rad_hier_row_ceiling(0, h->rho_max);
+    double top = rad_hier_row_ceiling(0, h->rho_max), gain[3];
     h->st.gain = 1.0;
     for (int c = 0; c < 3; c++) {
         double g = got[c] > 0.0 && isfinite(sent[c]) ? sent[c] / got[c] : 1.0;
-        h->gain[c] = rad_dmin(top, rad_dmax(HIER_GAIN_MIN, g));
-        if (fabs(h->gain[c] - 1.0) > fabs(h->st.gain - 1.0))
-            h->st.gain = h->gain[c];
+        gain[c] = rad_dmin(top, rad_dmax(HIER_GAIN_MIN, g));
+        if (fabs(gain[c] - 1.0) > fabs(h->st.gain - 1.0))
+            h->st.gain = gain[c];
     }
     const double *rho = h->rho, *E = h->E;
     size_t n = h->nroots;
@@ -177,12 +176,12 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
             continue;
         size_t f = (size_t)x->face;
         for (int c = 0; c < 3; c++) {
-            double b = E[f + c * n] + rho[f + c * n] * h->gain[c] * x->Hn[c];
+            double b = E[f + c * n] + rho[f + c * n] * gain[c] * x->Hn[c];
             double d = fabs(b - x->B[c]);
             ch = isfinite(b) ? (d > ch ? d : ch) : INFINITY;
             vm = fabs(b) > vm ? fabs(b) : vm;
             x->B[c] = b;
-            x->gB[c] = rad_vec3_scale(x->gB[c], h->gain[c]);
+            x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
         }
         hier_leaf_var(x);
     }
@@ -246,7 +245,8 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
             d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
         push_pull(h, ch, carry, d0, totg, change, vmax);
     }
-    hier_children_mean(h, e, carry);
+    if (carry != CARRY_B || !h->p.sealed) /* sealed, apply_gain takes the means */
+        hier_children_mean(h, e, carry);
 }
 
 void hier_children_mean(rad_hier *h, int e, int carry)

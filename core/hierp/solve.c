@@ -526,8 +526,9 @@ static size_t drop_unstable(rad_hierp *h)
     return dropped;
 }
 
-/* The leaves' coefficients and charges, saved at (into != 0) or restored
- * from the step whose change was the round's lowest (hp_solve_links). */
+/* Every element's coefficients and charges, saved into `good` (into != 0)
+ * or restored from it (hp_solve_links saves them whenever the change falls
+ * to half the saved state's). */
 static void keep_state(rad_hierp *h, double *good, int into)
 {
     size_t w = 3 * (size_t)HP_M + 3;
