@@ -331,10 +331,10 @@ TEST(cornell_against_the_monte_carlo_reference)
 }
 
 /* --max-tighten sets what accuracy costs: without the oracle's tightening
- * (K 0) the Cornell box at the defaults takes a small share of the links of
- * the default K 3 and is correspondingly less accurate against the Monte
- * Carlo reference (the run above checks that its estimate still bounds its
- * error); the links must fall at least fourfold and the L1 error rise.
+ * (K 0) the Cornell box at the defaults takes a share of the links of the
+ * default K 3 and is correspondingly less accurate against the Monte Carlo
+ * reference (the run above checks that its estimate still bounds its
+ * error); the links must fall at least by half and the L1 error rise.
  * Without the option the table must report the documented default, 3. */
 TEST(cornell_max_tighten_trades_links_for_accuracy)
 {
@@ -377,7 +377,7 @@ TEST(cornell_max_tighten_trades_links_for_accuracy)
         remove(table);
     }
     rmdir(dir);
-    CHECK_MSG(links[0] > 0.0 && 4.0 * links[0] <= links[1], "links %.0f (K 0) against %.0f (K 3)",
+    CHECK_MSG(links[0] > 0.0 && 2.0 * links[0] <= links[1], "links %.0f (K 0) against %.0f (K 3)",
               links[0], links[1]);
     CHECK_MSG(l1[0] > l1[1] && l1[1] >= 0.0, "L1 %.3g (K 0) against %.3g (K 3)", l1[0], l1[1]);
 }
@@ -420,15 +420,65 @@ TEST(cluster_without_tightening_gains_accuracy_with_eps)
     CHECK_MSG(l1[1] <= 0.7 * l1[0], "L1 %.3g at eps 0.025 against %.3g at eps 0.1", l1[1], l1[0]);
 }
 
+/* From its second time on, the oracle quarters a triangle's thresholds
+ * again only where the last quartering moved its mean B by more than eps R
+ * (refine.c): the move stands for the error of the answer before it.  That
+ * premise is checked against the Monte Carlo references: over the first
+ * quartering (--max-tighten 0 against 1, compare's L1 of the one table
+ * against the other) the move must lie within a quarter and twice the L1
+ * error of the answer before it, on 64 boxes and on the Cornell box; and
+ * at the default (3) the later quarterings must go where B still moves, not
+ * everywhere: tightened_share at most 1.5 (each quartering's share of the
+ * area, summed), while the first covers nearly all of it. */
+TEST(tightening_goes_where_the_answer_moves)
+{
+    static const struct { const char *scene, *reference; } cases[] = {
+        {"scenes/many_objects/many_64.obj", "experiments/reference/data/many_64.tsv"},
+        {"scenes/cornell/cornell.obj", "experiments/reference/data/cornell.tsv"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const char *K[3] = {"0", "1", "3"};
+        char table[3][1024];
+        double share = -1.0, times = -1.0;
+        for (int i = 0; i < 3; i++) {
+            char name[64];
+            snprintf(name, sizeof name, "tighten_%zu_%s.tsv", k, K[i]);
+            snprintf(table[i], sizeof table[i], "%s", harness_temp_path(name));
+            char *text = solve_table_text(
+                (const char *[]){harness_path(cases[k].scene), "--method", "cluster",
+                                 "--max-tighten", K[i], "--out", table[i], "--quiet", NULL},
+                table[i]);
+            if (i == 2) {
+                share = header_figure(text, "tightened_share");
+                times = header_figure(text, "tightenings");
+            }
+            free(text);
+        }
+        double err0 = scene_figure(cases[k].scene, cases[k].reference, table[0], "error_l1");
+        double moved = scene_figure(cases[k].scene, table[1], table[0], "error_l1");
+        printf("# %s cluster: L1 %.3e at --max-tighten 0, moved %.3e by the first quartering; "
+               "at the default %.0f quarterings, area share %.4f\n",
+               cases[k].scene, err0, moved, times, share);
+        CHECK_MSG(err0 > 0.0 && moved >= 0.25 * err0 && moved <= 2.0 * err0,
+                  "%s: moved %.3g against an error of %.3g", cases[k].scene, moved, err0);
+        CHECK_MSG(times >= 1.0 && share >= 0.9 && share <= 1.5,
+                  "%s: %.0f quarterings over %.3f of the area", cases[k].scene, times, share);
+        for (int i = 0; i < 3; i++)
+            remove(table[i]);
+    }
+}
+
 /* Where the boxes stand on the Cornell box's floor its radiosity jumps
  * (under a box it is dark and unseen).  hier cuts the floor along the
  * footprints (effect "contact"); without the cut an element that straddles
  * a footprint's edge carries the dark part to the boxes' sides, and every
- * face comes out too dark (papers/accuracy.md).  With the defaults the cut
- * at least halves the L1 error against the Monte Carlo reference for p0 and
- * clusters, and cuts it by a third for p1 (whose linear functions follow
- * part of the jump even across a straddling element), and its run's
- * estimate still bounds the worst face. */
+ * face comes out too dark (papers/accuracy.md).  The cut at least halves
+ * the L1 error against the Monte Carlo reference for p0 and clusters at
+ * eps 0.03 (at the default 0.1 the oracle stops where the triangles' B
+ * stops moving by a tenth of R, and the links' own error hides part of
+ * the cut's gain), and cuts it by a third for p1 at its defaults (whose
+ * linear functions follow part of the jump even across a straddling
+ * element), and its run's estimate still bounds the worst face. */
 TEST(cornell_contact_cut_against_the_monte_carlo_reference)
 {
     char dir[] = "/tmp/radkit-contact-XXXXXX";
@@ -437,9 +487,9 @@ TEST(cornell_contact_cut_against_the_monte_carlo_reference)
         return;
     }
     struct { const char *name; const char *args[6]; double l1, worst, gain; } runs[] = {
-        {"hier", {"--method", "hier", NULL}, 0.0025, 0.025, 0.5},
+        {"hier", {"--method", "hier", "--eps", "0.03", NULL}, 0.004, 0.04, 0.5},
         {"hier-p1", {"--method", "hier", "--basis", "p1", NULL}, 0.0025, 0.025, 2.0 / 3.0},
-        {"cluster", {"--method", "cluster", NULL}, 0.0025, 0.025, 0.5},
+        {"cluster", {"--method", "cluster", "--eps", "0.03", NULL}, 0.004, 0.04, 0.5},
     };
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
         double l1[2] = {-1, -1}, worst = -1, est = -1;
@@ -715,9 +765,9 @@ static void one_box_reference(const char *name, char scene[1024], char reference
  * quarter of the box's size over them: the patches under the side and the
  * top become pieces of their own, whose elements no longer average them
  * with the lit surface around.  At the defaults hier's and cluster's worst
- * face must be within 8% of R of a Monte Carlo run and under the
- * estimate. */
-TEST(box_side_beside_a_wall_within_8_percent)
+ * face must be within eps R (eps 0.1, the default) of a Monte Carlo run and
+ * under the estimate. */
+TEST(box_side_beside_a_wall_within_eps)
 {
     char scene[1024], reference[1024];
     one_box_reference("box_beside_wall", scene, reference);
@@ -732,7 +782,7 @@ TEST(box_side_beside_a_wall_within_8_percent)
         double se = scene_figure(scene, reference, table, "reference_se_worst");
         printf("# box beside a wall, %s: worst face %.3e (reference se %.1e), estimate %.3e\n",
                methods[k], worst, se, est);
-        CHECK_MSG(worst >= 0.0 && worst <= 0.08, "%s: worst face %.3g", methods[k], worst);
+        CHECK_MSG(worst >= 0.0 && worst <= 0.1, "%s: worst face %.3g", methods[k], worst);
         CHECK_MSG(est >= worst - 3.0 * se, "%s: estimate %.3g below the worst face %.3g",
                   methods[k], est, worst);
         remove(table);

@@ -210,6 +210,8 @@ struct rad_hier {
     double *rho, *E;          /* per input triangle, ntris x 3 */
     double E_max, rho_max;
     double *face_scale;       /* per input triangle, the ERROR oracle's threshold scale */
+    double *tight_B;          /* per input triangle x 3, its mean B when the oracle last
+                                 tightened (refine.c), or NULL before the first time */
     hier_elem *el;
     size_t nel, capel;
     hier_link *ln;

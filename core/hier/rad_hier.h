@@ -39,8 +39,12 @@
  *  - ERROR (default): a link is refined when its share of an input
  *    triangle's bound exceeds link_share x eps R; when nothing is above,
  *    the thresholds of the triangles still above eps R are tightened and
- *    refinement goes on, until every triangle meets eps R or nothing more
- *    can be split (min_area or max_depth: links_bound says so).
+ *    refinement goes on; from the second tightening on, only where the
+ *    last one moved the triangle's mean B by more than eps R (the bound
+ *    stays far above the error and does not say where it lies; the move
+ *    estimates the error of the answer before it).  It ends when no
+ *    triangle is left to tighten, at max_tighten, or when nothing more can
+ *    be split (min_area or max_depth: links_bound says so).
  *  - BF (HSA 1991): a link is refined when the radiosity it brings,
  *    rho F B_s, exceeds eps R (the larger element is split).  eps is then a
  *    per-link threshold; the bound is still computed and reported.
@@ -187,8 +191,10 @@ typedef struct rad_hier_params {
                              error estimate carries as its iteration part), or at
                              tol where that is looser; 0: at tol.  Default 0.01 */
     int max_tighten;      /* ERROR: an input triangle whose bound still exceeds eps when
-                             no link wants refining has its thresholds quartered, at most
-                             this many times (default 3: 64-fold) */
+                             no link wants refining (and, after the first time, whose
+                             mean B the last tightening moved by more than eps R) has
+                             its thresholds quartered, at most this many times
+                             (default 3: 64-fold) */
     int clip_blockers;    /* an element link whose shaft holds at most this many blockers
                              clips each point's view of the other element exactly; beyond
                              it (or past the clipping's work budget) the view is sampled

@@ -376,6 +376,7 @@ void rad_hier_destroy(rad_hier *h)
     rad_hier_memo_destroy(h->memo);
     free(h->normal);
     free(h->face_scale);
+    free(h->tight_B);
     hier_cluster_destroy(h);
     hier_share_destroy(h);
     free(h->el);

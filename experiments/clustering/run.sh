@@ -18,14 +18,12 @@
 #    each size run LOOSE_REPEAT times, the fastest kept: this machine's
 #    times move by up to a fifth from run to run).
 #    Part "range": cluster (oriented) at the defaults (eps EPS, the default
-#    --max-tighten) on RANGE_SIZES boxes (300 and 1 000: 3 612 and 12 012
-#    triangles, the bottom of issue 17's slope range, 3.6k to 36k; 3 000
-#    boxes would take about 60 million links), one run each, the slope of
-#    links and time between them (data/scaling_range.dat, method
-#    cluster-defaults in data/slopes.dat; about 5 minutes, 4 GB); and the
-#    same eps without tightening (--max-tighten 0) on RANGE_SIZES_K0 boxes
-#    (300, 1 000 and 3 000: the whole range; method cluster-eps-K0, about
-#    a minute, 1.3 GB).
+#    --max-tighten) on RANGE_SIZES boxes (300, 1 000 and 3 000: 3 612,
+#    12 012 and 36 012 triangles, issue 17's slope range), one run each, the
+#    log-log slope of links and time over them (data/scaling_range.dat,
+#    method cluster-defaults in data/slopes.dat; about 5 minutes, 4 GB); and
+#    the same eps without tightening (--max-tighten 0) on RANGE_SIZES_K0
+#    boxes (the same sizes; method cluster-eps-K0, about a minute, 1.3 GB).
 # 2. Accuracy against the Monte Carlo references of experiments/reference:
 #    the Cornell box and many_64 (64 coloured boxes in a lit room), hier and
 #    cluster (both models) at each of EPS_ACC: error_l1, error_worst and
@@ -80,7 +78,7 @@ EPS_ROOM=${EPS_ROOM:-"1 0.3 0.1"} # many_343 (4 128 triangles) with cluster (ori
 EPS_LARGE=${EPS_LARGE:-"1000:0 10:0 3:0 1:0 0.3:0 0.1:0"} # many_1000 (12 012 triangles): eps:K, cluster (oriented) only
 TIGHTEN=${TIGHTEN:-"0 1 2 3"}   # --max-tighten values on many_343 (3 is the default)
 EPS_TIGHTEN=${EPS_TIGHTEN:-0.1}
-RANGE_SIZES=${RANGE_SIZES:-"300 1000"}
+RANGE_SIZES=${RANGE_SIZES:-"300 1000 3000"}
 RANGE_SIZES_K0=${RANGE_SIZES_K0:-"300 1000 3000"}
 LOOSE_SIZES=${LOOSE_SIZES:-"343 1000 3000"}
 LOOSE_EPS=${LOOSE_EPS:-1}
