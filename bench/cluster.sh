@@ -5,8 +5,8 @@
 #    (eps 0.1) for hier without clusters and for cluster (oriented, iso),
 #    and the log-log slopes of links and time (targets from 3.6k to 36k
 #    triangles: links n^1.15, time n^1.3; 120k triangles in 2 min and 6 GB);
-#  - cluster at the defaults on 300 and 1 000 boxes (3 612 and 12 012
-#    triangles, the bottom of the slope targets' range) and its slopes;
+#  - cluster at the defaults on 300, 1 000 and 3 000 boxes (3 612 to
+#    36 012 triangles, the slope targets' range) and its slopes;
 #  - the same for cluster at a preview setting (eps 1, --max-tighten 0) on
 #    343, 1 000 and 3 000 boxes (4 128 to 36 012 triangles), with its error
 #    on the room of 343 boxes;
@@ -35,7 +35,7 @@ data="$ROOT/experiments/clustering/data"
   echo "# cluster bench: $("$RADKIT" --version), $(sh "$ROOT/scripts/machine.sh"); from experiments/clustering"
   echo "# rooms of N boxes (scenes/gen/many_objects.py), eps 0.1: links (pairs), wall time, peak memory"
   grep -v '^#' "$data/scaling.dat"
-  echo "# cluster in the slope targets' range at eps 0.1: the defaults (--max-tighten 3) on 300 and 1 000 boxes (3 612 and 12 012 triangles), and without tightening (cluster-eps-K0) on 300, 1 000 and 3 000 (36 012)"
+  echo "# cluster in the slope targets' range at eps 0.1: the defaults (--max-tighten 3) and without tightening (cluster-eps-K0) on 300, 1 000 and 3 000 boxes (3 612, 12 012 and 36 012 triangles)"
   grep -v '^#' "$data/scaling_range.dat"
   echo "# the same at a preview setting: cluster, eps 1, --max-tighten 0 (error, worst, power against many_343's reference, 343 boxes only)"
   grep -v '^#' "$data/scaling_loose.dat"

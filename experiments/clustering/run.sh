@@ -102,6 +102,9 @@ done
 cd "$here"
 mkdir -p data figures
 version=$("$RADKIT" --version)
+# the commit whose tree ran the part (a "-dirty" suffix: with changes not
+# committed), so that tables made by different builds say so
+commit=$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/radkit-clustering.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cp "$root/scenes/many_objects/many_objects.mtl" "$tmp/"
@@ -128,7 +131,7 @@ awk -F'\t' '!/^#/ && $1 != "method" {
 table_head() {
   {
     echo "# experiment = $2"
-    echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+    echo "# generator = $version, commit $commit; machine = $(sh "$root/scripts/machine.sh")"
     echo "# $3"
     printf '%s\n' "$4"
   } > "$1"
@@ -365,7 +368,7 @@ if want furnace; then
   fur=data/furnace.dat
   {
     echo "# experiment = clustering furnaces: rooms of boxes, every surface E = 1, rho = $FURNACE_RHO (exact B = 1 / (1 - rho))"
-    echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+    echo "# generator = $version, commit $commit; machine = $(sh "$root/scripts/machine.sh")"
     printf 'boxes\tfaces\teps\tlinks\tlinks_cluster\ttime_s\tmemory_bytes\tmax_error\tmean_error\n'
   } > "$fur"
   mkdir -p "$tmp/furnace"
