@@ -99,6 +99,8 @@ static const char help_head[] =
     "                   further above --eps.  The table's\n"
     "                   tightenings and tightened_share say how often, and over\n"
     "                   how much of the area (summed), the oracle tightened\n"
+    "                   (one triangle at most K times, different triangles\n"
+    "                   in different tightenings)\n"
     "  --clip-blockers N  hier, cluster: an element link whose shaft holds at\n"
     "                   most N triangles clips each point's view of the other\n"
     "                   element exactly; past N (or the clipping's work budget)\n"

@@ -282,7 +282,9 @@ typedef struct rad_hier_stats {
     double time_comm_s;   /* exchanges between processes (params.exchange), inside the
                              three times above; 0 for one process */
     int tightenings;      /* ERROR: the oracle's tightenings, each quartering the
-                             thresholds of some input triangles (at most max_tighten) */
+                             thresholds of some input triangles (each triangle's at
+                             most max_tighten times; different triangles' in different
+                             tightenings, so there may be more than max_tighten) */
     double tightened_share; /* the sum over the tightenings of the share of the scene's
                              area each quarters (0 .. tightenings) */
     double gain;          /* sealed: the last step's gain farthest from 1 over the
