@@ -4,7 +4,7 @@
 # on one thread.  Wall time on a shared machine swings by 20-50% from hour to
 # hour; the count repeats to 0.1%, so it compares builds and bases where the
 # timings cannot.  For each basis, the runs at the eps that bracket 0.25%
-# (p0: 0.22 .. 0.12, p1: 0.27 .. 0.15, the E12 steps of experiments/bases;
+# (p0: 0.039 .. 0.022, p1: 0.27 .. 0.15, the E12 steps of experiments/bases;
 # BENCH_P0_EPS, BENCH_P1_EPS), their L1
 # against the Monte Carlo reference, and the count at 0.25% interpolated
 # log-log as experiments/bases does for time (scripts/time_to_target.awk).  Valgrind is installed when
@@ -15,7 +15,7 @@ set -eu
 RADKIT=${1:?usage: bench/instructions.sh path/to/radkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 TSV="$ROOT/bench/instructions.tsv"
-P0_EPS=${BENCH_P0_EPS:-"0.22 0.18 0.15 0.12"}
+P0_EPS=${BENCH_P0_EPS:-"0.039 0.033 0.027 0.022"}
 P1_EPS=${BENCH_P1_EPS:-"0.27 0.22 0.18 0.15"}
 GOAL=0.0025
 sh "$ROOT/scripts/deps.sh" valgrind
