@@ -211,10 +211,11 @@ static void warn_target(const rad_solution *s)
                     "the mean reflected radiosity) exceeds --eps %g", hs->bound_face_max,
             s->used.hier.eps);
     int k = s->used.hier.max_tighten;
-    char tightened[96];
+    char tightened[192];
     if (k > 0)
-        snprintf(tightened, sizeof tightened, "the oracle tightened its thresholds at most "
-                 "%.0f-fold (--max-tighten %d)", pow(4.0, k), k);
+        snprintf(tightened, sizeof tightened, "the oracle tightened a triangle's thresholds at "
+                 "most %.0f-fold (--max-tighten %d), again only where its B still moved by "
+                 "more than eps R", pow(4.0, k), k);
     else
         snprintf(tightened, sizeof tightened, "the oracle did not tighten its thresholds "
                  "(--max-tighten 0)");
