@@ -370,8 +370,10 @@ rad_status hier_cluster_local(rad_hier *h);
 
 /* ---- refine.c ---- */
 /* Quarter the threshold scale of the input triangles whose bound exceeds
- * eps R; returns how many (0: none fails, or none may be tightened). */
-int hier_tighten_failing(rad_hier *h);
+ * eps R (after the first time, only where their B moved by more than eps R
+ * since the last); *count: how many (0: none fails, or none may be
+ * tightened). */
+rad_status hier_tighten_failing(rad_hier *h, int *count);
 
 /* ---- exchange.c: the work shared among processes (rad_hier_exchange) ---- */
 /* 1 when params.exchange shares the work among two or more processes. */

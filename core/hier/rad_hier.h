@@ -40,8 +40,7 @@
  *    triangle's bound exceeds link_share x eps R; when nothing is above,
  *    the thresholds of the triangles still above eps R are tightened and
  *    refinement goes on; from the second tightening on, only where the
- *    last one moved the triangle's mean B by more than eps R (the bound
- *    stays far above the error and does not say where it lies; the move
+ *    last one moved the triangle's mean B by more than eps R (the move
  *    estimates the error of the answer before it).  It ends when no
  *    triangle is left to tighten, at max_tighten, or when nothing more can
  *    be split (min_area or max_depth: links_bound says so).

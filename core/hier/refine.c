@@ -14,9 +14,10 @@
  * input triangle whose bound still exceeds eps R and, from the second time
  * on, whose mean B the last quartering moved by more than eps R (at most
  * max_tighten times; hier_tighten_failing): refinement goes where the
- * answer still moves, and stops where the minimum area or depth binds.  (A pointwise target, the same for every
- * element, would link each small element to all the small elements around
- * it: links would grow like leaves^2.)
+ * answer still moves, and stops where the minimum area or depth binds.  (A
+ * pointwise target, the same for every element, would link each small
+ * element to all the small elements around it: links would grow like
+ * leaves^2.)
  * BF (HSA 1991).  A link is refined when the radiosity it brings either way,
  * rho F B, exceeds eps R.
  *
@@ -79,18 +80,21 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
  * 4 each time, at most max_tighten times.  The bound's iteration part is left
  * out: refining does not reduce it, the last solve (to final_share eps R) does.
  * From the second time on, a triangle is tightened again only where its mean
- * B moved by more than eps R (in some channel) since the last time: that move
+ * B moved by more than eps R (in some channel) since the last time: the move
  * is what the last quartering corrected of the answer before it, an estimate
- * of that answer's error, while the bound, a sum of every link's worst case
- * carried through every bounce, stays far above the error and does not say
- * where it lies (papers/clustering.md).  Returns how many were tightened (0:
- * none fails, or none may be tightened further). */
-int hier_tighten_failing(rad_hier *h)
+ * of that answer's error where refining converges, and unlike the bound (a
+ * sum of every link's worst case carried through every bounce) it is large
+ * where the error is.  *count: how many were tightened (0: none fails, or
+ * none may be tightened further). */
+rad_status hier_tighten_failing(rad_hier *h, int *count)
 {
     size_t n = h->nroots;
+    *count = 0;
+    if (!h->tight_B && !(h->tight_B = calloc(3 * n, sizeof *h->tight_B)))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the tightening of %zu triangles", n);
     double *area = calloc(7 * n, sizeof *area);
     if (!area)
-        return 0;
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the tightening of %zu triangles", n);
     double *bound = area + n, *B = area + 4 * n, target = h->p.eps * hier_reflected_scale(h);
     for (size_t e = 0; e < h->nel; e++) {
         const hier_elem *x = &h->el[e];
@@ -102,34 +106,29 @@ int hier_tighten_failing(rad_hier *h)
             B[3 * (size_t)x->face + (size_t)c] += x->area * x->B[c];
         }
     }
-    const double *last = h->tight_B;
-    if (!h->tight_B)
-        h->tight_B = malloc(3 * n * sizeof *h->tight_B); /* without it: the bound alone */
-    int tightened = 0;
-    double total = 0.0, quartered = 0.0;
+    int first = h->st.tightenings == 0, tightened = 0;
+    double total = 0.0, quartered = 0.0, finest = pow(0.25, h->p.max_tighten) * 1.0001;
     for (size_t f = 0; f < n; f++) {
         double b = 0.0, moved = 0.0;
         for (int c = 0; c < 3; c++) {
             size_t i = 3 * f + (size_t)c;
             B[i] = area[f] > 0.0 ? B[i] / area[f] : 0.0;
             b = rad_dmax(b, area[f] > 0.0 ? bound[i] / area[f] : 0.0);
-            if (last)
-                moved = rad_dmax(moved, fabs(B[i] - last[i]));
+            moved = rad_dmax(moved, fabs(B[i] - h->tight_B[i]));
         }
         total += area[f];
-        if (b - h->iter_err > target && (!last || moved > target) &&
-            h->face_scale[f] > pow(0.25, h->p.max_tighten) * 1.0001) {
+        if (b - h->iter_err > target && (first || moved > target) && h->face_scale[f] > finest) {
             h->face_scale[f] *= 0.25;
             quartered += area[f];
             tightened++;
         }
     }
-    if (h->tight_B)
-        memcpy(h->tight_B, B, 3 * n * sizeof *B);
+    memcpy(h->tight_B, B, 3 * n * sizeof *B);
     free(area);
     h->st.tightenings += tightened > 0;
     h->st.tightened_share += total > 0.0 ? quartered / total : 0.0;
-    return tightened;
+    *count = tightened;
+    return RAD_OK;
 }
 
 /* Drop the replaced links from links[from ..) keeping their order (so

@@ -1146,7 +1146,9 @@ rad_status rad_hier_solve(rad_hier *h)
             h->p.max_tighten > 0) {
             /* nothing left above the thresholds: where the bound still exceeds
                eps R, tighten them (refine.c) and go on */
-            if ((st = hier_error_estimate(h, 0)) == RAD_OK && hier_tighten_failing(h) > 0)
+            int tightened = 0;
+            if ((st = hier_error_estimate(h, 0)) == RAD_OK &&
+                (st = hier_tighten_failing(h, &tightened)) == RAD_OK && tightened > 0)
                 st = rad_hier_refine(h, &n);
         }
         if (st != RAD_OK || n == 0)
