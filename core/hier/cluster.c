@@ -1183,16 +1183,16 @@ void hier_cluster_destroy(rad_hier *h)
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* Add v to what element e gathered: B (Bg), T (Tg) or the row (Bg[0]); with
- * one channel carried, v[0] is each channel's. */
+/* Add v to what element e gathered through cluster links: B (Cg), T (Tg)
+ * or the row (Cg[0]); with one channel carried, v[0] is each channel's. */
 static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
 {
     hier_elem *x = &h->el[e];
     if (carry == CLUSTER_ONE) {
-        x->Bg[0] += v[0];
+        x->Cg[0] += v[0];
         return;
     }
-    double *g = carry == CLUSTER_T ? x->Tg : x->Bg;
+    double *g = carry == CLUSTER_T ? x->Tg : x->Cg;
     for (int c = 0; c < 3; c++)
         g[c] += v[h->cchannels == 1 ? 0 : c];
 }

@@ -21,8 +21,13 @@ typedef struct hier_elem {
     double B[3];             /* radiosity (area average) */
     double Hn[3];            /* leaf, sealed: the step's normalized irradiance, cap x the
                                 gathered value, before the gain (solve.c) */
-    double Bg[3];            /* irradiance gathered by its own links, at the centroid ... */
+    double Bg[3];            /* irradiance gathered by its own element links, at the
+                                centroid ... */
     rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
+    double Cg[3];            /* irradiance its cluster links brought (constant over the
+                                element; the row in Cg[0]): kept apart from Bg because
+                                it is the estimated part, onto which a leaf's row
+                                defect goes (solve.c's row_scales) */
     rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
                                 the gathered gradient (the variation P0 leaves
                                 unresolved); on an inner element, the linear fit of its
@@ -38,6 +43,7 @@ typedef struct hier_elem {
                                 sum where that exceeds it (sealed: always), else 1 */
     double row0;             /* leaf: its row sum (the push of B = 1) at the centroid ... */
     rad_vec3 rowg;           /* ... and its gradient */
+    double rowc;             /* leaf: the part of row0 the cluster links bring */
     double q[3], d[3], dr[3];/* local error bounds gathered by its own links:
                                 q: F's own error (conservation); d (squared): the
                                 sources' variation; dr: the linear fits'
@@ -361,7 +367,7 @@ void hier_cluster_destroy(rad_hier *h);
 rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
 /* Add what the cluster links bring to what the elements gathered (Bg, Tg),
  * every end carrying: CLUSTER_B its radiosity, CLUSTER_T its transported
- * error, CLUSTER_ONE 1 (the rows, into Bg[0]); clusters pull theirs from
+ * error, CLUSTER_ONE 1 (the rows, into Cg[0]); clusters pull theirs from
  * the roots, and push what they gather down to them. */
 enum { CLUSTER_B, CLUSTER_T, CLUSTER_ONE };
 rad_status hier_cluster_gather(rad_hier *h, int carry);

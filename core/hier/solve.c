@@ -104,29 +104,56 @@ void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, 
     *hi = b;
 }
 
-/* A leaf takes E + rho cap (value at its centroid), the linear function's
- * mean over the leaf; its slope and variation follow (see hier_elem). */
+/* Leaf x's scales of what its element links brought (*se) and what its
+ * cluster links brought (*sc).  Where its row exceeds the ceiling (sealed:
+ * 1; open: rad_hier_row_ceiling) the excess comes off the cluster part
+ * first, down to nothing, and only then off the element part; elsewhere
+ * both take cap, the ceiling over the row (sealed: a row short of 1 is
+ * scaled up whole).  Either way a uniform radiosity gathers to the ceiling
+ * times itself.  The element links' F are integrals with a small error;
+ * the cluster links' are estimates that may be off by their whole value,
+ * and a receiving cluster does not see its own triangles hide one another:
+ * a face in a narrow gap whose element links bring 0.9 of its row keeps
+ * them whole instead of losing a third to the excess of the cluster links
+ * around it. */
+static void row_scales(const rad_hier *h, const hier_elem *x, double *se, double *sc)
+{
+    double top = rad_hier_row_ceiling(h->p.sealed, h->rho_max), rc = x->rowc;
+    *se = *sc = x->cap;
+    if (!(rc > 0.0) || !(x->row0 > top))
+        return;
+    double re = x->row0 - rc;
+    *se = re < top ? 1.0 : top / re; /* re >= top > 0 */
+    *sc = re < top ? (top - re) / rc : 0.0;
+}
+
+/* A leaf takes E + rho (se x its element links' value at its centroid + sc
+ * x its cluster links'), the linear function's mean over the leaf; its
+ * slope and variation follow (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
-                   double *change, double *vmax)
+                   const double totc[3], double *change, double *vmax)
 {
     const double *rho = h->rho, *E = h->E;
     size_t n = h->nroots, f = (size_t)x->face;
+    double se, sc;
+    row_scales(h, x, &se, &sc);
     for (int c = 0; c < 3; c++) {
-        double r = rho[f + c * n];
+        double r = rho[f + c * n], got = se * tot0[c] + sc * totc[c];
         if (h->p.sealed) { /* B waits for the step's gain (apply_gain) */
-            x->Hn[c] = x->cap * tot0[c];
+            x->Hn[c] = got;
             rad_vec3 g = totg[c];
-            if (x->row0 > 0.0)
-                g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / x->row0));
-            x->gB[c] = rad_vec3_scale(g, r * x->cap);
+            double re = x->row0 - x->rowc;
+            if (re > 0.0)
+                g = rad_vec3_sub(g, rad_vec3_scale(x->rowg, tot0[c] / re));
+            x->gB[c] = rad_vec3_scale(g, r * se);
             continue;
         }
-        double b = E[f + c * n] + r * x->cap * tot0[c];
+        double b = E[f + c * n] + r * got;
         /* a non-finite b makes the change infinite, which the caller reports */
         *change = isfinite(b) ? rad_dmax(*change, fabs(b - x->B[c])) : INFINITY;
         *vmax = rad_dmax(*vmax, fabs(b));
         x->B[c] = b;
-        x->gB[c] = rad_vec3_scale(totg[c], r * x->cap);
+        x->gB[c] = rad_vec3_scale(totg[c], r * se);
     }
     hier_leaf_var(x);
 }
@@ -215,24 +242,26 @@ static void leaf_T(rad_hier *h, hier_elem *x, const double tot0[3], double *chan
 }
 
 /* Push the ancestors' gathered linear function (down0 + downg . (x - c_e),
- * re-centred at e) to the leaves under e, update them, and pull the
- * area-weighted mean back up; accumulates the largest leaf change and the
- * largest leaf value. */
+ * re-centred at e; B: and the constant their cluster links brought, downc)
+ * to the leaves under e, update them, and pull the area-weighted mean back
+ * up; accumulates the largest leaf change and the largest leaf value. */
 static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
-                      const rad_vec3 downg[3], double *change, double *vmax)
+                      const rad_vec3 downg[3], const double downc[3], double *change,
+                      double *vmax)
 {
     hier_elem *x = &h->el[e];
     const double *g0 = carry == CARRY_B ? x->Bg : x->Tg;
     const rad_vec3 *gg = carry == CARRY_B ? x->Gg : x->TGg;
-    double tot0[3];
+    double tot0[3], totc[3];
     rad_vec3 totg[3];
     for (int c = 0; c < 3; c++) {
         tot0[c] = down0[c] + g0[c];
         totg[c] = rad_vec3_add(downg[c], gg[c]);
+        totc[c] = downc[c] + (carry == CARRY_B ? x->Cg[c] : 0.0);
     }
     if (x->first_child < 0) {
         if (carry == CARRY_B)
-            leaf_B(h, x, tot0, totg, change, vmax);
+            leaf_B(h, x, tot0, totg, totc, change, vmax);
         else
             leaf_T(h, x, tot0, change, vmax);
         return;
@@ -243,7 +272,7 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
         rad_vec3 delta = rad_vec3_sub(h->el[ch].c, h->el[e].c);
         for (int c = 0; c < 3; c++)
             d0[c] = tot0[c] + rad_vec3_dot(totg[c], delta);
-        push_pull(h, ch, carry, d0, totg, change, vmax);
+        push_pull(h, ch, carry, d0, totg, totc, change, vmax);
     }
     if (carry != CARRY_B || !h->p.sealed) /* sealed, apply_gain takes the means */
         hier_children_mean(h, e, carry);
@@ -264,22 +293,25 @@ void hier_children_mean(rad_hier *h, int e, int carry)
         v[c] = area > 0.0 ? sum[c] / area : 0.0;
 }
 
-/* Push the gathered form factors (value and gradient) down to the leaves. */
-static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg)
+/* Push the gathered form factors (value and gradient; the cluster links'
+ * part, a constant, apart) down to the leaves. */
+static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg, double downc)
 {
     hier_elem *x = &h->el[e];
-    double tot0 = down0 + x->Bg[0];
+    double tot0 = down0 + x->Bg[0], totc = downc + x->Cg[0];
     rad_vec3 totg = rad_vec3_add(downg, x->Gg[0]);
     if (x->first_child < 0) {
-        double top = rad_hier_row_ceiling(h->p.sealed, h->rho_max);
-        x->cap = tot0 > top || (h->p.sealed && tot0 > 0.0) ? top / tot0 : 1.0;
-        x->row0 = tot0;
+        double top = rad_hier_row_ceiling(h->p.sealed, h->rho_max), row = tot0 + totc;
+        x->cap = row > top || (h->p.sealed && row > 0.0) ? top / row : 1.0;
+        x->row0 = row;
+        x->rowc = totc;
         x->rowg = totg;
         return;
     }
     for (int k = 0; k < 4; k++) {
         int ch = h->el[e].first_child + k;
-        push_rows(h, ch, tot0 + rad_vec3_dot(totg, rad_vec3_sub(h->el[ch].c, h->el[e].c)), totg);
+        push_rows(h, ch, tot0 + rad_vec3_dot(totg, rad_vec3_sub(h->el[ch].c, h->el[e].c)), totg,
+                  totc);
     }
 }
 
@@ -300,7 +332,7 @@ rad_status hier_row_caps(rad_hier *h)
     int threads = hier_threads(h);
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++) {
-        h->el[e].Bg[0] = 0.0;
+        h->el[e].Bg[0] = h->el[e].Cg[0] = 0.0;
         h->el[e].Gg[0] = zero_v;
     }
     rad_status st;
@@ -332,7 +364,7 @@ rad_status hier_row_caps(rad_hier *h)
     int chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
-        push_rows(h, (int)t, 0.0, zero_v);
+        push_rows(h, (int)t, 0.0, zero_v, 0.0);
     return RAD_OK;
 }
 
@@ -544,7 +576,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
     int chunk = hier_root_chunk(hi - lo, threads);
 #pragma omp parallel for schedule(dynamic, chunk) reduction(max : ch, vm) num_threads(threads) if (h->nel > 64 && hi - lo > 1)
     for (long long t = (long long)lo; t < (long long)hi; t++)
-        push_pull(h, (int)t, carry, zero, zerog, &ch, &vm);
+        push_pull(h, (int)t, carry, zero, zerog, zero, &ch, &vm);
     *change = ch;
     *vmax = vm;
     if (split && (st = hier_split_exchange(h, carry, change, vmax)) != RAD_OK)
@@ -566,7 +598,7 @@ rad_status rad_hier_step(rad_hier *h)
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++)
         for (int c = 0; c < 3; c++) {
-            h->el[e].Bg[c] = 0.0;
+            h->el[e].Bg[c] = h->el[e].Cg[c] = 0.0;
             h->el[e].Gg[c] = zero_v;
         }
     double change = 0.0, bmax = 0.0;

@@ -182,7 +182,7 @@ rad_status hier_split(rad_hier *h, int e)
         x->depth = par.depth + 1;
         x->cap = 1.0;
         for (int c3 = 0; c3 < 3; c3++) {
-            x->Bg[c3] = x->q[c3] = x->d[c3] = x->Tg[c3] = 0.0;
+            x->Bg[c3] = x->Cg[c3] = x->q[c3] = x->d[c3] = x->Tg[c3] = 0.0;
             x->Gg[c3] = x->gB[c3] = rad_vec3_make(0.0, 0.0, 0.0);
         }
     }
