@@ -456,13 +456,11 @@ TEST(scene_effects_plan_decisions)
 
 /* Clustering for hier is decided by the pairs facing each other (pairs_total
  * minus pairs_facing_away, checked against a brute force below) against a
- * threshold that depends on whether anything can block and on the oracle's
- * tightening: the Cornell box (occluded, 38 triangles) is on once
- * cluster_min_pairs_tightened (tightening on, the default) or
- * cluster_min_pairs (off) is lowered to its own count of facing pairs and
- * off one pair above, each threshold read only in its own case; the cube
- * (nothing blocks) follows cluster_min_pairs_clear instead; above the scan
- * limit, where pairs are not counted, it is on whatever the thresholds. */
+ * threshold that depends on whether anything can block: the Cornell box
+ * (occluded, 38 triangles) is on once cluster_min_pairs is lowered to its
+ * own count of facing pairs and off one pair above; the cube (nothing
+ * blocks) follows cluster_min_pairs_clear instead; above the scan limit,
+ * where pairs are not counted, it is on whatever the thresholds. */
 TEST(scene_effects_clustering_by_facing_pairs)
 {
     rad_effects_plan plan;
@@ -471,20 +469,11 @@ TEST(scene_effects_clustering_by_facing_pairs)
     CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
     double facing = (double)(plan.pairs_total - plan.pairs_facing_away);
     CHECK(plan.occlusion.on == 1 && facing > 0.0 && plan.clustering.on == 0);
-    ep.cluster_min_pairs = 1.0; /* not read with tightening */
-    ep.cluster_min_pairs_tightened = facing;
-    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
-    CHECK_MSG(plan.clustering.on == 1 && strstr(plan.clustering.reason, "tightened"), "%s",
-              plan.clustering.reason);
-    ep.cluster_min_pairs_tightened = facing + 1.0;
-    CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
-    CHECK(plan.clustering.on == 0);
-    ep.tightening = 0;
-    ep.cluster_min_pairs_tightened = 1.0; /* not read without tightening */
+    ep.cluster_min_pairs_clear = 1.0; /* not read where faces can block */
     ep.cluster_min_pairs = facing;
     CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);
     CHECK_MSG(plan.clustering.on == 1 && strstr(plan.clustering.reason, "face each other") &&
-                  !strstr(plan.clustering.reason, "tightened"),
+                  strstr(plan.clustering.reason, "can block"),
               "%s", plan.clustering.reason);
     ep.cluster_min_pairs = facing + 1.0;
     CHECK(plan_for("scenes/cornell/cornell.obj", &ep, &plan) == RAD_OK);

@@ -33,16 +33,13 @@
  *     refinement keeps.  Where nothing can block (a convex enclosure) a
  *     cluster link's rays always agree and its terms stay small, so the
  *     layer pays from a few ten thousand facing pairs.  Among occluders the
- *     cluster links' errors refine most pairs down to elements where the
- *     oracle tightens its thresholds, so the layer costs more than hier
- *     there until hier's first links grow too many, and saves them at once
- *     without the tightening (papers/clustering.md, "when the layer pays",
- *     has the measurements).  So clustering is on from
- *     cluster_min_pairs_tightened facing pairs (5e6) where faces can block
- *     each other and the solve tightens (tightening), from
- *     cluster_min_pairs (2.5e5) where they can block and it does not, from
- *     cluster_min_pairs_clear (2e4) where nothing can block, and always
- *     above the scan limit (pairs not counted).  The solve pipeline
+ *     cluster links' errors refine many pairs down to elements, so the
+ *     layer pays later, once hier's first links are some hundred thousand
+ *     (papers/clustering.md, "when the layer pays", has the measurements).
+ *     So clustering is on from cluster_min_pairs (2.5e5) facing pairs where
+ *     faces can block each other, from cluster_min_pairs_clear (2e4) where
+ *     nothing can block, and always above the scan limit (pairs not
+ *     counted).  The solve pipeline
  *     settles it for the method (only hier with constant elements acts on
  *     it; --method cluster forces it on).
  *  7. Contact.  Where a triangle stands on another's inside (a box on a
@@ -68,8 +65,6 @@ void rad_scene_effects_params_default(rad_effects_params *p)
     p->pair_scan_max_faces = 20000;
     p->cluster_min_pairs = 2.5e5;
     p->cluster_min_pairs_clear = 2e4;
-    p->cluster_min_pairs_tightened = 5e6;
-    p->tightening = 1;
     p->grey_tol = 1e-12;
     p->plane_rel_tol = 1e-12;
     p->near_one = 0.5;
@@ -282,9 +277,7 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
         plan->tighten = fmin(1.0, (1.0 - rho_max) / (1.0 - params->near_one));
     /* 6. clustering */
     int clear = !plan->occlusion.on;
-    double from = clear                ? params->cluster_min_pairs_clear
-                  : params->tightening ? params->cluster_min_pairs_tightened
-                                       : params->cluster_min_pairs;
+    double from = clear ? params->cluster_min_pairs_clear : params->cluster_min_pairs;
     if (plan->pairs_facing_away >= 0) {
         double facing = (double)(plan->pairs_total - plan->pairs_facing_away);
         int many = facing >= from;
@@ -292,10 +285,7 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
                  "%.3g such pairs %s; see papers/clustering.md)", facing,
                  many ? "links start from a cluster hierarchy instead of linking them all first"
                       : "hierarchical radiosity links them all first",
-                 from, clear               ? "where nothing can block"
-                       : params->tightening ? "where faces can block each other and the "
-                                              "thresholds are tightened"
-                                            : "where faces can block each other");
+                 from, clear ? "where nothing can block" : "where faces can block each other");
         settle(&plan->clustering, params->clustering, many, why);
     } else {
         snprintf(why, sizeof why, "%d input triangles, more than the %d up to which facing pairs "

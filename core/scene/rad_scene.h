@@ -179,11 +179,6 @@ typedef struct rad_effects_params {
                                  can block each other; above pair_scan_max_faces (not
                                  counted) always */
     double cluster_min_pairs_clear; /* the same where nothing can block (occlusion off) */
-    double cluster_min_pairs_tightened; /* cluster_min_pairs where the hierarchy tightens its
-                                           thresholds (tightening) */
-    int tightening;           /* 1: the hierarchy's oracle tightens the thresholds of faces
-                                 that miss eps (rad_hier max_tighten > 0, the default); the
-                                 solve pipeline sets it from the method's parameters */
     int pair_scan_max_faces;  /* count facing-away pairs only up to this many faces (O(n^2)) */
     double grey_tol;          /* channels within this absolute difference are grey */
     double plane_rel_tol;     /* a corner within plane_rel_tol x |n| (|b-a| + |c-a|) of a

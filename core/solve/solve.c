@@ -211,8 +211,6 @@ static rad_status prepare(const rad_scene *scene, rad_solution *s, prepared *pr)
     pr->faces = rad_scene_triangle_count(scene);
     rad_status st = rad_mesh_create(rad_scene_vertices(scene), rad_scene_vertex_count(scene),
                                     rad_scene_triangles(scene), pr->faces, NULL, &pr->mesh);
-    /* whether clustering pays depends on the oracle's tightening */
-    s->used.effects.tightening = s->used.hier.max_tighten > 0;
     if (st == RAD_OK)
         st = rad_scene_effects_plan_cut(scene, pr->mesh, &s->used.effects, &s->plan, &pr->cut);
     if (st == RAD_OK)
