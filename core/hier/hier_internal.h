@@ -19,8 +19,9 @@ typedef struct hier_elem {
     int face;                /* input triangle */
     int depth;
     double B[3];             /* radiosity (area average) */
-    double Hn[3];            /* leaf, sealed: the step's normalized irradiance, cap x the
-                                gathered value, before the gain (solve.c) */
+    double Hn[3];            /* leaf, sealed: the step's normalized irradiance (what its
+                                element and cluster links brought, each times its
+                                scale from solve.c's row_scales), before the gain */
     double Bg[3];            /* irradiance gathered by its own element links, at the
                                 centroid ... */
     rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
