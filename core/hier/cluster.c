@@ -1183,8 +1183,8 @@ void hier_cluster_destroy(rad_hier *h)
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* Add v to what element e gathered through cluster links: B (Cg), T (Tg)
- * or the row (Cg[0]); with one channel carried, v[0] is each channel's. */
+/* Add v to what element e gathered through cluster links (Cg: B, T or,
+ * in Cg[0], the row); with one channel carried, v[0] is each channel's. */
 static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
 {
     hier_elem *x = &h->el[e];
@@ -1192,9 +1192,8 @@ static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
         x->Cg[0] += v[0];
         return;
     }
-    double *g = carry == CLUSTER_T ? x->Tg : x->Cg;
     for (int c = 0; c < 3; c++)
-        g[c] += v[h->cchannels == 1 ? 0 : c];
+        x->Cg[c] += v[h->cchannels == 1 ? 0 : c];
 }
 
 /* The sources' compact rows of what is carried: cemit for the input

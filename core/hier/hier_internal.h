@@ -25,10 +25,11 @@ typedef struct hier_elem {
     double Bg[3];            /* irradiance gathered by its own element links, at the
                                 centroid ... */
     rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
-    double Cg[3];            /* irradiance its cluster links brought (constant over the
-                                element; the row in Cg[0]): kept apart from Bg because
-                                it is the estimated part, onto which a leaf's row
-                                defect goes (solve.c's row_scales) */
+    double Cg[3];            /* what its cluster links brought of what is carried (B, T,
+                                or the row in Cg[0]; constant over the element): kept
+                                apart from Bg and Tg because it is the estimated part,
+                                onto which a leaf's row excess goes (solve.c's
+                                row_scales) */
     rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
                                 the gathered gradient (the variation P0 leaves
                                 unresolved); on an inner element, the linear fit of its
@@ -366,7 +367,7 @@ void hier_cluster_destroy(rad_hier *h);
 /* One oracle pass over the cluster links (refine.c's thresholds);
  * *count += links refined. */
 rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
-/* Add what the cluster links bring to what the elements gathered (Bg, Tg),
+/* Add what the cluster links bring to what the elements gathered (Cg),
  * every end carrying: CLUSTER_B its radiosity, CLUSTER_T its transported
  * error, CLUSTER_ONE 1 (the rows, into Cg[0]); clusters pull theirs from
  * the roots, and push what they gather down to them. */

@@ -81,11 +81,11 @@ static void contributions(const rad_hier *h, const hier_link *l, double *ca, dou
  * out: refining does not reduce it, the last solve (to final_share eps R) does.
  * From the second time on, a triangle is tightened again only where its mean
  * B moved by more than eps R (in some channel) since the last time: the move
- * is what the last quartering corrected of the answer before it, an estimate
- * of that answer's error where refining converges, and unlike the bound (a
- * sum of every link's worst case carried through every bounce) it is large
- * where the error is.  *count: how many were tightened (0: none fails, or
- * none may be tightened further). */
+ * is what the last quartering corrected of the answer before it, which
+ * estimates that answer's error where refining converges; the bound sums
+ * every link's worst case carried through every bounce and does not single
+ * out a triangle (papers/clustering.md §4).  *count: how many were
+ * tightened (0: none fails, or none may be tightened further). */
 rad_status hier_tighten_failing(rad_hier *h, int *count)
 {
     size_t n = h->nroots;

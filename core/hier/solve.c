@@ -229,12 +229,16 @@ void hier_leaf_var(hier_elem *x)
     }
 }
 
-/* T = q + rho cap (value at its centroid). */
-static void leaf_T(rad_hier *h, hier_elem *x, const double tot0[3], double *change, double *vmax)
+/* T = q + rho (se x its element links' value at its centroid + sc x its
+ * cluster links'), the scales B's step takes (row_scales). */
+static void leaf_T(rad_hier *h, hier_elem *x, const double tot0[3], const double totc[3],
+                   double *change, double *vmax)
 {
     size_t n = h->nroots, f = (size_t)x->face;
+    double se, sc;
+    row_scales(h, x, &se, &sc);
     for (int c = 0; c < 3; c++) {
-        double t = x->q[c] + h->rho[f + c * n] * x->cap * tot0[c];
+        double t = x->q[c] + h->rho[f + c * n] * (se * tot0[c] + sc * totc[c]);
         *change = rad_dmax(*change, fabs(t - x->T[c]));
         *vmax = rad_dmax(*vmax, fabs(t));
         x->T[c] = t;
@@ -242,7 +246,7 @@ static void leaf_T(rad_hier *h, hier_elem *x, const double tot0[3], double *chan
 }
 
 /* Push the ancestors' gathered linear function (down0 + downg . (x - c_e),
- * re-centred at e; B: and the constant their cluster links brought, downc)
+ * re-centred at e, and the constant their cluster links brought, downc)
  * to the leaves under e, update them, and pull the area-weighted mean back
  * up; accumulates the largest leaf change and the largest leaf value. */
 static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
@@ -257,13 +261,13 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
     for (int c = 0; c < 3; c++) {
         tot0[c] = down0[c] + g0[c];
         totg[c] = rad_vec3_add(downg[c], gg[c]);
-        totc[c] = downc[c] + (carry == CARRY_B ? x->Cg[c] : 0.0);
+        totc[c] = downc[c] + x->Cg[c];
     }
     if (x->first_child < 0) {
         if (carry == CARRY_B)
             leaf_B(h, x, tot0, totg, totc, change, vmax);
         else
-            leaf_T(h, x, tot0, change, vmax);
+            leaf_T(h, x, tot0, totc, change, vmax);
         return;
     }
     for (int k = 0; k < 4; k++) {
@@ -1072,7 +1076,7 @@ rad_status hier_error_estimate(rad_hier *h, int residuals)
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
         for (long long e = 0; e < (long long)h->nel; e++)
             for (int c = 0; c < 3; c++) {
-                h->el[e].Tg[c] = 0.0;
+                h->el[e].Tg[c] = h->el[e].Cg[c] = 0.0;
                 h->el[e].TGg[c] = zv;
             }
         double change = 0.0, tmax = 0.0; /* one step of T = q + rho K T */
