@@ -682,8 +682,11 @@ static double carried(const hier_elem *e, int carry, int c)
 }
 
 /* Channel c of the source moments of cluster i: its row of cmom, or, where
- * it has none, summed over its triangles. */
-static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int c, hier_dir *g)
+ * it has none, summed over its triangles (rows: from the compact rows in
+ * cluster order, ctri and cemit, which fill_emitters has written for
+ * carry; else from the elements). */
+static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int rows, int c,
+                          hier_dir *g)
 {
     const hier_clus *x = &h->cl[i];
     if (x->mom >= 0) {
@@ -692,6 +695,11 @@ static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int c
     }
     memset(g, 0, sizeof *g);
     for (int m = x->first; m < x->first + x->count; m++) {
+        if (rows) {
+            const hier_ctri *t = &h->ctri[m];
+            dir_add(g, t->area * h->cemit[6 * (size_t)m + 3 + (size_t)c], t->n);
+            continue;
+        }
         const hier_elem *e = &h->el[h->corder[m]];
         dir_add(g, e->area * carried(e, carry, c), h->normal[e->face]);
     }
@@ -706,6 +714,7 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
     hier_clus *x = &h->cl[i];
     size_t nch = (size_t)channels(h, carry);
     hier_dir *src = x->mom >= 0 ? h->cmom + nch * (size_t)x->mom : NULL;
+    int rows = !with_values; /* the gather's pull follows fill_emitters */
     with_values = with_values && carry == CLUSTER_B;
     if (!src && !with_values)
         return;
@@ -724,9 +733,9 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
         return;
     }
     for (size_t c = 0; src && c < nch; c++) {
-        child_moments(h, x->child[0], nch, carry, (int)c, &src[c]);
+        child_moments(h, x->child[0], nch, carry, rows, (int)c, &src[c]);
         hier_dir more;
-        child_moments(h, x->child[1], nch, carry, (int)c, &more);
+        child_moments(h, x->child[1], nch, carry, rows, (int)c, &more);
         dir_sum(&src[c], &more);
     }
     if (!with_values)
@@ -1458,8 +1467,11 @@ static void small_receive(rad_hier *h, int carry)
  * thread count. */
 static rad_status gather_links(rad_hier *h, int carry)
 {
+    if (!fill_emitters(h, carry))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
+                         h->ncln);
     pull(h, carry, 0);
-    if (!fill_emitters(h, carry) || !cluster_incidence(h))
+    if (!cluster_incidence(h))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
                          h->ncln);
     int threads = hier_threads(h);

@@ -168,20 +168,78 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
  * (so that the step still contracts); then each leaf
  * takes B = E + rho gain Hn (its slope and variation scaled alike), the
  * step's change is measured, and the inner elements take their children's
- * means again.  The sums run over the elements in index order, so that
- * the answer does not depend on the threads or the processes. */
-static void apply_gain(rad_hier *h, double *change, double *vmax)
+ * means again.  The sums run over fixed runs of elements, each summed in
+ * index order and the runs' sums in order, so that the answer does not
+ * depend on the threads or the processes. */
+enum { GAIN_RUN = 16384 };
+
+/* Leaf x takes B = E + rho gain Hn; the step's change and largest B. */
+static void gain_leaf(rad_hier *h, hier_elem *x, const double gain[3], double *ch, double *vm)
 {
-    double sent[3] = {0.0, 0.0, 0.0}, got[3] = {0.0, 0.0, 0.0};
-    for (size_t e = 0; e < h->nel; e++) {
+    size_t n = h->nroots, f = (size_t)x->face;
+    for (int c = 0; c < 3; c++) {
+        double b = h->E[f + c * n] + h->rho[f + c * n] * gain[c] * x->Hn[c];
+        double d = fabs(b - x->B[c]);
+        *ch = isfinite(b) ? (d > *ch ? d : *ch) : INFINITY;
+        *vm = fabs(b) > *vm ? fabs(b) : *vm;
+        x->B[c] = b;
+        x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
+    }
+    hier_leaf_var(x);
+}
+
+/* gain_leaf on every leaf of e's tree, then each inner element its
+ * children's mean, children first. */
+static void gain_tree(rad_hier *h, int e, const double gain[3], double *ch, double *vm)
+{
+    hier_elem *x = &h->el[e];
+    if (x->first_child < 0) {
+        gain_leaf(h, x, gain, ch, vm);
+        return;
+    }
+    for (int k = 0; k < 4; k++)
+        gain_tree(h, x->first_child + k, gain, ch, vm);
+    hier_children_mean(h, e, CARRY_B);
+}
+
+/* Run r's sums of A B (p[0..3)) and A Hn (p[3..6)) over its leaves. */
+static void gain_run(const rad_hier *h, size_t r, double p[6])
+{
+    for (int c = 0; c < 6; c++)
+        p[c] = 0.0;
+    size_t end = (r + 1) * GAIN_RUN < h->nel ? (r + 1) * GAIN_RUN : h->nel;
+    for (size_t e = r * GAIN_RUN; e < end; e++) {
         const hier_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
         for (int c = 0; c < 3; c++) {
-            sent[c] += x->area * x->B[c];
-            got[c] += x->area * x->Hn[c];
+            p[c] += x->area * x->B[c];
+            p[3 + c] += x->area * x->Hn[c];
         }
     }
+}
+
+static void apply_gain(rad_hier *h, double *change, double *vmax)
+{
+    size_t runs = (h->nel + GAIN_RUN - 1) / GAIN_RUN;
+    double *part = runs > 1 ? malloc(6 * runs * sizeof *part) : NULL, sent[3] = {0, 0, 0},
+           got[3] = {0, 0, 0};
+    int threads = hier_threads(h);
+    if (part) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (long long r = 0; r < (long long)runs; r++)
+            gain_run(h, (size_t)r, part + 6 * r);
+    }
+    for (size_t r = 0; r < runs; r++) {
+        double one[6], *p = part ? part + 6 * r : one; /* no memory: one run at a time */
+        if (!part)
+            gain_run(h, r, one);
+        for (int c = 0; c < 3; c++) {
+            sent[c] += p[c];
+            got[c] += p[3 + c];
+        }
+    }
+    free(part);
     /* the step contracts by rho_max x gain: held under rad_hier_row_ceiling's
        (1 + 1 / rho_max) / 2, it contracts by (1 + rho_max) / 2 at most */
     double top = rad_hier_row_ceiling(0, h->rho_max), gain[3];
@@ -192,29 +250,11 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
         if (fabs(gain[c] - 1.0) > fabs(h->st.gain - 1.0))
             h->st.gain = gain[c];
     }
-    const double *rho = h->rho, *E = h->E;
-    size_t n = h->nroots;
     double ch = 0.0, vm = 0.0;
-    int threads = hier_threads(h);
-#pragma omp parallel for schedule(static) reduction(max : ch, vm) num_threads(threads) if (h->nel > 65536)
-    for (long long e = 0; e < (long long)h->nel; e++) {
-        hier_elem *x = &h->el[e];
-        if (x->first_child >= 0)
-            continue;
-        size_t f = (size_t)x->face;
-        for (int c = 0; c < 3; c++) {
-            double b = E[f + c * n] + rho[f + c * n] * gain[c] * x->Hn[c];
-            double d = fabs(b - x->B[c]);
-            ch = isfinite(b) ? (d > ch ? d : ch) : INFINITY;
-            vm = fabs(b) > vm ? fabs(b) : vm;
-            x->B[c] = b;
-            x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
-        }
-        hier_leaf_var(x);
-    }
-    for (size_t e = h->nel; e-- > 0;) /* a parent comes before its children */
-        if (h->el[e].first_child >= 0)
-            hier_children_mean(h, (int)e, CARRY_B);
+    int chunk = hier_root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) reduction(max : ch, vm) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        gain_tree(h, (int)t, gain, &ch, &vm);
     *change = ch;
     *vmax = vm;
 }
