@@ -305,7 +305,7 @@ if want accuracy; then
 acc=data/accuracy.dat
 {
   echo "# experiment = clustering accuracy against the Monte Carlo references (experiments/reference)"
-  echo "# generator = $version; machine = $(sh "$root/scripts/machine.sh")"
+  echo "# generator = $version, commit $commit; machine = $(sh "$root/scripts/machine.sh")"
   echo "# error, worst, power: error_l1, error_worst, error_power of radkit compare; estimate: the run's error_estimate"
   printf 'scene\tmethod\teps\tlinks\tlinks_cluster\terror\tworst\tpower\testimate\ttime_s\tmax_tighten\n'
 } > "$acc"
