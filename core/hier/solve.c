@@ -171,7 +171,7 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
  * means again.  The sums run over fixed runs of elements, each summed in
  * index order and the runs' sums in order, so that the answer does not
  * depend on the threads or the processes. */
-enum { GAIN_RUN = 16384 };
+enum { GAIN_RUN = 256 };
 
 /* Leaf x takes B = E + rho gain Hn; the step's change and largest B. */
 static void gain_leaf(rad_hier *h, hier_elem *x, const double gain[3], double *ch, double *vm)
