@@ -171,7 +171,9 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
  * means again.  The sums run over fixed runs of elements, each summed in
  * index order and the runs' sums in order, so that the answer does not
  * depend on the threads or the processes. */
-enum { GAIN_RUN = 256 };
+/* The gain's sums run over at most GAIN_RUNS runs of at least
+   GAIN_RUN_MIN elements each (the runs depend on the element count only). */
+enum { GAIN_RUNS = 1024, GAIN_RUN_MIN = 256 };
 
 /* Leaf x takes B = E + rho gain Hn; the step's change and largest B. */
 static void gain_leaf(rad_hier *h, hier_elem *x, const double gain[3], double *ch, double *vm)
@@ -202,13 +204,14 @@ static void gain_tree(rad_hier *h, int e, const double gain[3], double *ch, doub
     hier_children_mean(h, e, CARRY_B);
 }
 
-/* Run r's sums of A B (p[0..3)) and A Hn (p[3..6)) over its leaves. */
-static void gain_run(const rad_hier *h, size_t r, double p[6])
+/* Run r's (of len elements) sums of A B (p[0..3)) and A Hn (p[3..6)) over
+ * its leaves. */
+static void gain_run(const rad_hier *h, size_t r, size_t len, double p[6])
 {
     for (int c = 0; c < 6; c++)
         p[c] = 0.0;
-    size_t end = (r + 1) * GAIN_RUN < h->nel ? (r + 1) * GAIN_RUN : h->nel;
-    for (size_t e = r * GAIN_RUN; e < end; e++) {
+    size_t end = (r + 1) * len < h->nel ? (r + 1) * len : h->nel;
+    for (size_t e = r * len; e < end; e++) {
         const hier_elem *x = &h->el[e];
         if (x->first_child >= 0)
             continue;
@@ -221,25 +224,19 @@ static void gain_run(const rad_hier *h, size_t r, double p[6])
 
 static void apply_gain(rad_hier *h, double *change, double *vmax)
 {
-    size_t runs = (h->nel + GAIN_RUN - 1) / GAIN_RUN;
-    double *part = runs > 1 ? malloc(6 * runs * sizeof *part) : NULL, sent[3] = {0, 0, 0},
-           got[3] = {0, 0, 0};
+    size_t len = (h->nel + GAIN_RUNS - 1) / GAIN_RUNS;
+    len = len > GAIN_RUN_MIN ? len : GAIN_RUN_MIN;
+    size_t runs = (h->nel + len - 1) / len;
+    double part[6 * GAIN_RUNS], sent[3] = {0, 0, 0}, got[3] = {0, 0, 0};
     int threads = hier_threads(h);
-    if (part) {
-#pragma omp parallel for schedule(static) num_threads(threads)
-        for (long long r = 0; r < (long long)runs; r++)
-            gain_run(h, (size_t)r, part + 6 * r);
-    }
-    for (size_t r = 0; r < runs; r++) {
-        double one[6], *p = part ? part + 6 * r : one; /* no memory: one run at a time */
-        if (!part)
-            gain_run(h, r, one);
+#pragma omp parallel for schedule(static) num_threads(threads) if (runs > 1)
+    for (long long r = 0; r < (long long)runs; r++)
+        gain_run(h, (size_t)r, len, part + 6 * r);
+    for (size_t r = 0; r < runs; r++)
         for (int c = 0; c < 3; c++) {
-            sent[c] += p[c];
-            got[c] += p[3 + c];
+            sent[c] += part[6 * r + c];
+            got[c] += part[6 * r + 3 + c];
         }
-    }
-    free(part);
     /* the step contracts by rho_max x gain: held under rad_hier_row_ceiling's
        (1 + 1 / rho_max) / 2, it contracts by (1 + rho_max) / 2 at most */
     double top = rad_hier_row_ceiling(0, h->rho_max), gain[3];
