@@ -90,17 +90,6 @@ static void set_state(hier_elem *x, int carry, const double *s)
     hier_leaf_var(x);
 }
 
-/* The inner elements under e take their children's area-weighted mean, as
- * push-pull makes them. */
-static void pull_means(rad_hier *h, int e, int carry)
-{
-    if (h->el[e].first_child < 0)
-        return;
-    for (int k = 0; k < 4; k++)
-        pull_means(h, h->el[e].first_child + k, carry);
-    hier_children_mean(h, e, carry);
-}
-
 void hier_accel_begin(rad_hier *h, int carry)
 {
     hier_accel *a = &h->acc;
@@ -330,7 +319,7 @@ void hier_accel_mix(rad_hier *h)
     int chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
-        pull_means(h, (int)t, a->carry);
+        hier_pull_means(h, (int)t, a->carry);
 }
 
 void hier_accel_destroy(rad_hier *h)

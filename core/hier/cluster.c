@@ -682,11 +682,10 @@ static double carried(const hier_elem *e, int carry, int c)
 }
 
 /* Channel c of the source moments of cluster i: its row of cmom, or, where
- * it has none, summed over its triangles (rows: from the compact rows in
- * cluster order, ctri and cemit, which fill_emitters has written for
- * carry; else from the elements). */
-static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int rows, int c,
-                          hier_dir *g)
+ * it has none, summed over its triangles from the compact rows in cluster
+ * order (ctri's area and normal, cemit's carried values, which pull has
+ * fill_emitters write first). */
+static void child_moments(const rad_hier *h, int i, size_t nch, int c, hier_dir *g)
 {
     const hier_clus *x = &h->cl[i];
     if (x->mom >= 0) {
@@ -695,13 +694,8 @@ static void child_moments(const rad_hier *h, int i, size_t nch, int carry, int r
     }
     memset(g, 0, sizeof *g);
     for (int m = x->first; m < x->first + x->count; m++) {
-        if (rows) {
-            const hier_ctri *t = &h->ctri[m];
-            dir_add(g, t->area * h->cemit[6 * (size_t)m + 3 + (size_t)c], t->n);
-            continue;
-        }
-        const hier_elem *e = &h->el[h->corder[m]];
-        dir_add(g, e->area * carried(e, carry, c), h->normal[e->face]);
+        const hier_ctri *t = &h->ctri[m];
+        dir_add(g, t->area * h->cemit[6 * (size_t)m + 3 + (size_t)c], t->n);
     }
 }
 
@@ -714,7 +708,6 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
     hier_clus *x = &h->cl[i];
     size_t nch = (size_t)channels(h, carry);
     hier_dir *src = x->mom >= 0 ? h->cmom + nch * (size_t)x->mom : NULL;
-    int rows = !with_values; /* the gather's pull follows fill_emitters */
     with_values = with_values && carry == CLUSTER_B;
     if (!src && !with_values)
         return;
@@ -733,9 +726,9 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
         return;
     }
     for (size_t c = 0; src && c < nch; c++) {
-        child_moments(h, x->child[0], nch, carry, rows, (int)c, &src[c]);
+        child_moments(h, x->child[0], nch, (int)c, &src[c]);
         hier_dir more;
-        child_moments(h, x->child[1], nch, carry, rows, (int)c, &more);
+        child_moments(h, x->child[1], nch, (int)c, &more);
         dir_sum(&src[c], &more);
     }
     if (!with_values)
@@ -752,11 +745,16 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
     }
 }
 
+static int fill_emitters(rad_hier *h, int carry);
+
 /* Every cluster's, children before parents: the subtrees on every thread,
- * then the nodes above them.  The gather needs only the moments; the
- * oracle and the bound need the values too. */
-static void pull(rad_hier *h, int carry, int with_values)
+ * then the nodes above them, after the sources' compact rows are written.
+ * The gather needs only the moments; the oracle and the bound need the
+ * values too.  0 when out of memory. */
+static int pull(rad_hier *h, int carry, int with_values)
 {
+    if (!fill_emitters(h, carry))
+        return 0;
     int threads = hier_threads(h);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (size_t k = 0; k < h->ncsub; k++) {
@@ -769,6 +767,7 @@ static void pull(rad_hier *h, int carry, int with_values)
     }
     for (size_t k = h->nctop; k-- > 0;)
         pull_node(h, (size_t)h->ctop[k], carry, with_values);
+    return 1;
 }
 
 /* What an end offers as a source, channel c: B, var; as a receiver: its
@@ -882,8 +881,9 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
     size_t capdec = 0;
     rad_status st = RAD_OK;
     int threads = hier_threads(h);
-    if (target > 0.0)
-        pull(h, CLUSTER_B, 1);
+    if (target > 0.0 && !pull(h, CLUSTER_B, 1))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the values of %zu clusters",
+                         h->ncl);
     size_t begin = 0, end = h->ncln;
     while (begin < end && st == RAD_OK) {
         cj.n = sj.n = 0;
@@ -1207,7 +1207,8 @@ static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
 
 /* The sources' compact rows of what is carried: cemit for the input
  * triangles in cluster order, celem for the elements (the clusters'
- * moments, cmom, are written by the pull); 0 when out of memory. */
+ * moments, cmom, are written by the pull, which calls this first); 0 when
+ * out of memory. */
 static int fill_emitters(rad_hier *h, int carry)
 {
     if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
@@ -1467,11 +1468,7 @@ static void small_receive(rad_hier *h, int carry)
  * thread count. */
 static rad_status gather_links(rad_hier *h, int carry)
 {
-    if (!fill_emitters(h, carry))
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
-                         h->ncln);
-    pull(h, carry, 0);
-    if (!cluster_incidence(h))
+    if (!pull(h, carry, 0) || !cluster_incidence(h))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
                          h->ncln);
     int threads = hier_threads(h);
@@ -1619,7 +1616,9 @@ rad_status hier_cluster_local(rad_hier *h)
         return RAD_OK;
     size_t n = h->nroots;
     /* what the directions' bracket leaves open, at each root */
-    pull(h, CLUSTER_B, 1);
+    if (!pull(h, CLUSTER_B, 1))
+        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the values of %zu clusters",
+                         h->ncl);
     rad_status st = gather_links(h, CLUSTER_B);
     if (st != RAD_OK)
         return st;

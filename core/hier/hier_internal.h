@@ -432,6 +432,9 @@ void hier_thread_rows(const size_t *start, size_t n, int t, int nt, size_t *lo, 
 rad_status hier_row_caps(rad_hier *h);
 /* Inner element e's B (carry CARRY_B) or T: its children's area-weighted mean. */
 void hier_children_mean(rad_hier *h, int e, int carry);
+/* The inner elements under e take their children's area-weighted mean,
+ * children first, as push-pull makes them. */
+void hier_pull_means(rad_hier *h, int e, int carry);
 /* A leaf's var from its gB (how far B strays from its mean at its corners). */
 void hier_leaf_var(hier_elem *x);
 /* Steps until the step change is at most tol relative to the largest B. */

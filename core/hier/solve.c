@@ -168,41 +168,11 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
  * (so that the step still contracts); then each leaf
  * takes B = E + rho gain Hn (its slope and variation scaled alike), the
  * step's change is measured, and the inner elements take their children's
- * means again.  The sums run over fixed runs of elements, each summed in
- * index order and the runs' sums in order, so that the answer does not
- * depend on the threads or the processes. */
-/* The gain's sums run over at most GAIN_RUNS runs of at least
-   GAIN_RUN_MIN elements each (the runs depend on the element count only). */
+ * means again.  The sums run over fixed runs of elements (at most
+ * GAIN_RUNS of at least GAIN_RUN_MIN each: the runs depend on the element
+ * count only), each summed in index order and the runs' sums in order, so
+ * that the answer does not depend on the threads or the processes. */
 enum { GAIN_RUNS = 1024, GAIN_RUN_MIN = 256 };
-
-/* Leaf x takes B = E + rho gain Hn; the step's change and largest B. */
-static void gain_leaf(rad_hier *h, hier_elem *x, const double gain[3], double *ch, double *vm)
-{
-    size_t n = h->nroots, f = (size_t)x->face;
-    for (int c = 0; c < 3; c++) {
-        double b = h->E[f + c * n] + h->rho[f + c * n] * gain[c] * x->Hn[c];
-        double d = fabs(b - x->B[c]);
-        *ch = isfinite(b) ? (d > *ch ? d : *ch) : INFINITY;
-        *vm = fabs(b) > *vm ? fabs(b) : *vm;
-        x->B[c] = b;
-        x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
-    }
-    hier_leaf_var(x);
-}
-
-/* gain_leaf on every leaf of e's tree, then each inner element its
- * children's mean, children first. */
-static void gain_tree(rad_hier *h, int e, const double gain[3], double *ch, double *vm)
-{
-    hier_elem *x = &h->el[e];
-    if (x->first_child < 0) {
-        gain_leaf(h, x, gain, ch, vm);
-        return;
-    }
-    for (int k = 0; k < 4; k++)
-        gain_tree(h, x->first_child + k, gain, ch, vm);
-    hier_children_mean(h, e, CARRY_B);
-}
 
 /* Run r's (of len elements) sums of A B (p[0..3)) and A Hn (p[3..6)) over
  * its leaves. */
@@ -247,11 +217,29 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
         if (fabs(gain[c] - 1.0) > fabs(h->st.gain - 1.0))
             h->st.gain = gain[c];
     }
+    const double *rho = h->rho, *E = h->E;
+    size_t n = h->nroots;
     double ch = 0.0, vm = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : ch, vm) num_threads(threads) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        if (x->first_child >= 0)
+            continue;
+        size_t f = (size_t)x->face;
+        for (int c = 0; c < 3; c++) {
+            double b = E[f + c * n] + rho[f + c * n] * gain[c] * x->Hn[c];
+            double d = fabs(b - x->B[c]);
+            ch = isfinite(b) ? (d > ch ? d : ch) : INFINITY;
+            vm = fabs(b) > vm ? fabs(b) : vm;
+            x->B[c] = b;
+            x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
+        }
+        hier_leaf_var(x);
+    }
     int chunk = hier_root_chunk(h->nroots, threads);
-#pragma omp parallel for schedule(dynamic, chunk) reduction(max : ch, vm) num_threads(threads) if (h->nroots > 1)
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
-        gain_tree(h, (int)t, gain, &ch, &vm);
+        hier_pull_means(h, (int)t, CARRY_B);
     *change = ch;
     *vmax = vm;
 }
@@ -317,6 +305,15 @@ static void push_pull(rad_hier *h, int e, int carry, const double down0[3],
     }
     if (carry != CARRY_B || !h->p.sealed) /* sealed, apply_gain takes the means */
         hier_children_mean(h, e, carry);
+}
+
+void hier_pull_means(rad_hier *h, int e, int carry)
+{
+    if (h->el[e].first_child < 0)
+        return;
+    for (int k = 0; k < 4; k++)
+        hier_pull_means(h, h->el[e].first_child + k, carry);
+    hier_children_mean(h, e, carry);
 }
 
 void hier_children_mean(rad_hier *h, int e, int carry)
