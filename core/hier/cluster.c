@@ -998,11 +998,12 @@ static int moment_runs(rad_hier *h, size_t nmom)
     return 1;
 }
 
-/* A leaf cluster as the gather's last pass reads it: its root element, its
- * place in cluster order (crecv's row) and the row of cgot whose moments
- * reach its triangle, -1 for none: its own where it gathers moments (ISO),
- * else (oriented: a leaf is small, its triangle receives its own share)
- * that of its nearest ancestor that is not small. */
+/* A leaf cluster as the gather's pass over the elements reads it (h->cleaf
+ * holds them by input triangle): its root element, its place in cluster
+ * order (crecv's row) and the row of cgot whose moments reach its
+ * triangle, -1 for none: its own where it gathers moments (ISO), else
+ * (oriented: a leaf is small, its triangle receives its own share) that of
+ * its nearest ancestor that is not small. */
 struct hier_cleaf {
     int root, first, got;
 };
@@ -1120,9 +1121,9 @@ rad_status hier_cluster_create(rad_hier *h)
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
-    for (size_t i = 0, k = 0; i < h->ncl; i++)
+    for (size_t i = 0; i < h->ncl; i++)
         if (h->cl[i].root >= 0)
-            h->cleaf[k++] = leaf_of(h, (int)i);
+            h->cleaf[h->cl[i].root] = leaf_of(h, (int)i);
     /* the largest reflectance below each cluster and its area moments
        (children follow parents) */
     for (size_t i = h->ncl; i-- > 0;) {
@@ -1191,19 +1192,6 @@ void hier_cluster_destroy(rad_hier *h)
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
-
-/* Add v to what element e gathered through cluster links (Cg: B, T or,
- * in Cg[0], the row); with one channel carried, v[0] is each channel's. */
-static void add_to_element(rad_hier *h, int e, int carry, const double v[3])
-{
-    hier_elem *x = &h->el[e];
-    if (carry == CLUSTER_ONE) {
-        x->Cg[0] += v[0];
-        return;
-    }
-    for (int c = 0; c < 3; c++)
-        x->Cg[c] += v[h->cchannels == 1 ? 0 : c];
-}
 
 /* The sources' compact rows of what is carried: cemit for the input
  * triangles in cluster order, celem for the elements (the clusters'
@@ -1366,18 +1354,10 @@ static hier_dir *got(const rad_hier *h, int id)
     return h->cgot + 3 * (size_t)h->cl[id].mom;
 }
 
-/* Receiving end `end` takes v (the channels carried) from direction dir. */
+/* Cluster `end` takes v (the channels carried) from direction dir. */
 static void receive(rad_hier *h, int end, int carry, rad_vec3 dir, const double v[3])
 {
     int nch = channels(h, carry);
-    if (end < 0) {
-        const hier_elem *e = &h->el[-1 - end];
-        double d = rad_vec3_dot(h->normal[e->face], dir), cosine = 0.5 * (d + fabs(d)), got[3];
-        for (int c = 0; c < nch; c++)
-            got[c] = v[c] * cosine;
-        add_to_element(h, -1 - end, carry, got);
-        return;
-    }
     for (int c = 0; c < nch; c++) {
         if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO)
             got(h, end)[c].C += 0.25 * v[c];
@@ -1461,11 +1441,11 @@ static void small_receive(rad_hier *h, int carry)
     }
 }
 
-/* Gather every link (elements' ends directly, clusters' by direction) and
- * push what the clusters gathered down their tree (parents come before
- * their children).  Each receiving end adds up its own links' ends in link
- * order, in parallel over the ends, so the result does not depend on the
- * thread count. */
+/* Gather the links that end at clusters (by direction) and push what the
+ * clusters gathered down their tree (parents come before their children);
+ * the links' element ends wait for gather_elements.  Each receiving
+ * cluster adds up its own links' ends in link order, in parallel over the
+ * clusters, so the result does not depend on the thread count. */
 static rad_status gather_links(rad_hier *h, int carry)
 {
     if (!pull(h, carry, 0) || !cluster_incidence(h))
@@ -1476,13 +1456,11 @@ static rad_status gather_links(rad_hier *h, int carry)
     const size_t *start = h->cinc_start;
     const hier_cinc *inc = h->cinc;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
-    for (long long r = 0; r < (long long)(h->ncl + h->nel); r++) {
-        int end = r < (long long)h->ncl ? (int)r : -1 - (int)(r - (long long)h->ncl);
-        if (end >= 0) {
-            if (receives_exactly(h, end))
-                continue; /* small_receive */
-            memset(got(h, end), 0, 3 * sizeof *h->cgot);
-        }
+    for (long long r = 0; r < (long long)h->ncl; r++) {
+        int end = (int)r;
+        if (receives_exactly(h, end))
+            continue; /* small_receive */
+        memset(got(h, end), 0, 3 * sizeof *h->cgot);
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
             intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
@@ -1513,6 +1491,45 @@ static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, double 
     return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval(g, n, err);
 }
 
+/* Each element's Cg (B, T or, in Cg[0], the row; with one channel
+ * carried, each channel takes channel 0's): what its own cluster links
+ * bring (in link order), then, at a root, what its leaf cluster received
+ * (the moments pushed to it and its triangle's own share), summed apart
+ * and written once, in one pass over the elements in their order. */
+static void gather_elements(rad_hier *h, int carry)
+{
+    int nch = channels(h, carry);
+    const size_t *start = h->cinc_start;
+    const hier_cinc *inc = h->cinc;
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(hier_threads(h)) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        rad_vec3 n = h->normal[x->face];
+        double sum[3] = {0.0, 0.0, 0.0};
+        size_t r = h->ncl + (size_t)e;
+        for (size_t i = start[r]; i < start[r + 1]; i++) {
+            double v[3];
+            intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
+            double d = rad_vec3_dot(n, inc[i].dir), cosine = 0.5 * (d + fabs(d));
+            for (int c = 0; c < nch; c++)
+                sum[c] += v[c] * inc[i].kv * cosine;
+        }
+        if ((size_t)e < h->nroots) {
+            const struct hier_cleaf *l = &h->cleaf[e];
+            for (int c = 0; c < nch; c++) {
+                double err;
+                sum[c] += received(h, pushed_to(h, l, c), n, &err) +
+                          h->crecv[3 * (size_t)l->first + (size_t)c];
+            }
+        }
+        if (carry == CLUSTER_ONE)
+            x->Cg[0] = sum[0];
+        else
+            for (int c = 0; c < 3; c++)
+                x->Cg[c] = sum[nch == 1 ? 0 : c];
+    }
+}
+
 rad_status hier_cluster_gather(rad_hier *h, int carry)
 {
     if (!h->ncl)
@@ -1520,18 +1537,7 @@ rad_status hier_cluster_gather(rad_hier *h, int carry)
     rad_status st = gather_links(h, carry);
     if (st != RAD_OK)
         return st;
-    int nch = channels(h, carry);
-    int threads = hier_threads(h);
-    /* each leaf adds to its own root element */
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
-    for (long long i = 0; i < (long long)h->nroots; i++) {
-        const struct hier_cleaf *x = &h->cleaf[i];
-        double v[3], err;
-        for (int c = 0; c < nch; c++)
-            v[c] = received(h, pushed_to(h, x, c), h->normal[x->root], &err) +
-                   h->crecv[3 * (size_t)x->first + (size_t)c];
-        add_to_element(h, x->root, carry, v);
-    }
+    gather_elements(h, carry);
     return RAD_OK;
 }
 

@@ -360,6 +360,23 @@ double rad_hier_row_ceiling(int sealed, double rho_max)
 
 static rad_status incidence(rad_hier *h);
 
+/* Zero what the elements' own links gathered (carry B: Bg and Gg; T: Tg
+ * and TGg) before a gather that adds link by link: shared among processes
+ * (split_gather); gather_elem starts each element's sums from zero itself,
+ * and the cluster gather writes Cg whole. */
+static void zero_gathered(rad_hier *h, int carry)
+{
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++) {
+        hier_elem *x = &h->el[e];
+        for (int c = 0; c < 3; c++) {
+            *(carry == CARRY_B ? &x->Bg[c] : &x->Tg[c]) = 0.0;
+            *(carry == CARRY_B ? &x->Gg[c] : &x->TGg[c]) = zero_v;
+        }
+    }
+}
+
 /* Each element's row sums, B's gather with every source 1: summed at each
  * element over its own link ends (in link order, as the serial loop over
  * the links would), then pushed down each tree, in parallel; shared among
@@ -368,13 +385,9 @@ rad_status hier_row_caps(rad_hier *h)
 {
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
     int threads = hier_threads(h);
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
-    for (long long e = 0; e < (long long)h->nel; e++) {
-        h->el[e].Bg[0] = h->el[e].Cg[0] = 0.0;
-        h->el[e].Gg[0] = zero_v;
-    }
     rad_status st;
     if (hier_split_on(h)) {
+        zero_gathered(h, CARRY_B);
         for (size_t k = 0; k < h->nln; k++) {
             const hier_link *l = &h->ln[k];
             if (l->a < 0)
@@ -391,6 +404,8 @@ rad_status hier_row_caps(rad_hier *h)
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
         for (long long e = 0; e < (long long)h->nel; e++) {
             hier_elem *x = &h->el[e];
+            x->Bg[0] = 0.0;
+            x->Gg[0] = zero_v;
             for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
                 x->Bg[0] += h->inc[i].F;
                 x->Gg[0] = rad_vec3_add(x->Gg[0], h->inc[i].g);
@@ -533,6 +548,11 @@ static rad_status incidence(rad_hier *h)
 static void gather_elem(rad_hier *h, size_t e, int carry)
 {
     hier_elem *x = &h->el[e];
+    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
+    for (int c = 0; c < 3; c++) {
+        *(carry == CARRY_B ? &x->Bg[c] : &x->Tg[c]) = 0.0;
+        *(carry == CARRY_B ? &x->Gg[c] : &x->TGg[c]) = zero_v;
+    }
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const struct hier_end *u = &h->inc[i];
         const double *s = h->src + (size_t)u->src * HIER_SRC; /* B or T, then gB */
@@ -598,6 +618,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
         const unsigned char *ends;
         size_t n;
         const int *mine = hier_split_links(h, &ends, &n);
+        zero_gathered(h, carry);
         for (size_t i = 0; i < n; i++)
             one(h, &h->ln[mine[i]], ends[i]);
         hier_split_roots(h, &lo, &hi);
@@ -628,17 +649,10 @@ rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
     int threads = hier_threads(h), chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
     for (long long t = 0; t < (long long)h->nroots; t++)
         pull_gradient(h, (int)t);
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
-    for (long long e = 0; e < (long long)h->nel; e++)
-        for (int c = 0; c < 3; c++) {
-            h->el[e].Bg[c] = h->el[e].Cg[c] = 0.0;
-            h->el[e].Gg[c] = zero_v;
-        }
     double change = 0.0, bmax = 0.0;
     rad_status st = gather_push_pull(h, CARRY_B, &change, &bmax);
     if (st != RAD_OK)
@@ -1106,13 +1120,6 @@ rad_status hier_error_estimate(rad_hier *h, int residuals)
             hier_accel_mix(h);
         if ((st = hier_accel_save(h)) != RAD_OK)
             break;
-        rad_vec3 zv = rad_vec3_make(0.0, 0.0, 0.0);
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
-        for (long long e = 0; e < (long long)h->nel; e++)
-            for (int c = 0; c < 3; c++) {
-                h->el[e].Tg[c] = h->el[e].Cg[c] = 0.0;
-                h->el[e].TGg[c] = zv;
-            }
         double change = 0.0, tmax = 0.0; /* one step of T = q + rho K T */
         if ((st = gather_push_pull(h, CARRY_T, &change, &tmax)) != RAD_OK)
             break;
