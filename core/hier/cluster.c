@@ -683,8 +683,7 @@ static double carried(const hier_elem *e, int carry, int c)
 
 /* Channel c of the source moments of cluster i: its row of cmom, or, where
  * it has none, summed over its triangles from the compact rows in cluster
- * order (ctri's area and normal, cemit's carried values, which pull has
- * fill_emitters write first). */
+ * order (ctri's area and normal, cemit's carried values). */
 static void child_moments(const rad_hier *h, int i, size_t nch, int c, hier_dir *g)
 {
     const hier_clus *x = &h->cl[i];
@@ -745,16 +744,12 @@ static void pull_node(rad_hier *h, size_t i, int carry, int with_values)
     }
 }
 
-static int fill_emitters(rad_hier *h, int carry);
-
 /* Every cluster's, children before parents: the subtrees on every thread,
- * then the nodes above them, after the sources' compact rows are written.
- * The gather needs only the moments; the oracle and the bound need the
- * values too.  0 when out of memory. */
-static int pull(rad_hier *h, int carry, int with_values)
+ * then the nodes above them, from the sources' rows of carry
+ * (hier_fill_sources).  The gather needs only the moments; the oracle and
+ * the bound need the values too. */
+static void pull(rad_hier *h, int carry, int with_values)
 {
-    if (!fill_emitters(h, carry))
-        return 0;
     int threads = hier_threads(h);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (size_t k = 0; k < h->ncsub; k++) {
@@ -767,7 +762,6 @@ static int pull(rad_hier *h, int carry, int with_values)
     }
     for (size_t k = h->nctop; k-- > 0;)
         pull_node(h, (size_t)h->ctop[k], carry, with_values);
-    return 1;
 }
 
 /* What an end offers as a source, channel c: B, var; as a receiver: its
@@ -881,9 +875,11 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
     size_t capdec = 0;
     rad_status st = RAD_OK;
     int threads = hier_threads(h);
-    if (target > 0.0 && !pull(h, CLUSTER_B, 1))
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the values of %zu clusters",
-                         h->ncl);
+    if (target > 0.0) {
+        if ((st = hier_fill_sources(h, CLUSTER_B)) != RAD_OK)
+            return st;
+        pull(h, CLUSTER_B, 1);
+    }
     size_t begin = 0, end = h->ncln;
     while (begin < end && st == RAD_OK) {
         cj.n = sj.n = 0;
@@ -997,16 +993,6 @@ static int moment_runs(rad_hier *h, size_t nmom)
         h->csub_mom[k++] = m;
     return 1;
 }
-
-/* A leaf cluster as the gather's pass over the elements reads it (h->cleaf
- * holds them by input triangle): its root element, its place in cluster
- * order (crecv's row) and the row of cgot whose moments reach its
- * triangle, -1 for none: its own where it gathers moments (ISO), else
- * (oriented: a leaf is small, its triangle receives its own share) that of
- * its nearest ancestor that is not small. */
-struct hier_cleaf {
-    int root, first, got;
-};
 
 static int receives_exactly(const rad_hier *h, int end);
 
@@ -1184,7 +1170,6 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cln);
     free(h->cemit);
     free(h->crecv);
-    free(h->celem);
     free(h->cmom);
     free(h->cgot);
     free(h->cinc_start);
@@ -1193,52 +1178,15 @@ void hier_cluster_destroy(rad_hier *h)
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* The sources' compact rows of what is carried: cemit for the input
- * triangles in cluster order, celem for the elements (the clusters'
- * moments, cmom, are written by the pull, which calls this first); 0 when
- * out of memory. */
-static int fill_emitters(rad_hier *h, int carry)
-{
-    if (!rad_sys_grow((void **)&h->celem, &h->celem_cap, 0, 8 * h->nel, sizeof *h->celem, 1024))
-        return 0;
-    hier_gather_touch(h, HIER_GATHER_CELEM, 8 * h->nel * sizeof *h->celem);
-    int threads = hier_threads(h);
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nroots > 65536)
-    for (size_t i = 0; i < h->nroots; i++) {
-        const hier_elem *e = &h->el[h->corder[i]];
-        rad_vec3 an = rad_vec3_scale(h->normal[e->face], e->area);
-        double *m = h->cemit + 6 * i;
-        m[0] = an.x;
-        m[1] = an.y;
-        m[2] = an.z;
-        for (int c = 0; c < 3; c++)
-            m[3 + c] = carried(e, carry, c);
-    }
-#pragma omp parallel for schedule(static) num_threads(threads) if (h->nel > 65536)
-    for (size_t i = 0; i < h->nel; i++) {
-        const hier_elem *e = &h->el[i];
-        rad_vec3 n = h->normal[e->face];
-        double *m = h->celem + 8 * i;
-        m[0] = n.x;
-        m[1] = n.y;
-        m[2] = n.z;
-        m[3] = e->area;
-        for (int c = 0; c < 3; c++)
-            m[4 + c] = carried(e, carry, c);
-        m[7] = 0.0;
-    }
-    return 1;
-}
-
 /* The intensity of a link's other end x (what is carried, each channel
  * carried into p[c]) towards unit direction u: sum_j A_j v_j max(n_j.u, 0)
- * (a cluster's by the model), from the rows fill_emitters wrote.  The
+ * (a cluster's by the model), from the sources' rows (hier_fill_sources).  The
  * channels share each triangle's projected area, so it is computed once. */
 static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3 u, double p[3])
 {
     int nch = channels(h, carry);
     if (x->kind == HIER_CINC_ELEMENT) {
-        const double *m = h->celem + 8 * (size_t)x->src;
+        const double *m = h->src + HIER_SRC * (size_t)x->src;
         double a = m[3] * rad_dmax(0.0, rad_vec3_dot(rad_vec3_make(m[0], m[1], m[2]), u));
         for (int c = 0; c < nch; c++)
             p[c] = a * m[4 + c];
@@ -1448,7 +1396,8 @@ static void small_receive(rad_hier *h, int carry)
  * clusters, so the result does not depend on the thread count. */
 static rad_status gather_links(rad_hier *h, int carry)
 {
-    if (!pull(h, carry, 0) || !cluster_incidence(h))
+    pull(h, carry, 0);
+    if (!cluster_incidence(h))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the gather of %zu cluster links",
                          h->ncln);
     int threads = hier_threads(h);
@@ -1622,10 +1571,11 @@ rad_status hier_cluster_local(rad_hier *h)
         return RAD_OK;
     size_t n = h->nroots;
     /* what the directions' bracket leaves open, at each root */
-    if (!pull(h, CLUSTER_B, 1))
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the values of %zu clusters",
-                         h->ncl);
-    rad_status st = gather_links(h, CLUSTER_B);
+    rad_status st = hier_fill_sources(h, CLUSTER_B);
+    if (st != RAD_OK)
+        return st;
+    pull(h, CLUSTER_B, 1);
+    st = gather_links(h, CLUSTER_B);
     if (st != RAD_OK)
         return st;
     int nch = channels(h, CLUSTER_B), threads = hier_threads(h);

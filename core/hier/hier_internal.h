@@ -58,7 +58,11 @@ typedef struct hier_elem {
     rad_vec3 TGg[3];         /* ... gathered with its gradient, as B is */
 } hier_elem;
 
-enum { HIER_SRC = 12 };
+/* The sources' rows of the gathers (hier_fill_sources), HIER_SRC doubles an
+ * element: its unit normal [0, 3), its area [3], what it carries [4, 7) (B,
+ * T or 1) and, carrying B, its slope gB [7, 16): a cluster link's element
+ * end reads the first cache line, the element gather both. */
+enum { HIER_SRC = 16 };
 
 /* A link joins two elements both ways: a <- b and b <- a at the same levels
  * (a symmetric link structure keeps the hierarchical operator self-adjoint in
@@ -175,7 +179,7 @@ typedef struct hier_end {
 typedef struct hier_cinc {
     rad_vec3 dir;
     double kv;
-    int src;  /* the other end's source row: an element's (celem), a small
+    int src;  /* the other end's source row: an element's (src), a small
                  cluster's first triangle (cemit) or a cluster's moments (cmom) */
     int kind; /* HIER_CINC_ELEMENT, HIER_CINC_MOMENTS, or the small cluster's
                  triangle count (1 .. 16) */
@@ -186,7 +190,7 @@ enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
  * ends, their receivers' starts, the sources' rows, the elements' emitters,
  * the small clusters' triangles' irradiance (memory.c counts them). */
 enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
-       HIER_GATHER_SRC, HIER_GATHER_CELEM, HIER_GATHER_CRECV, HIER_GATHER_ACCEL,
+       HIER_GATHER_SRC, HIER_GATHER_CRECV, HIER_GATHER_ACCEL,
        HIER_GATHER_ARRAYS };
 
 /* The history of accel.c's Anderson mixing of the solve's steps. */
@@ -267,11 +271,6 @@ struct rad_hier {
        cluster hands each of its triangles its own share, max(n.w, 0) per
        link, instead of gathering moments whose bracket is only a bound */
     double *crecv;
-    /* what each element emits (8 doubles each: unit normal, area, the three
-       channels carried, one unused), filled at each gather so that a link's
-       element end is one cache line */
-    double *celem;
-    size_t celem_cap;
     /* each cluster's source moments of what is carried (B, T or 1; the
        carried channels' hier_dir each, written by its pull): the moments of
        a_j = A_j x what is carried over its triangles' normals n_j, whose
@@ -303,9 +302,9 @@ struct rad_hier {
     struct hier_end *inc;
     size_t inc_start_cap, inc_cap, inc_nel;
     unsigned long long inc_version;
-    /* what the gather reads of each element as a source, copied out of
-       the elements once per step (HIER_SRC doubles an element: B and gB,
-       or T), so that a link end reads its source from one short row */
+    /* what the gathers read of each element as a source, copied out of
+       the elements once per step (HIER_SRC doubles an element), so that a
+       link end reads its source from one short row */
     double *src;
     size_t src_cap;
     /* the bytes each of the gather's arrays has touched (HIER_GATHER_*):
@@ -367,12 +366,22 @@ void hier_cluster_destroy(rad_hier *h);
 /* One oracle pass over the cluster links (refine.c's thresholds);
  * *count += links refined. */
 rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
-/* Add what the cluster links bring to what the elements gathered (Cg),
- * every end carrying: CLUSTER_B its radiosity, CLUSTER_T its transported
- * error, CLUSTER_ONE 1 (the rows, into Cg[0]); clusters pull theirs from
- * the roots, and push what they gather down to them. */
+/* What the cluster links bring the elements (Cg, written whole), every end
+ * carrying: CLUSTER_B its radiosity, CLUSTER_T its transported error,
+ * CLUSTER_ONE 1 (the rows, into Cg[0]); clusters pull theirs from the
+ * sources' rows (hier_fill_sources of the same carry, which the caller
+ * writes first), and push what they gather down to them. */
 enum { CLUSTER_B, CLUSTER_T, CLUSTER_ONE };
 rad_status hier_cluster_gather(rad_hier *h, int carry);
+/* A leaf cluster as the cluster gather's pass over the elements reads it
+ * (rad_hier.cleaf holds them by input triangle): its root element, its
+ * place in cluster order (crecv's and cemit's row) and the row of cgot
+ * whose moments reach its triangle, -1 for none: its own where it gathers
+ * moments (ISO), else (oriented: a leaf is small, its triangle receives
+ * its own share) that of its nearest ancestor that is not small. */
+struct hier_cleaf {
+    int root, first, got;
+};
 /* Add the cluster links' local error bounds to the elements' q and d. */
 rad_status hier_cluster_local(rad_hier *h);
 
@@ -397,6 +406,10 @@ rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *ra
 /* What a push-pull carries: the radiosity B (gathered Bg, Gg) or the
  * transported error bound T (gathered Tg, TGg), by the same operator. */
 enum { CARRY_B, CARRY_T };
+/* Write the sources' rows (rad_hier.src; with clusters also cemit) of
+ * carry: CLUSTER_B, CLUSTER_T or CLUSTER_ONE (CARRY_B and CARRY_T are the
+ * first two), in one pass over the elements. */
+rad_status hier_fill_sources(rad_hier *h, int carry);
 /* The shared gather (params.exchange.split_gather): 1 when it is on.  Its
  * plan (which input triangles this process owns, the links that end in
  * them, the elements in process order) is rebuilt when h->version moved. */

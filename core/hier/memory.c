@@ -46,7 +46,6 @@ rad_status hier_memory_check(const rad_hier *h, size_t links, size_t clinks, siz
     if (h->ncl)
         add += pending(h, HIER_GATHER_CINC, 2.0 * ncl * sizeof(hier_cinc)) +
                pending(h, HIER_GATHER_CINC_START, ((double)h->ncl + ne + 1.0) * word) +
-               pending(h, HIER_GATHER_CELEM, 8.0 * ne * sizeof(double)) +
                (double)h->ncl * sizeof(hier_cinc) +
                (h->p.cluster_model == RAD_HIER_CLUSTER_ISO
                     ? 0.0

@@ -155,7 +155,8 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
         x->B[c] = b;
         x->gB[c] = rad_vec3_scale(totg[c], r * se);
     }
-    hier_leaf_var(x);
+    if (!h->p.sealed) /* sealed, apply_gain sets var with B */
+        hier_leaf_var(x);
 }
 
 /* Sealed: the normalized rows make a uniform radiosity gather exactly
@@ -412,7 +413,8 @@ rad_status hier_row_caps(rad_hier *h)
             }
         }
     }
-    if ((st = hier_cluster_gather(h, CLUSTER_ONE)) != RAD_OK)
+    if (h->ncl && ((st = hier_fill_sources(h, CLUSTER_ONE)) != RAD_OK ||
+                   (st = hier_cluster_gather(h, CLUSTER_ONE)) != RAD_OK))
         return st;
     int chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
@@ -555,7 +557,7 @@ static void gather_elem(rad_hier *h, size_t e, int carry)
     }
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const struct hier_end *u = &h->inc[i];
-        const double *s = h->src + (size_t)u->src * HIER_SRC; /* B or T, then gB */
+        const double *s = h->src + (size_t)u->src * HIER_SRC + 4; /* B or T, then gB */
         if (carry != CARRY_B) {
             for (int c = 0; c < 3; c++) {
                 x->Tg[c] += u->F * s[c];
@@ -575,8 +577,7 @@ static void gather_elem(rad_hier *h, size_t e, int carry)
     }
 }
 
-/* The sources' rows of the gather (carry B: B and gB; T: T). */
-static rad_status fill_sources(rad_hier *h, int carry)
+rad_status hier_fill_sources(rad_hier *h, int carry)
 {
     if (!rad_sys_grow((void **)&h->src, &h->src_cap, 0, h->nel * HIER_SRC, sizeof *h->src,
                       1024 * HIER_SRC))
@@ -585,14 +586,29 @@ static rad_status fill_sources(rad_hier *h, int carry)
 #pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->nel > 65536)
     for (long long e = 0; e < (long long)h->nel; e++) {
         const hier_elem *x = &h->el[e];
+        rad_vec3 n = h->normal[x->face];
         double *s = h->src + (size_t)e * HIER_SRC;
+        s[0] = n.x;
+        s[1] = n.y;
+        s[2] = n.z;
+        s[3] = x->area;
         for (int c = 0; c < 3; c++) {
-            s[c] = carry == CARRY_B ? x->B[c] : x->T[c];
-            if (carry == CARRY_B) {
-                s[3 + 3 * c] = x->gB[c].x;
-                s[4 + 3 * c] = x->gB[c].y;
-                s[5 + 3 * c] = x->gB[c].z;
+            s[4 + c] = carry == CLUSTER_T ? x->T[c] : carry == CLUSTER_ONE ? 1.0 : x->B[c];
+            if (carry == CLUSTER_B) {
+                s[7 + 3 * c] = x->gB[c].x;
+                s[8 + 3 * c] = x->gB[c].y;
+                s[9 + 3 * c] = x->gB[c].z;
             }
+        }
+        if (h->ncl && (size_t)e < h->nroots) {
+            /* a small cluster's triangles as it emits them, in cluster order */
+            double *m = h->cemit + 6 * (size_t)h->cleaf[e].first;
+            rad_vec3 an = rad_vec3_scale(n, x->area);
+            m[0] = an.x;
+            m[1] = an.y;
+            m[2] = an.z;
+            for (int c = 0; c < 3; c++)
+                m[3 + c] = s[4 + c];
         }
     }
     return RAD_OK;
@@ -614,6 +630,10 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
     rad_status st;
     if (split && (st = hier_split_plan(h)) != RAD_OK)
         return st;
+    /* shared among processes the element links read the elements: only the
+       cluster gather reads these rows */
+    if ((!split || h->ncl) && (st = hier_fill_sources(h, carry)) != RAD_OK)
+        return st;
     if (split) {
         const unsigned char *ends;
         size_t n;
@@ -623,7 +643,7 @@ static rad_status gather_push_pull(rad_hier *h, int carry, double *change, doubl
             one(h, &h->ln[mine[i]], ends[i]);
         hier_split_roots(h, &lo, &hi);
     } else {
-        if ((st = incidence(h)) != RAD_OK || (st = fill_sources(h, carry)) != RAD_OK)
+        if ((st = incidence(h)) != RAD_OK)
             return st;
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (h->nel > 64)
         for (long long e = 0; e < (long long)h->nel; e++)
