@@ -127,7 +127,7 @@ cp scenes/many_objects/many_objects.mtl "$tmp/"
 "
 } > "$dat"
 base_rate=
-for run in "dense 16 1" "dense 24 2" "dense 33 4" "hier 0.03 1" "hier 0.01 2" "hier 0.004 4"; do
+for run in "dense 16 1" "dense 24 2" "dense 33 4" "hier 0.01 1" "hier 0.006 2" "hier 0.003 4"; do
   set -- $run
   method=$1 size=$2 np=$3
   if [ "$method" = dense ]; then
