@@ -39,8 +39,14 @@
  * or threefold), and their history would cost memory (about 600 bytes a
  * leaf) for nothing.  The error transport runs to bound_tol from q, never
  * in so few steps, and its history is a quarter of B's (T has no slope):
- * its mixing starts after HIER_ACCEL_WARMUP_T.  A solve whose arrays the
- * machine has not the memory for goes on with plain steps.
+ * its mixing starts after HIER_ACCEL_WARMUP_T.  Past the warm-up, mixing
+ * starts only where plain steps, contracting by the bound the fixed-point
+ * tail takes (hier_contraction), could not meet the solve's test within
+ * that many more steps: a solve that plain steps end in a few more (light
+ * at reflectance 0.7, a round's solve near its tolerance) would fill the
+ * history for no gain, while one that contracts slowly (reflectance near 1)
+ * starts as soon as before.  A solve whose arrays the machine has not the
+ * memory for goes on with plain steps.
  * Shared among processes (split_gather), every process holds every
  * element's values after a step's exchange, and mixes all of them alike. */
 #include "hier_internal.h"
@@ -90,12 +96,26 @@ static void set_state(hier_elem *x, int carry, const double *s)
     hier_leaf_var(x);
 }
 
-void hier_accel_begin(rad_hier *h, int carry)
+void hier_accel_begin(rad_hier *h, int carry, double tol)
 {
     hier_accel *a = &h->acc;
-    a->on = 0;
+    a->on = a->began = 0;
     a->carry = carry;
     a->steps = 0;
+    a->tol = tol;
+    a->last = -1.0;
+}
+
+/* Whether plain steps contracting by q could take the last change down to
+ * the test in `steps` steps or fewer: then 0 (or without a change yet, or
+ * q not below 1: 1). */
+static int far_from_end(const hier_accel *a, double q, int steps)
+{
+    if (!(a->last > 0.0) || !(a->tol > 0.0) || !(q < 1.0))
+        return 1;
+    if (a->last <= a->tol)
+        return 0;
+    return q <= 0.0 || log(a->tol / a->last) / log(q) > (double)steps;
 }
 
 /* Start mixing: the leaves, the arrays (0 when the machine has not the
@@ -145,11 +165,14 @@ static double *df_of(const hier_accel *a, int j)
 }
 static double *dg_of(const hier_accel *a, int j) { return df_of(a, j) + 3 * a->n; }
 
-rad_status hier_accel_save(rad_hier *h)
+rad_status hier_accel_save(rad_hier *h, double change)
 {
     hier_accel *a = &h->acc;
     int warmup = a->carry == CARRY_B ? HIER_ACCEL_WARMUP_B : HIER_ACCEL_WARMUP_T;
-    if (h->p.anderson > 0 && ++a->steps == warmup + 1) {
+    a->last = change;
+    if (h->p.anderson > 0 && ++a->steps > warmup && !a->began &&
+        far_from_end(a, hier_contraction(h), warmup)) {
+        a->began = 1;
         rad_status st = start(h);
         if (st != RAD_OK)
             return st;

@@ -197,7 +197,11 @@ enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CIN
 enum { HIER_ACCEL_MAX = RAD_HIER_ANDERSON_MAX, HIER_ACCEL_WARMUP_B = 8, HIER_ACCEL_WARMUP_T = 2 };
 typedef struct hier_accel {
     int on;                /* 1: mixing (from step HIER_ACCEL_WARMUP_B or _T + 1 of a solve) */
+    int began;             /* mixing began in this solve (it does not begin twice) */
     int steps;             /* the steps of this solve so far */
+    double tol;            /* the solve's test on a step's change ... */
+    double last;           /* ... and its last step's change in the same units
+                              (negative: none yet) */
     int carry;             /* CARRY_B or CARRY_T */
     int width;             /* doubles of a leaf's state (B and gB, or T) */
     int depth, cols, next; /* columns held at most, held, and the ring's next slot */
@@ -348,11 +352,17 @@ int hier_pair_can_block(const rad_hier *h, int face_r, int face_s);
 int hier_pair_may_touch(const rad_hier *h, int face_r, int face_s);
 
 /* ---- accel.c: Anderson mixing of the gather / push-pull steps ---- */
-/* Start a solve of carry (CARRY_B or CARRY_T) over the current leaves. */
-void hier_accel_begin(rad_hier *h, int carry);
-/* Before a step: note the state it starts from (mixing starts after
- * HIER_ACCEL_WARMUP_B or _T plain steps, where the machine has the memory). */
-rad_status hier_accel_save(rad_hier *h);
+/* What a step contracts by at most (solve.c): rho_max sealed, else
+ * (1 + rho_max) / 2, the rows being held under rad_hier_row_ceiling. */
+double hier_contraction(const rad_hier *h);
+/* Start a solve of carry (CARRY_B or CARRY_T) over the current leaves, which
+ * ends when a step's change is at most tol. */
+void hier_accel_begin(rad_hier *h, int carry, double tol);
+/* Before a step: note the state it starts from and the last step's change
+ * in tol's units (negative before the first step); mixing starts after
+ * HIER_ACCEL_WARMUP_B or _T plain steps, once the changes put the end more
+ * steps away than that, where the machine has the memory. */
+rad_status hier_accel_save(rad_hier *h, double change);
 /* After a step that did not meet its test: the next state to start from. */
 void hier_accel_mix(rad_hier *h);
 void hier_accel_destroy(rad_hier *h);

@@ -702,9 +702,10 @@ rad_status hier_solve_links(rad_hier *h, double tol)
     if (fits != RAD_OK)
         return fits;
     rad_status st;
-    hier_accel_begin(h, CARRY_B);
+    hier_accel_begin(h, CARRY_B, tol);
     for (int it = 0; it < h->p.max_iterations; it++) {
-        if ((st = hier_accel_save(h)) != RAD_OK || (st = rad_hier_step(h)) != RAD_OK)
+        if ((st = hier_accel_save(h, it > 0 ? h->last_change : -1.0)) != RAD_OK ||
+            (st = rad_hier_step(h)) != RAD_OK)
             return st;
         hier_working(h, "solving", (size_t)it + 1);
         if (h->last_change <= tol) {
@@ -769,9 +770,14 @@ double hier_face_part(const rad_hier *h, const hier_elem *x, int c)
  * change delta (absolute) leaves of its fixed point: a step contracts the
  * error by q <= rho_max (sealed, rows 1) or (1 + rho_max) / 2 (rows capped
  * there), so the fixed point lies within delta q / (1 - q). */
+double hier_contraction(const rad_hier *h)
+{
+    return h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+}
+
 static double fixed_point_tail(const rad_hier *h, double delta)
 {
-    double q = h->p.sealed ? h->rho_max : 0.5 * (1.0 + h->rho_max);
+    double q = hier_contraction(h);
     return q < 1.0 ? delta * q / (1.0 - q) : 0.0;
 }
 
@@ -1133,12 +1139,12 @@ rad_status hier_error_estimate(rad_hier *h, int residuals)
         }
     }
     int it;
-    double last = 0.0;
-    hier_accel_begin(h, CARRY_T);
+    double last = 0.0, last_rel = -1.0; /* the last change, and over its tmax */
+    hier_accel_begin(h, CARRY_T, h->p.bound_tol);
     for (it = 0; it < h->p.max_iterations; it++) {
         if (it > 0)
             hier_accel_mix(h);
-        if ((st = hier_accel_save(h)) != RAD_OK)
+        if ((st = hier_accel_save(h, last_rel)) != RAD_OK)
             break;
         double change = 0.0, tmax = 0.0; /* one step of T = q + rho K T */
         if ((st = gather_push_pull(h, CARRY_T, &change, &tmax)) != RAD_OK)
@@ -1150,6 +1156,7 @@ rad_status hier_error_estimate(rad_hier *h, int residuals)
         hier_working(h, "bounding", (size_t)it + 1);
         h->st.iterations_bound++;
         last = change;
+        last_rel = tmax > 0.0 ? change / tmax : 0.0;
         if (change <= h->p.bound_tol * tmax)
             break;
     }
