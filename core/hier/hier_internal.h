@@ -187,8 +187,9 @@ typedef struct hier_cinc {
 enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
 
 /* The gather's arrays, built at solve time: element-link ends, cluster-link
- * ends, their receivers' starts, the sources' rows, the elements' emitters,
- * the small clusters' triangles' irradiance (memory.c counts them). */
+ * ends, their receivers' starts, the sources' rows, the small clusters'
+ * triangles' irradiance (memory.c counts them), and the solve's history
+ * (accel.c counts it). */
 enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CINC_START,
        HIER_GATHER_SRC, HIER_GATHER_CRECV, HIER_GATHER_ACCEL,
        HIER_GATHER_ARRAYS };
@@ -196,7 +197,7 @@ enum { HIER_GATHER_INC, HIER_GATHER_CINC, HIER_GATHER_INC_START, HIER_GATHER_CIN
 /* The history of accel.c's Anderson mixing of the solve's steps. */
 enum { HIER_ACCEL_MAX = RAD_HIER_ANDERSON_MAX, HIER_ACCEL_WARMUP_B = 8, HIER_ACCEL_WARMUP_T = 2 };
 typedef struct hier_accel {
-    int on;                /* 1: mixing (from step HIER_ACCEL_WARMUP_B or _T + 1 of a solve) */
+    int on;                /* 1: mixing (from a step past HIER_ACCEL_WARMUP_B or _T) */
     int began;             /* mixing began in this solve (it does not begin twice) */
     int steps;             /* the steps of this solve so far */
     double tol;            /* the solve's test on a step's change ... */
@@ -360,8 +361,8 @@ double hier_contraction(const rad_hier *h);
 void hier_accel_begin(rad_hier *h, int carry, double tol);
 /* Before a step: note the state it starts from and the last step's change
  * in tol's units (negative before the first step); mixing starts after
- * HIER_ACCEL_WARMUP_B or _T plain steps, once the changes put the end more
- * steps away than that, where the machine has the memory. */
+ * HIER_ACCEL_WARMUP_B or _T plain steps, once plain steps could not end the
+ * solve within as many more, where the machine has the memory. */
 rad_status hier_accel_save(rad_hier *h, double change);
 /* After a step that did not meet its test: the next state to start from. */
 void hier_accel_mix(rad_hier *h);

@@ -3,7 +3,7 @@
  * added, and when the element array grows, the process's resident memory
  * plus the new items and what the gather's arrays will hold for the larger
  * hierarchy (built at solve time: two ends per link, per element its
- * sources' row, emitter and start, a cluster-link build's copy of the
+ * sources' row and start, a cluster-link build's copy of the
  * clusters' rows, and the oriented model's per-triangle irradiance of small
  * clusters, allocated with the clusters but first written by the solve)
  * beyond what they have touched so far is held against
