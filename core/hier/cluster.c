@@ -977,6 +977,7 @@ static int tree_cut(rad_hier *h)
  * of memory. */
 static int moment_runs(rad_hier *h, size_t nmom)
 {
+    h->nmom = nmom;
     h->cmnode = malloc((nmom ? nmom : 1) * sizeof *h->cmnode);
     h->csub_mom = malloc((2 * h->ncsub + 1) * sizeof *h->csub_mom);
     if (!h->cmnode || !h->csub_mom)
@@ -1400,11 +1401,10 @@ static void small_receive(rad_hier *h, int carry)
         return;
     }
     int threads = hier_threads(h);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncl > 4096)
-    for (long long i = 0; i < (long long)h->ncl; i++) {
-        const hier_clus *x = &h->cl[i];
-        if (x->count <= CLUSTER_SMALL)
-            continue;
+    /* the clusters that are not small are those that gather moments */
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->nmom > 4096)
+    for (long long j = 0; j < (long long)h->nmom; j++) {
+        const hier_clus *x = &h->cl[h->cmnode[j]];
         for (int k = 0; k < 2; k++)
             if (h->cl[x->child[k]].count <= CLUSTER_SMALL)
                 receive_subtree(h, x->child[k], carry);
@@ -1426,11 +1426,12 @@ static rad_status gather_links(rad_hier *h, int carry)
     int nch = channels(h, carry);
     const size_t *start = h->cinc_start;
     const hier_cinc *inc = h->cinc;
+    /* the clusters that gather moments (a small one, oriented, receives
+       triangle by triangle: small_receive) */
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (h->ncln > 1024)
-    for (long long r = 0; r < (long long)h->ncl; r++) {
-        int end = (int)r;
-        if (receives_exactly(h, end))
-            continue; /* small_receive */
+    for (long long j = 0; j < (long long)h->nmom; j++) {
+        int end = h->cmnode[j];
+        size_t r = (size_t)end;
         memset(got(h, end), 0, 3 * sizeof *h->cgot);
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];

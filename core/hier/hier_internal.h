@@ -249,10 +249,12 @@ struct rad_hier {
        depth-first) and the nodes above them (ctop), in index order */
     int *csub, *csub_end, *ctop;
     size_t ncsub, nctop;
-    /* the clusters with a row of cmom, in index order (cmnode), and each
-       subtree's run of them, cmnode[csub_mom[2k] .. csub_mom[2k + 1]): the
-       gather's pull and push work only there */
+    /* the clusters with a row of cmom, in index order (cmnode, nmom of
+       them: every cluster that gathers moments), and each subtree's run of
+       them, cmnode[csub_mom[2k] .. csub_mom[2k + 1]): the gather's pull,
+       receive and push work only there */
     int *cmnode;
+    size_t nmom;
     size_t *csub_mom;
     int *corder;              /* input triangles in cluster order */
     /* the same triangles' geometry, in cluster order (hier_ctri): what a
