@@ -339,11 +339,10 @@ void hier_accel_mix(rad_hier *h)
         }
         set_state(&h->el[a->leaf[i]], a->carry, s);
     }
-    /* the inner elements' means (hier_inner_roots, built by the step) */
-    int chunk = hier_root_chunk(h->niroot, threads);
-#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->niroot > 1)
-    for (long long t = 0; t < (long long)h->niroot; t++)
-        hier_pull_means(h, h->iroot[t], a->carry);
+    int chunk = hier_root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        hier_pull_means(h, (int)t, a->carry);
 }
 
 void hier_accel_destroy(rad_hier *h)

@@ -309,11 +309,6 @@ struct rad_hier {
     struct hier_end *inc;
     size_t inc_start_cap, inc_cap, inc_nel;
     unsigned long long inc_version;
-    /* the roots with children, in index order (hier_inner_roots): the
-       passes that only inner elements need walk them, not every root;
-       built for iroot_nel == nel */
-    int *iroot;
-    size_t niroot, iroot_cap, iroot_nel;
     /* what the gathers read of each element as a source, copied out of
        the elements once per step (HIER_SRC doubles an element), so that a
        link end reads its source from one short row */
@@ -424,9 +419,6 @@ rad_status hier_share_work(rad_hier *h, long long *evals, unsigned long long *ra
 /* What a push-pull carries: the radiosity B (gathered Bg, Gg) or the
  * transported error bound T (gathered Tg, TGg), by the same operator. */
 enum { CARRY_B, CARRY_T };
-/* rad_hier.iroot for the current elements (rebuilt when elements were
- * added). */
-rad_status hier_inner_roots(rad_hier *h);
 /* Write the sources' rows (rad_hier.src; with clusters also cemit) of
  * carry: CLUSTER_B, CLUSTER_T or CLUSTER_ONE (CARRY_B and CARRY_T are the
  * first two), in one pass over the elements. */

@@ -237,10 +237,10 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
         }
         hier_leaf_var(x);
     }
-    int chunk = hier_root_chunk(h->niroot, threads);
-#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->niroot > 1)
-    for (long long t = 0; t < (long long)h->niroot; t++)
-        hier_pull_means(h, h->iroot[t], CARRY_B);
+    int chunk = hier_root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        hier_pull_means(h, (int)t, CARRY_B);
     *change = ch;
     *vmax = vm;
 }
@@ -360,24 +360,6 @@ double rad_hier_row_ceiling(int sealed, double rho_max)
 }
 
 static rad_status incidence(rad_hier *h);
-
-rad_status hier_inner_roots(rad_hier *h)
-{
-    if (h->iroot && h->iroot_nel == h->nel)
-        return RAD_OK;
-    size_t n = 0;
-    for (size_t t = 0; t < h->nroots; t++)
-        n += h->el[t].first_child >= 0;
-    if (!rad_sys_grow((void **)&h->iroot, &h->iroot_cap, 0, n ? n : 1, sizeof *h->iroot, 1024))
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu roots", n);
-    n = 0;
-    for (size_t t = 0; t < h->nroots; t++)
-        if (h->el[t].first_child >= 0)
-            h->iroot[n++] = (int)t;
-    h->niroot = n;
-    h->iroot_nel = h->nel;
-    return RAD_OK;
-}
 
 /* Zero what the elements' own links gathered (carry B: Bg and Gg; T: Tg
  * and TGg) before a gather that adds link by link: shared among processes
@@ -687,15 +669,12 @@ rad_status rad_hier_step(rad_hier *h)
 {
     if (!h)
         return RAD_ERROR(RAD_EINVAL, "hier: no handle");
-    rad_status st = hier_inner_roots(h);
-    if (st != RAD_OK)
-        return st;
-    int threads = hier_threads(h), chunk = hier_root_chunk(h->niroot, threads);
-#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->niroot > 1)
-    for (long long t = 0; t < (long long)h->niroot; t++)
-        pull_gradient(h, h->iroot[t]);
+    int threads = hier_threads(h), chunk = hier_root_chunk(h->nroots, threads);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
+    for (long long t = 0; t < (long long)h->nroots; t++)
+        pull_gradient(h, (int)t);
     double change = 0.0, bmax = 0.0;
-    st = gather_push_pull(h, CARRY_B, &change, &bmax);
+    rad_status st = gather_push_pull(h, CARRY_B, &change, &bmax);
     if (st != RAD_OK)
         return st;
     if (!isfinite(change) || !isfinite(bmax))
@@ -1161,8 +1140,6 @@ rad_status hier_error_estimate(rad_hier *h, int residuals)
     }
     int it;
     double last = 0.0, last_rel = -1.0; /* the last change, and over its tmax */
-    if ((st = hier_inner_roots(h)) != RAD_OK) /* the mixing's means */
-        return st;
     hier_accel_begin(h, CARRY_T, h->p.bound_tol);
     for (it = 0; it < h->p.max_iterations; it++) {
         if (it > 0)

@@ -384,7 +384,6 @@ void rad_hier_destroy(rad_hier *h)
     free(h->inc_start);
     free(h->inc);
     free(h->src);
-    free(h->iroot);
     hier_accel_destroy(h);
     free(h);
 }
