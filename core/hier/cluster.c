@@ -1001,7 +1001,7 @@ static struct hier_cleaf leaf_of(const rad_hier *h, int i)
 {
     const hier_clus *x = &h->cl[i];
     int row = !receives_exactly(h, i) ? x->mom : x->above >= 0 ? h->cl[x->above].mom : -1;
-    return (struct hier_cleaf){x->root, x->first, row};
+    return (struct hier_cleaf){x->first, row};
 }
 
 rad_status hier_cluster_create(rad_hier *h)
@@ -1604,12 +1604,12 @@ rad_status hier_cluster_local(rad_hier *h)
     int nch = channels(h, CLUSTER_B), threads = hier_threads(h);
 #pragma omp parallel for schedule(static) num_threads(threads) if (n > 65536)
     for (size_t i = 0; i < n; i++) {
-        const struct hier_cleaf *x = &h->cleaf[i];
-        hier_elem *e = &h->el[x->root];
+        const struct hier_cleaf *x = &h->cleaf[i]; /* root element i's */
+        hier_elem *e = &h->el[i];
         for (int c = 0; c < 3; c++) {
             double err;
-            received(h, pushed_to(h, x, c < nch ? c : 0), h->normal[x->root], &err);
-            e->q[c] += h->rho[(size_t)x->root + (size_t)c * n] * err;
+            received(h, pushed_to(h, x, c < nch ? c : 0), h->normal[i], &err);
+            e->q[c] += h->rho[i + (size_t)c * n] * err;
         }
     }
     /* A cluster receiver keeps, per channel, the sum of its links' errors

@@ -260,8 +260,9 @@ struct rad_hier {
     /* the same triangles' geometry, in cluster order (hier_ctri): what a
        cluster link's estimate reads of a cluster's triangles, in one run */
     struct hier_ctri *ctri;
-    /* the leaf clusters in index order, each as what the gather's last pass
-       reads of it (hier_cleaf): one short row, where the nodes are long */
+    /* the leaf clusters by input triangle, each as what the gather's pass
+       over the elements reads of it (hier_cleaf): one short row, where the
+       nodes are long */
     struct hier_cleaf *cleaf;
     hier_clink *cln;
     size_t ncln, capcln;
@@ -387,13 +388,13 @@ rad_status hier_cluster_refine(rad_hier *h, double target, long long *count);
 enum { CLUSTER_B, CLUSTER_T, CLUSTER_ONE };
 rad_status hier_cluster_gather(rad_hier *h, int carry);
 /* A leaf cluster as the cluster gather's pass over the elements reads it
- * (rad_hier.cleaf holds them by input triangle): its root element, its
+ * (rad_hier.cleaf holds them by input triangle, its root element): its
  * place in cluster order (crecv's and cemit's row) and the row of cgot
  * whose moments reach its triangle, -1 for none: its own where it gathers
  * moments (ISO), else (oriented: a leaf is small, its triangle receives
  * its own share) that of its nearest ancestor that is not small. */
 struct hier_cleaf {
-    int root, first, got;
+    int first, got;
 };
 /* Add the cluster links' local error bounds to the elements' q and d. */
 rad_status hier_cluster_local(rad_hier *h);

@@ -361,21 +361,25 @@ double rad_hier_row_ceiling(int sealed, double rho_max)
 
 static rad_status incidence(rad_hier *h);
 
-/* Zero what the elements' own links gathered (carry B: Bg and Gg; T: Tg
- * and TGg) before a gather that adds link by link: shared among processes
- * (split_gather); gather_elem starts each element's sums from zero itself,
- * and the cluster gather writes Cg whole. */
-static void zero_gathered(rad_hier *h, int carry)
+/* Zero what element x's own links gathered (carry B: Bg and Gg; T: Tg and
+ * TGg); the cluster gather writes Cg whole. */
+static void clear_gathered(hier_elem *x, int carry)
 {
     rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->nel > 65536)
-    for (long long e = 0; e < (long long)h->nel; e++) {
-        hier_elem *x = &h->el[e];
-        for (int c = 0; c < 3; c++) {
-            *(carry == CARRY_B ? &x->Bg[c] : &x->Tg[c]) = 0.0;
-            *(carry == CARRY_B ? &x->Gg[c] : &x->TGg[c]) = zero_v;
-        }
+    for (int c = 0; c < 3; c++) {
+        *(carry == CARRY_B ? &x->Bg[c] : &x->Tg[c]) = 0.0;
+        *(carry == CARRY_B ? &x->Gg[c] : &x->TGg[c]) = zero_v;
     }
+}
+
+/* clear_gathered on every element, before a gather that adds link by link
+ * (shared among processes, split_gather; gather_elem clears each element
+ * as it sums it). */
+static void zero_gathered(rad_hier *h, int carry)
+{
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->nel > 65536)
+    for (long long e = 0; e < (long long)h->nel; e++)
+        clear_gathered(&h->el[e], carry);
 }
 
 /* Each element's row sums, B's gather with every source 1: summed at each
@@ -550,11 +554,7 @@ static rad_status incidence(rad_hier *h)
 static void gather_elem(rad_hier *h, size_t e, int carry)
 {
     hier_elem *x = &h->el[e];
-    rad_vec3 zero_v = rad_vec3_make(0.0, 0.0, 0.0);
-    for (int c = 0; c < 3; c++) {
-        *(carry == CARRY_B ? &x->Bg[c] : &x->Tg[c]) = 0.0;
-        *(carry == CARRY_B ? &x->Gg[c] : &x->TGg[c]) = zero_v;
-    }
+    clear_gathered(x, carry);
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const struct hier_end *u = &h->inc[i];
         const double *s = h->src + (size_t)u->src * HIER_SRC + 4; /* B or T, then gB */
