@@ -1179,13 +1179,43 @@ void hier_cluster_destroy(rad_hier *h)
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
 
-/* The intensity of a link's other end x (what is carried, each channel
- * carried into p[c]) towards unit direction u: sum_j A_j v_j max(n_j.u, 0)
- * (a cluster's by the model), from the sources' rows (hier_fill_sources).  The
- * channels share each triangle's projected area, so it is computed once. */
-static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3 u, double p[3])
+/* Where cluster-link end x reads its source's row, and the row's bytes. */
+static const char *source_row(const rad_hier *h, const hier_cinc *x, int nch, size_t *bytes)
+{
+    if (x->kind == HIER_CINC_ELEMENT) {
+        *bytes = 7 * sizeof(double);
+        return (const char *)(h->src + HIER_SRC * (size_t)x->src);
+    }
+    if (x->kind == HIER_CINC_MOMENTS) {
+        *bytes = (size_t)nch * sizeof(hier_dir);
+        return (const char *)(h->cmom + (size_t)nch * (size_t)x->src);
+    }
+    *bytes = 6 * sizeof(double) * (size_t)x->kind;
+    return (const char *)(h->cemit + 6 * (size_t)x->src);
+}
+
+/* The intensity of cluster-link end i's other end (what is carried, each
+ * channel carried into p[c]) towards the receiver, u = -dir:
+ * sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model), from the sources'
+ * rows (hier_fill_sources).  The channels share each triangle's projected
+ * area, so it is computed once.  It first asks for the row of the end
+ * HIER_PREFETCH_AHEAD on: its first lines and its last, the ones between
+ * following as the reads stream. */
+static void intensity(const rad_hier *h, size_t i, int carry, double p[3])
 {
     int nch = channels(h, carry);
+    if (i + HIER_PREFETCH_AHEAD < 2 * h->ncln) {
+        size_t bytes;
+        const char *row = source_row(h, &h->cinc[i + HIER_PREFETCH_AHEAD], nch, &bytes);
+        __builtin_prefetch(row);
+        __builtin_prefetch(row + 64);
+        if (bytes > 128) {
+            __builtin_prefetch(row + 128);
+            __builtin_prefetch(row + bytes - 1);
+        }
+    }
+    const hier_cinc *x = &h->cinc[i];
+    rad_vec3 u = rad_vec3_scale(x->dir, -1.0);
     if (x->kind == HIER_CINC_ELEMENT) {
         const double *m = h->src + HIER_SRC * (size_t)x->src;
         double a = m[3] * rad_dmax(0.0, rad_vec3_dot(rad_vec3_make(m[0], m[1], m[2]), u));
@@ -1207,7 +1237,7 @@ static void intensity(const rad_hier *h, const hier_cinc *x, int carry, rad_vec3
        branch predictor could follow) */
     const double *m = h->cemit + 6 * (size_t)x->src;
     double p0 = 0.0, p1 = 0.0, p2 = 0.0;
-    for (int i = 0; i < x->kind; i++, m += 6) {
+    for (int j = 0; j < x->kind; j++, m += 6) {
         double d = m[0] * u.x + m[1] * u.y + m[2] * u.z, a = 0.5 * (d + fabs(d));
         p0 += a * m[3];
         p1 += a * m[4];
@@ -1370,7 +1400,7 @@ static void receive_subtree(rad_hier *h, int top, int carry)
         for (size_t i = h->cinc_start[j]; i < h->cinc_start[j + 1]; i++) {
             const hier_cinc *in = &h->cinc[i];
             double v[3];
-            intensity(h, in, carry, rad_vec3_scale(in->dir, -1.0), v);
+            intensity(h, i, carry, v);
             double w0 = v[0] * in->kv, w1 = v[1] * in->kv, w2 = v[2] * in->kv;
             double dx = in->dir.x, dy = in->dir.y, dz = in->dir.z;
 #pragma omp simd
@@ -1435,7 +1465,7 @@ static rad_status gather_links(rad_hier *h, int carry)
         memset(got(h, end), 0, 3 * sizeof *h->cgot);
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
-            intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
+            intensity(h, i, carry, v);
             for (int c = 0; c < nch; c++)
                 v[c] *= inc[i].kv;
             receive(h, end, carry, inc[i].dir, v);
@@ -1481,7 +1511,7 @@ static void gather_elements(rad_hier *h, int carry)
         size_t r = h->ncl + (size_t)e;
         for (size_t i = start[r]; i < start[r + 1]; i++) {
             double v[3];
-            intensity(h, &inc[i], carry, rad_vec3_scale(inc[i].dir, -1.0), v);
+            intensity(h, i, carry, v);
             double d = rad_vec3_dot(n, inc[i].dir), cosine = 0.5 * (d + fabs(d));
             for (int c = 0; c < nch; c++)
                 sum[c] += v[c] * inc[i].kv * cosine;

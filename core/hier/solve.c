@@ -555,9 +555,15 @@ static void gather_elem(rad_hier *h, size_t e, int carry)
 {
     hier_elem *x = &h->el[e];
     clear_gathered(x, carry);
+    size_t ends = h->inc_start[h->inc_nel];
     for (size_t i = h->inc_start[e]; i < h->inc_start[e + 1]; i++) {
         const struct hier_end *u = &h->inc[i];
         const double *s = h->src + (size_t)u->src * HIER_SRC + 4; /* B or T, then gB */
+        if (i + HIER_PREFETCH_AHEAD < ends) { /* the rows are read at random: ask ahead */
+            const double *next = h->src + (size_t)h->inc[i + HIER_PREFETCH_AHEAD].src * HIER_SRC;
+            __builtin_prefetch(next + 4);
+            __builtin_prefetch(next + 15);
+        }
         if (carry != CARRY_B) {
             for (int c = 0; c < 3; c++) {
                 x->Tg[c] += u->F * s[c];
