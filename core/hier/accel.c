@@ -93,7 +93,6 @@ static void set_state(hier_elem *x, int carry, const double *s)
         x->B[c] = rad_dmax(s[c], 0.0);
     for (int c = 0; c < 3; c++)
         x->gB[c] = rad_vec3_make(s[3 + 3 * c], s[4 + 3 * c], s[5 + 3 * c]);
-    hier_leaf_var(x);
 }
 
 void hier_accel_begin(rad_hier *h, int carry, double tol)

@@ -30,8 +30,8 @@
 
 #include "rad_sys.h"
 
-/* the values of an element an owner shares after a step: B (B, gB, var, Hn) or T */
-enum { SHARE_B_DOUBLES = 18, SHARE_T_DOUBLES = 3 };
+/* the values of an element an owner shares after a step: B (B, gB, Hn) or T */
+enum { SHARE_B_DOUBLES = 15, SHARE_T_DOUBLES = 3 };
 
 struct hier_share {
     unsigned long long version; /* the h->version this plan matches (when built) */
@@ -345,8 +345,7 @@ rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *v
                 v[3 + 3 * k] = x->gB[k].x;
                 v[4 + 3 * k] = x->gB[k].y;
                 v[5 + 3 * k] = x->gB[k].z;
-                v[12 + k] = x->var[k];
-                v[15 + k] = x->Hn[k];
+                v[12 + k] = x->Hn[k];
             }
         } else {
             memcpy(v, x->T, sizeof x->T);
@@ -364,8 +363,7 @@ rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *v
                 for (int k = 0; k < 3; k++) {
                     x->B[k] = v[k];
                     x->gB[k] = rad_vec3_make(v[3 + 3 * k], v[4 + 3 * k], v[5 + 3 * k]);
-                    x->var[k] = v[12 + k];
-                    x->Hn[k] = v[15 + k];
+                    x->Hn[k] = v[12 + k];
                 }
             } else {
                 memcpy(x->T, v, sizeof x->T);

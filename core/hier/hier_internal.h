@@ -34,13 +34,14 @@ typedef struct hier_elem {
                                 the gathered gradient (the variation P0 leaves
                                 unresolved); on an inner element, the linear fit of its
                                 children plus their mean gradient */
-    double var[3];           /* how far B strays from its mean over the element: on a
-                                leaf, what gB implies at its corners (a step keeps
-                                this; for the bound hier_inner_spread adds rho r w
-                                over the links at it and its ancestors, r their
-                                linear fits' largest residuals); on an inner
-                                element, the farthest leaf below, that leaf's var
-                                included */
+    double var[3];           /* how far B strays from its mean over the element, set
+                                by hier_inner_spread for the oracle and the bound,
+                                which alone read it (a step leaves it as it was): on
+                                a leaf, what gB implies at its corners (for the
+                                bound, plus rho r w over the links at it and its
+                                ancestors, r their linear fits' largest residuals);
+                                on an inner element, the farthest leaf below, that
+                                leaf's var included */
     double cap;              /* leaf: the row ceiling (rad_hier_row_ceiling) over its row
                                 sum where that exceeds it (sealed: always), else 1 */
     double row0;             /* leaf: its row sum (the push of B = 1) at the centroid ... */
@@ -439,7 +440,7 @@ rad_status hier_split_plan(rad_hier *h);
 const int *hier_split_links(const rad_hier *h, const unsigned char **ends, size_t *n);
 void hier_split_roots(const rad_hier *h, size_t *lo, size_t *hi);
 /* After this process pushed and pulled its own trees: every element's
- * carried values (B: B, gB, var; T: T) from its owner, and the step's
+ * carried values (B: B, gB, Hn; T: T) from its owner, and the step's
  * largest change and value over every process. */
 rad_status hier_split_exchange(rad_hier *h, int carry, double *change, double *vmax);
 void hier_share_destroy(rad_hier *h);
@@ -467,8 +468,6 @@ void hier_children_mean(rad_hier *h, int e, int carry);
 /* The inner elements under e take their children's area-weighted mean,
  * children first, as push-pull makes them. */
 void hier_pull_means(rad_hier *h, int e, int carry);
-/* A leaf's var from its gB (how far B strays from its mean at its corners). */
-void hier_leaf_var(hier_elem *x);
 /* Steps until the step change is at most tol relative to the largest B. */
 rad_status hier_solve_links(rad_hier *h, double tol);
 /* The local error bounds per leaf (q, d summed over the links at the leaf and

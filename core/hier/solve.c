@@ -129,7 +129,7 @@ static void row_scales(const rad_hier *h, const hier_elem *x, double *se, double
 
 /* A leaf takes E + rho (se x its element links' value at its centroid + sc
  * x its cluster links'), the linear function's mean over the leaf; its
- * slope and variation follow (see hier_elem). */
+ * slope follows (see hier_elem). */
 static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_vec3 totg[3],
                    const double totc[3], double *change, double *vmax)
 {
@@ -155,8 +155,6 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
         x->B[c] = b;
         x->gB[c] = rad_vec3_scale(totg[c], r * se);
     }
-    if (!h->p.sealed) /* sealed, apply_gain sets var with B */
-        hier_leaf_var(x);
 }
 
 /* Sealed: the normalized rows make a uniform radiosity gather exactly
@@ -167,7 +165,7 @@ static void leaf_B(rad_hier *h, hier_elem *x, const double tot0[3], const rad_ve
  * with the step's old B, over what reaches them, sum A Hn, per channel (1
  * for a uniform radiosity), held between HIER_GAIN_MIN and the row ceiling
  * (so that the step still contracts); then each leaf
- * takes B = E + rho gain Hn (its slope and variation scaled alike), the
+ * takes B = E + rho gain Hn (its slope scaled alike), the
  * step's change is measured, and the inner elements take their children's
  * means again.  The sums run over fixed runs of elements (at most
  * GAIN_RUNS of at least GAIN_RUN_MIN each: the runs depend on the element
@@ -235,7 +233,6 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
             x->B[c] = b;
             x->gB[c] = rad_vec3_scale(x->gB[c], gain[c]);
         }
-        hier_leaf_var(x);
     }
     int chunk = hier_root_chunk(h->nroots, threads);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads) if (h->nroots > 1)
@@ -245,7 +242,8 @@ static void apply_gain(rad_hier *h, double *change, double *vmax)
     *vmax = vm;
 }
 
-void hier_leaf_var(hier_elem *x)
+/* A leaf's var from its gB (how far B strays from its mean at its corners). */
+static void leaf_var(hier_elem *x)
 {
     for (int c = 0; c < 3; c++) {
         double v = 0.0;
@@ -911,7 +909,7 @@ static void leaf_var_below(rad_hier *h, int e, const double up[3], const var_sou
         r[c] = up[c] + (vs ? vs->res[3 * (size_t)e + (size_t)c] : 0.0);
     hier_elem *x = &h->el[e];
     if (x->first_child < 0) {
-        hier_leaf_var(x);
+        leaf_var(x);
         for (int c = 0; c < 3; c++) {
             double add = r[c];
             if (vs) {
