@@ -72,7 +72,10 @@ TEST(anderson_reaches_the_same_fixed_point)
     /* 64 boxes lit from the ceiling, every reflectance 0.9: the two solves
        stop within final_share eps R = 1e-3 R of the same fixed point, so
        they differ by at most 2e-3 R on any face (radkit compare's worst,
-       relative to the mean reflected radiosity R). */
+       relative to the mean reflected radiosity R); mixing saves a quarter
+       of the steps at least, in the last solve and the bound's transport
+       (the solves between rounds stop at round_tol eps R, mostly before
+       mixing could pay). */
     const char *scene = harness_path("scenes/many_objects/many_64.obj");
     long mixed, plain;
     char *a = solve_run((const char *[]){scene, "--rho", "0.9", "--method", "cluster", "--quiet",
@@ -94,7 +97,7 @@ TEST(anderson_reaches_the_same_fixed_point)
         printf("# many_64 rho 0.9: %ld steps, --anderson 0: %ld; worst difference %.2e R\n",
                mixed, plain, worst);
         CHECK_MSG(worst <= 2e-3, "worst difference %.3g R", worst);
-        CHECK_MSG(mixed > 0 && 10 * mixed <= 6 * plain, "%ld steps against %ld", mixed, plain);
+        CHECK_MSG(mixed > 0 && 4 * mixed <= 3 * plain, "%ld steps against %ld", mixed, plain);
         free(out);
         free(err);
     }

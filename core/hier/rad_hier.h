@@ -184,7 +184,7 @@ typedef struct rad_hier_params {
     double round_tol;     /* the solves between rounds only feed the oracle, whose
                              decisions compare errors with eps R (R the mean reflected
                              radiosity): they stop where B is within about
-                             round_tol eps R of its fixed point.  Default 0.1 */
+                             round_tol eps R of its fixed point.  Default 0.5 */
     double final_share;   /* the last solve stops where B is within about final_share
                              eps R of its fixed point (a share of the target the
                              error estimate carries as its iteration part), or at

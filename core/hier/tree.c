@@ -52,7 +52,7 @@ void rad_hier_params_default(rad_hier_params *params)
     params->far_ratio = 3.0;
     params->clip_blockers = 24;
     params->singular = 1;
-    params->round_tol = 0.1;
+    params->round_tol = 0.5;
     params->final_share = 0.01;
     params->max_tighten = 3;
     params->source_slope = 1;
