@@ -146,6 +146,35 @@ static size_t drop_replaced(rad_hier *h, size_t from, size_t end)
     return kept;
 }
 
+/* The oracle's decision on element link l at target: keep it, or split
+ * (or first estimate again, rad_hier_refine decides) with the end to split
+ * first, a or b. */
+enum { DECIDE_KEEP, DECIDE_SPLIT_A, DECIDE_SPLIT_B };
+static signed char decide(const rad_hier *h, const hier_link *l, double target, int error_oracle)
+{
+    if (l->a < 0)
+        return DECIDE_KEEP;
+    const hier_elem *ea = &h->el[l->a], *eb = &h->el[l->b];
+    double ca, cb, sa, sb;
+    contributions(h, l, &ca, &cb, &sa, &sb);
+    double la = target, lb = target;
+    if (error_oracle) {
+        /* the share of its input triangle's mean error */
+        ca *= ea->area / h->el[ea->face].area;
+        cb *= eb->area / h->el[eb->face].area;
+        la *= h->p.link_share * h->face_scale[ea->face];
+        lb *= h->p.link_share * h->face_scale[eb->face];
+    }
+    if (!(ca > la) && !(cb > lb) && !l->unknown)
+        return DECIDE_KEEP;
+    int split_a;
+    if (h->p.oracle == RAD_HIER_ORACLE_ERROR && !l->unknown && sa != sb)
+        split_a = sa > sb;
+    else
+        split_a = ea->area >= eb->area;
+    return split_a ? DECIDE_SPLIT_A : DECIDE_SPLIT_B;
+}
+
 /* Queue link l's pair to be estimated again clipping every blocker it may. */
 static rad_status push_upgrade(hier_job **up, size_t *n, size_t *cap, hier_link l)
 {
@@ -165,7 +194,8 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     rad_status st = RAD_OK;
     long long count = 0;
     hier_job *jobs = NULL, *up = NULL;
-    size_t capj = 0, nup = 0, capup = 0;
+    size_t capj = 0, nup = 0, capup = 0, capdec = 0;
+    signed char *dec = NULL;
     double target = h->p.eps * hier_reflected_scale(h);
     int error_oracle = h->p.oracle == RAD_HIER_ORACLE_ERROR;
     h->st.links_bound = 0;
@@ -179,22 +209,20 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     size_t begin = 0, end = h->E_max > 0.0 ? h->nln : 0;
     while (begin < end) {
         size_t nj = 0;
+        /* the decisions read only the ends' values, which splitting leaves
+           as they are: made in parallel, then carried out in link order */
+        if (!rad_sys_grow((void **)&dec, &capdec, 0, end - begin, 1, 4096)) {
+            st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu link decisions", end - begin);
+            goto done;
+        }
+        const rad_hier *hc = h;
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (end - begin > 4096)
+        for (long long k = (long long)begin; k < (long long)end; k++)
+            dec[k - (long long)begin] = decide(hc, &hc->ln[k], target, error_oracle);
         for (size_t k = begin; k < end; k++) {
             hier_link l = h->ln[k];
-            if (l.a < 0)
-                continue;
-            const hier_elem *ea = &h->el[l.a], *eb = &h->el[l.b];
-            double ca, cb, sa, sb;
-            contributions(h, &l, &ca, &cb, &sa, &sb);
-            double la = target, lb = target;
-            if (error_oracle) {
-                /* the share of its input triangle's mean error */
-                ca *= ea->area / h->el[ea->face].area;
-                cb *= eb->area / h->el[eb->face].area;
-                la *= h->p.link_share * h->face_scale[ea->face];
-                lb *= h->p.link_share * h->face_scale[eb->face];
-            }
-            if (!(ca > la) && !(cb > lb) && !l.unknown)
+            signed char d = dec[k - begin];
+            if (d == DECIDE_KEEP)
                 continue;
             if (l.sampled && !l.clip && h->p.clip_blockers > 0) {
                 /* its rays' sampling error may be what the oracle sees: the
@@ -206,11 +234,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
                 count++;
                 continue;
             }
-            int first_choice;
-            if (h->p.oracle == RAD_HIER_ORACLE_ERROR && !l.unknown && sa != sb)
-                first_choice = sa > sb ? l.a : l.b;
-            else
-                first_choice = ea->area >= eb->area ? l.a : l.b;
+            int first_choice = d == DECIDE_SPLIT_A ? l.a : l.b;
             int second = first_choice == l.a ? l.b : l.a;
             int target_elem = hier_can_split(h, first_choice) ? first_choice
                               : hier_can_split(h, second)     ? second
@@ -253,6 +277,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
 done:
     free(jobs);
     free(up);
+    free(dec);
     if (st != RAD_OK)
         drop_replaced(h, 0, 0); /* what an error left among the links */
     h->version++; /* the gather's incidence and the shared gather's plan are rebuilt */
