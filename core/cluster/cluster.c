@@ -311,6 +311,13 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
     for (int o = 0; o < ORDERS; o++)
         bc.ord[o] = work + (size_t)o * ntris;
     int root = -1;
+    /* a binary tree over n triangles has at most 2 n - 1 nodes: held from
+       the start, its pages are touched once instead of copied at each
+       doubling */
+    if (!rad_sys_grow((void **)&t->node, &t->cap, 0, 2 * ntris - 1, sizeof *t->node, 64)) {
+        st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", 2 * ntris - 1);
+        goto fail;
+    }
     if (!sort_orders(&bc, ntris)) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory to sort %zu triangles", ntris);
         goto fail;
