@@ -1285,17 +1285,22 @@ static int cluster_incidence(rad_hier *h)
         src[i] = source_of(h, (int)i);
     size_t *start = h->cinc_start;
     memset(start, 0, (nr + 1) * sizeof *start);
-    for (size_t k = 0; k < h->ncln; k++) {
+    int threads = hier_threads(h);
+    /* the counts, on every thread (a count does not depend on the order) */
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncln > 65536)
+    for (long long k = 0; k < (long long)h->ncln; k++) {
         const int ends[2] = {h->cln[k].a, h->cln[k].b};
-        for (int s = 0; s < 2; s++)
-            start[(ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s])) + 1]++;
+        for (int s = 0; s < 2; s++) {
+            size_t r = ends[s] >= 0 ? (size_t)ends[s] : h->ncl + (size_t)(-1 - ends[s]);
+#pragma omp atomic
+            start[r + 1]++;
+        }
     }
     for (size_t r = 0; r < nr; r++)
         start[r + 1] += start[r];
     /* each thread writes the receivers of its share of the ends (whole
        receivers, so each keeps link order); start[r] runs ahead, then is
        restored */
-    int threads = hier_threads(h);
 #pragma omp parallel num_threads(threads)
     {
         size_t lo, hi;

@@ -502,9 +502,14 @@ static rad_status incidence(rad_hier *h)
     hier_gather_touch(h, HIER_GATHER_INC, 2 * nl * sizeof *h->inc);
     size_t *start = h->inc_start;
     memset(start, 0, (ne + 1) * sizeof *start);
-    for (size_t k = 0; k < nl; k++)
+    int threads = hier_threads(h);
+    /* the counts, on every thread (a count does not depend on the order) */
+#pragma omp parallel for schedule(static) num_threads(threads) if (nl > 65536)
+    for (long long k = 0; k < (long long)nl; k++)
         if (h->ln[k].a >= 0) {
+#pragma omp atomic
             start[h->ln[k].a + 1]++;
+#pragma omp atomic
             start[h->ln[k].b + 1]++;
         }
     for (size_t e = 0; e < ne; e++)
@@ -513,7 +518,6 @@ static rad_status incidence(rad_hier *h)
     /* each thread writes the elements of its share of the ends (whole
        elements, so each keeps link order); start[e] runs ahead, then is
        restored */
-    int threads = hier_threads(h);
 #pragma omp parallel num_threads(threads) if (nl > 65536)
     {
         size_t lo, hi;
