@@ -161,16 +161,16 @@ typedef struct hier_clink {
                               error: split the larger end, not the source */
 } hier_clink;
 
-/* One end of a link as the receiver sees it: the source element, the form
- * factor, its gradient over the receiver and the source-slope vector (the
- * moment's over the receiver's area: constant while the links are), and
- * whether the receiver is the link's b end (the order of gather_link's
- * terms there). */
 /* A gather reads its ends' source rows at random (the rows lie in source
  * order, the ends in receiver order) and would wait on each one: the loops
  * ask for the row of the end this many places on while they work on one. */
 enum { HIER_PREFETCH_AHEAD = 8 };
 
+/* One end of a link as the receiver sees it: the source element, the form
+ * factor, its gradient over the receiver and the source-slope vector (the
+ * moment's over the receiver's area: constant while the links are), and
+ * whether the receiver is the link's b end (the order of gather_link's
+ * terms there). */
 typedef struct hier_end {
     int src, is_b;
     double F;

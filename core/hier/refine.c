@@ -150,7 +150,7 @@ static size_t drop_replaced(rad_hier *h, size_t from, size_t end)
  * (or first estimate again, rad_hier_refine decides) with the end to split
  * first, a or b. */
 enum { DECIDE_KEEP, DECIDE_SPLIT_A, DECIDE_SPLIT_B };
-static signed char decide(const rad_hier *h, const hier_link *l, double target, int error_oracle)
+static signed char decide(const rad_hier *h, const hier_link *l, double target)
 {
     if (l->a < 0)
         return DECIDE_KEEP;
@@ -158,7 +158,7 @@ static signed char decide(const rad_hier *h, const hier_link *l, double target, 
     double ca, cb, sa, sb;
     contributions(h, l, &ca, &cb, &sa, &sb);
     double la = target, lb = target;
-    if (error_oracle) {
+    if (h->p.oracle == RAD_HIER_ORACLE_ERROR) {
         /* the share of its input triangle's mean error */
         ca *= ea->area / h->el[ea->face].area;
         cb *= eb->area / h->el[eb->face].area;
@@ -197,7 +197,6 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
     size_t capj = 0, nup = 0, capup = 0, capdec = 0;
     signed char *dec = NULL;
     double target = h->p.eps * hier_reflected_scale(h);
-    int error_oracle = h->p.oracle == RAD_HIER_ORACLE_ERROR;
     h->st.links_bound = 0;
     /* the source variation of an inner element, in its links' terms, is
        that of the B the last solve left below it */
@@ -218,7 +217,7 @@ rad_status rad_hier_refine(rad_hier *h, long long *refined)
         const rad_hier *hc = h;
 #pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (end - begin > 4096)
         for (long long k = (long long)begin; k < (long long)end; k++)
-            dec[k - (long long)begin] = decide(hc, &hc->ln[k], target, error_oracle);
+            dec[k - (long long)begin] = decide(hc, &hc->ln[k], target);
         for (size_t k = begin; k < end; k++) {
             hier_link l = h->ln[k];
             signed char d = dec[k - begin];
