@@ -312,8 +312,7 @@ rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, s
         bc.ord[o] = work + (size_t)o * ntris;
     int root = -1;
     /* a binary tree over n triangles has at most 2 n - 1 nodes: held from
-       the start, its pages are touched once instead of copied at each
-       doubling */
+       the start, so that no node is ever copied into a grown block */
     if (!rad_sys_grow((void **)&t->node, &t->cap, 0, 2 * ntris - 1, sizeof *t->node, 64)) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", 2 * ntris - 1);
         goto fail;

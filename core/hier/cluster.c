@@ -1199,8 +1199,8 @@ static const char *source_row(const rad_hier *h, const hier_cinc *x, int nch, si
  * sum_j A_j v_j max(n_j.u, 0) (a cluster's by the model), from the sources'
  * rows (hier_fill_sources).  The channels share each triangle's projected
  * area, so it is computed once.  It first asks for the row of the end
- * HIER_PREFETCH_AHEAD on: its first lines and its last, the ones between
- * following as the reads stream. */
+ * HIER_PREFETCH_AHEAD on: its first and last lines (the second and third
+ * of a long row too), the ones between following as the reads stream. */
 static void intensity(const rad_hier *h, size_t i, int carry, double p[3])
 {
     int nch = channels(h, carry);
@@ -1208,10 +1208,10 @@ static void intensity(const rad_hier *h, size_t i, int carry, double p[3])
         size_t bytes;
         const char *row = source_row(h, &h->cinc[i + HIER_PREFETCH_AHEAD], nch, &bytes);
         __builtin_prefetch(row);
-        __builtin_prefetch(row + 64);
+        __builtin_prefetch(row + bytes - 1);
         if (bytes > 128) {
+            __builtin_prefetch(row + 64);
             __builtin_prefetch(row + 128);
-            __builtin_prefetch(row + bytes - 1);
         }
     }
     const hier_cinc *x = &h->cinc[i];
