@@ -186,20 +186,40 @@ static void dir_sum(hier_dir *g, const hier_dir *p)
         g->M[i] += p->M[i];
 }
 
-/* What a point of normal n receives, sum c_k max(n.w_k, 0) =
- * (sum c_k |n.w_k| + n.S) / 2, with n^T M n <= sum c_k |n.w_k| <=
+/* The quadratic monomials of unit n that n^T M n weighs with M's entries
+ * (xx yy zz 2xy 2xz 2yz): computed once where several moments are read
+ * at the same n (a source's channels, a leaf's). */
+static void dir_square(rad_vec3 n, double q[6])
+{
+    q[0] = n.x * n.x;
+    q[1] = n.y * n.y;
+    q[2] = n.z * n.z;
+    q[3] = 2.0 * n.x * n.y;
+    q[4] = 2.0 * n.x * n.z;
+    q[5] = 2.0 * n.y * n.z;
+}
+
+/* What a point of normal n (q: dir_square(n)) receives, sum c_k max(n.w_k, 0)
+ * = (sum c_k |n.w_k| + n.S) / 2, with n^T M n <= sum c_k |n.w_k| <=
  * min(C, sqrt(C n^T M n)) (|n.w| <= 1, Cauchy-Schwarz): the middle of that
  * bracket, exact for one direction, and its half width (*err). */
-static double dir_eval(const hier_dir *g, rad_vec3 n, double *err)
+static double dir_eval_at(const hier_dir *g, rad_vec3 n, const double q[6], double *err)
 {
     double nS = rad_vec3_dot(n, g->S);
-    double nMn = g->M[0] * n.x * n.x + g->M[1] * n.y * n.y + g->M[2] * n.z * n.z +
-                 2.0 * (g->M[3] * n.x * n.y + g->M[4] * n.x * n.z + g->M[5] * n.y * n.z);
+    double nMn = g->M[0] * q[0] + g->M[1] * q[1] + g->M[2] * q[2] + g->M[3] * q[3] +
+                 g->M[4] * q[4] + g->M[5] * q[5];
     nMn = rad_dmax(0.0, nMn);
     double lo = rad_dmax(0.0, rad_dmax(nS, 0.5 * (nMn + nS)));
     double hi = rad_dmax(lo, 0.5 * (rad_dmin(g->C, sqrt(g->C * nMn)) + nS));
     *err = 0.5 * (hi - lo);
     return 0.5 * (lo + hi);
+}
+
+static double dir_eval(const hier_dir *g, rad_vec3 n, double *err)
+{
+    double q[6];
+    dir_square(n, q);
+    return dir_eval_at(g, n, q, err);
 }
 
 /* The projected area of end x towards unit direction w, by the model, and
@@ -772,14 +792,16 @@ typedef struct end_values {
 
 static void values(const rad_hier *h, int id, end_values *v)
 {
+    /* the irradiance range is read only by a sealed scene's weight */
+    int sealed = h->p.sealed;
     if (id >= 0) {
         const hier_clus *x = &h->cl[id];
         for (int c = 0; c < 3; c++) {
             v->B[c] = x->B[c];
             v->var[c] = x->var[c];
             v->rho[c] = x->rho[c];
-            v->Hlo[c] = x->Hlo[c];
-            v->Hhi[c] = x->Hhi[c];
+            v->Hlo[c] = sealed ? x->Hlo[c] : 0.0;
+            v->Hhi[c] = sealed ? x->Hhi[c] : 0.0;
         }
         v->scale = x->scale;
         return;
@@ -789,7 +811,7 @@ static void values(const rad_hier *h, int id, end_values *v)
         v->B[c] = e->B[c];
         v->var[c] = e->var[c];
         v->rho[c] = h->rho[(size_t)e->face + (size_t)c * h->nroots];
-        v->Hlo[c] = v->Hhi[c] = element_H(h, e, c);
+        v->Hlo[c] = v->Hhi[c] = sealed ? element_H(h, e, c) : 0.0;
     }
     v->scale = h->face_scale[e->face];
 }
@@ -1225,10 +1247,15 @@ static void intensity(const rad_hier *h, size_t i, int carry, double p[3])
     }
     if (x->kind == HIER_CINC_MOMENTS) {
         const hier_dir *g = h->cmom + (size_t)nch * (size_t)x->src;
-        double err;
+        if (h->p.cluster_model == RAD_HIER_CLUSTER_ISO) {
+            for (int c = 0; c < nch; c++)
+                p[c] = 0.25 * g[c].C;
+            return;
+        }
+        double q[6], err;
+        dir_square(u, q);
         for (int c = 0; c < nch; c++)
-            p[c] = h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? 0.25 * g[c].C
-                                                               : dir_eval(&g[c], u, &err);
+            p[c] = dir_eval_at(&g[c], u, q, &err);
         return;
     }
     /* the gather's innermost loop: the sums stay in registers, and max(d, 0)
@@ -1488,14 +1515,15 @@ static rad_status gather_links(rad_hier *h, int carry)
     return RAD_OK;
 }
 
-/* What a leaf cluster's triangle (normal n) receives of what it gathered,
- * and the bracket's half width (*err). */
-static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, double *err)
+/* What a leaf cluster's triangle (normal n, q: dir_square(n)) receives of
+ * what it gathered, and the bracket's half width (*err). */
+static double received(const rad_hier *h, const hier_dir *g, rad_vec3 n, const double q[6],
+                       double *err)
 {
     *err = 0.0;
     if (!g)
         return 0.0;
-    return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval(g, n, err);
+    return h->p.cluster_model == RAD_HIER_CLUSTER_ISO ? g->C : dir_eval_at(g, n, q, err);
 }
 
 /* Each element's Cg (B, T or, in Cg[0], the row; with one channel
@@ -1523,9 +1551,11 @@ static void gather_elements(rad_hier *h, int carry)
         }
         if ((size_t)e < h->nroots) {
             const struct hier_cleaf *l = &h->cleaf[e];
+            double q[6];
+            dir_square(n, q);
             for (int c = 0; c < nch; c++) {
                 double err;
-                sum[c] += received(h, pushed_to(h, l, c), n, &err) +
+                sum[c] += received(h, pushed_to(h, l, c), n, q, &err) +
                           h->crecv[3 * (size_t)l->first + (size_t)c];
             }
         }
@@ -1641,9 +1671,11 @@ rad_status hier_cluster_local(rad_hier *h)
     for (size_t i = 0; i < n; i++) {
         const struct hier_cleaf *x = &h->cleaf[i]; /* root element i's */
         hier_elem *e = &h->el[i];
+        double q[6];
+        dir_square(h->normal[i], q);
         for (int c = 0; c < 3; c++) {
             double err;
-            received(h, pushed_to(h, x, c < nch ? c : 0), h->normal[i], &err);
+            received(h, pushed_to(h, x, c < nch ? c : 0), h->normal[i], q, &err);
             e->q[c] += h->rho[i + (size_t)c * n] * err;
         }
     }

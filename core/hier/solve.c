@@ -82,6 +82,14 @@
    first step's sums, far from the answer, from darkening every leaf. */
 #define HIER_GAIN_MIN 0.5
 
+/* Sealed, a leaf's row under HIER_ROW_FLOOR times the ceiling is left as it
+   is, not scaled up to the ceiling: a coarse hierarchy's links may bring a
+   leaf nothing (every cluster link at it from clusters it turns away from),
+   and what rounding leaves of their cancelling terms (1e-20) would be scaled
+   to a whole row, the leaf's B then flipping from step to step as that
+   rounding does, and the solve's change with it. */
+#define HIER_ROW_FLOOR 1e-12
+
 int hier_threads(const rad_hier *h)
 {
     return h->p.threads > 0 ? h->p.threads : omp_get_max_threads();
@@ -339,7 +347,7 @@ static void push_rows(rad_hier *h, int e, double down0, rad_vec3 downg, double d
     rad_vec3 totg = rad_vec3_add(downg, x->Gg[0]);
     if (x->first_child < 0) {
         double top = rad_hier_row_ceiling(h->p.sealed, h->rho_max), row = tot0 + totc;
-        x->cap = row > top || (h->p.sealed && row > 0.0) ? top / row : 1.0;
+        x->cap = row > top || (h->p.sealed && row > HIER_ROW_FLOOR * top) ? top / row : 1.0;
         x->row0 = row;
         x->rowc = totc;
         x->rowg = totg;
