@@ -1,11 +1,13 @@
 /* rad_sys: the large-array allocator, binding threads to CPUs. */
 #define _GNU_SOURCE /* sched_getaffinity, CPU_SET */
+#include <errno.h>
 #include <omp.h>
 #include <sched.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "harness.h"
 #include "rad_sys.h"
@@ -90,6 +92,67 @@ TEST(sys_grow_keeps_what_is_used)
     CHECK(!rad_sys_grow((void **)&a, &cap, 0, SIZE_MAX / 2, sizeof *a, 16));
     CHECK(a == kept && cap == 4 * full);
     free(a);
+}
+
+/* rad_sys_grow_mapped keeps the items in use through every doubling, small
+ * and on mappings of their own past RAD_SYS_HUGE_PAGE (two arrays grown in
+ * turn, and a page mapped right after the first's mapping once it has one,
+ * so that it cannot grow in place and its pages must move), each large one
+ * on a huge page's boundary; with none in use the whole new capacity is
+ * writable; a size past SIZE_MAX is refused with the array left as it was. */
+TEST(sys_grow_mapped_keeps_what_is_used)
+{
+    double *a[2] = {NULL, NULL};
+    size_t cap[2] = {0, 0}, n = 0;
+    const size_t total = 5 * RAD_SYS_HUGE_PAGE / sizeof(double) + 7;
+    int unaligned = 0, moved = 0;
+    void *guard = NULL;
+    while (n < total) {
+        if (!guard && cap[0] * sizeof(double) >= RAD_SYS_HUGE_PAGE) {
+            size_t len = (cap[0] * sizeof(double) + RAD_SYS_HUGE_PAGE - 1) / RAD_SYS_HUGE_PAGE *
+                         RAD_SYS_HUGE_PAGE;
+            /* taken already (EEXIST) stands in the way as well */
+            guard = mmap((char *)a[0] + len, 4096, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS |
+                         MAP_FIXED_NOREPLACE, -1, 0);
+            CHECK(guard == (char *)a[0] + len || (guard == MAP_FAILED && errno == EEXIST));
+        }
+        for (int i = 0; i < 2; i++) {
+            size_t cap0 = cap[i];
+            double *at = a[i];
+            CHECK(rad_sys_grow_mapped((void **)&a[i], &cap[i], n, n + 1000, sizeof(double), 16));
+            CHECK(cap[i] >= n + 1000 && (cap[i] == cap0 || cap[i] >= 2 * cap0));
+            unaligned += cap[i] * sizeof(double) >= RAD_SYS_HUGE_PAGE &&
+                         (uintptr_t)a[i] % RAD_SYS_HUGE_PAGE != 0;
+            moved += cap0 * sizeof(double) >= RAD_SYS_HUGE_PAGE && a[i] != at;
+            for (size_t k = n; k < n + 1000; k++)
+                a[i][k] = (double)(k + (size_t)i);
+        }
+        n += 1000;
+    }
+    int same = 1;
+    for (int i = 0; i < 2; i++)
+        for (size_t k = 0; k < n; k++)
+            same &= a[i][k] == (double)(k + (size_t)i);
+    CHECK(same);
+    CHECK_MSG(unaligned == 0, "%d large blocks not on a huge page's boundary", unaligned);
+    CHECK_MSG(moved > 0, "no mapping had to move: the test did not exercise the move");
+    size_t full = cap[0];
+    CHECK(rad_sys_grow_mapped((void **)&a[0], &cap[0], 0, 4 * full, sizeof(double), 16) &&
+          cap[0] == 4 * full);
+    a[0][4 * full - 1] = 1.0;
+    double *kept = a[0];
+    CHECK(!rad_sys_grow_mapped((void **)&a[0], &cap[0], 0, SIZE_MAX / 2, sizeof(double), 16));
+    CHECK(a[0] == kept && cap[0] == 4 * full);
+    for (int i = 0; i < 2; i++)
+        rad_sys_free_mapped(a[i], cap[i], sizeof(double));
+    if (guard && guard != MAP_FAILED)
+        munmap(guard, 4096);
+    /* a small array stays a malloc'd block, which rad_sys_free_mapped frees */
+    double *s = NULL;
+    size_t cs = 0;
+    CHECK(rad_sys_grow_mapped((void **)&s, &cs, 0, 10, sizeof *s, 4) && cs == 16);
+    s[15] = 1.0;
+    rad_sys_free_mapped(s, cs, sizeof *s);
 }
 
 /* Each thread's CPUs after rad_sys_bind_threads with as many threads as

@@ -541,9 +541,12 @@ static int estimate(const rad_hier *h, int ia, int ib, double target, hier_clink
     return 1;
 }
 
-/* Estimate jobs[0..n) in parallel and append the links that carry anything
- * (in job order: the result does not depend on the thread count); target:
- * as estimate's. */
+/* Estimate jobs[0..n) in parallel into the next n slots of the links (in
+ * job order: the result does not depend on the thread count); target: as
+ * estimate's.  A pair that carries nothing is marked as a refined link
+ * (a = INT_MIN), which the examination passes over and refine_pass's
+ * compaction drops with the generation's refined links: the new links are
+ * not moved twice. */
 static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, double target)
 {
     if (n == 0)
@@ -556,11 +559,9 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, do
     rad_status mem = hier_memory_check(h, 0, n, 0);
     if (mem != RAD_OK)
         return mem;
-    if (!rad_sys_grow((void **)&h->cln, &h->capcln, h->ncln, h->ncln + n, sizeof *h->cln, 256))
+    if (!rad_sys_grow_mapped((void **)&h->cln, &h->capcln, h->ncln, h->ncln + n, sizeof *h->cln,
+                             256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu cluster links", h->ncln + n);
-    unsigned char *keep = malloc(n);
-    if (!keep)
-        return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu cluster links", n);
     hier_clink *out = h->cln + h->ncln;
     unsigned long long rays = 0;
     const rad_hier *hc = h;
@@ -570,25 +571,18 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, do
     hier_share(h, &first, &step);
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n / step > 64) num_threads(threads)
     for (long long k = (long long)first; k < (long long)n; k += (long long)step)
-        keep[k] = (unsigned char)estimate(hc, jobs[k].a, jobs[k].b, target, &out[k], &rays);
+        if (!estimate(hc, jobs[k].a, jobs[k].b, target, &out[k], &rays))
+            out[k].a = INT_MIN;
     if (hier_shared(h)) {
         long long evals = 0;
         rad_status st;
         if ((st = hier_share_gather(h, out, sizeof *out, n)) != RAD_OK ||
-            (st = hier_share_gather(h, keep, 1, n)) != RAD_OK ||
-            (st = hier_share_work(h, &evals, &rays)) != RAD_OK) {
-            free(keep);
+            (st = hier_share_work(h, &evals, &rays)) != RAD_OK)
             return st;
-        }
     }
-    size_t w = h->ncln;
-    for (size_t k = 0; k < n; k++)
-        if (keep[k])
-            h->cln[w++] = out[k];
-    h->ncln = w;
+    h->ncln += n;
     h->cln_version++;
     h->st.rays += rays;
-    free(keep);
     h->st.time_estimate_cluster_s += rad_sys_seconds() - t0;
     return RAD_OK;
 }
@@ -856,6 +850,8 @@ static signed char decide_by(const rad_hier *h, const hier_clink *l, double targ
 /* The oracle's decision on link l: 0 keep it, else split_link's split_b + 2. */
 static signed char decide(const rad_hier *h, const hier_clink *l, double target)
 {
+    if (l->a == INT_MIN)
+        return 0;
     if (l->overlap)
         return -1 + 2;
     if (!(target > 0.0))
@@ -925,9 +921,10 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
             st = estimate_batch(h, cj.j, cj.n, target);
         if (st == RAD_OK)
             st = hier_estimate_batch(h, sj.j, sj.n, 0);
-        /* the generation's split links go before the next is examined, so
-           the array holds the live links and one generation's new ones, not
-           every link made (order is kept: results do not depend on it) */
+        /* the generation's split links, and its new pairs that carry
+           nothing, go before the next is examined, so the array holds the
+           live links and one generation's new ones, not every link made
+           (order is kept: results do not depend on it) */
         size_t kept = begin, w = begin;
         for (size_t k = begin; k < h->ncln; k++)
             if (h->cln[k].a != INT_MIN) {
@@ -1190,13 +1187,13 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->cleaf);
     free(h->cmnode);
     free(h->csub_mom);
-    free(h->cln);
+    rad_sys_free_mapped(h->cln, h->capcln, sizeof *h->cln);
     free(h->cemit);
     free(h->crecv);
     free(h->cmom);
     free(h->cgot);
     free(h->cinc_start);
-    free(h->cinc);
+    rad_sys_free_mapped(h->cinc, h->cinc_cap, sizeof *h->cinc);
 }
 
 /* ---- the solve's gather and the local error bounds ----------------------- */
@@ -1300,7 +1297,8 @@ static int cluster_incidence(rad_hier *h)
         return 1;
     if (!rad_sys_grow((void **)&h->cinc_start, &h->cinc_start_cap, 0, nr + 1,
                       sizeof *h->cinc_start, 1024) ||
-        !rad_sys_grow((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc, 1024))
+        !rad_sys_grow_mapped((void **)&h->cinc, &h->cinc_cap, 0, 2 * h->ncln, sizeof *h->cinc,
+                             1024))
         return 0;
     hier_gather_touch(h, HIER_GATHER_CINC_START, (nr + 1) * sizeof *h->cinc_start);
     hier_gather_touch(h, HIER_GATHER_CINC, 2 * h->ncln * sizeof *h->cinc);

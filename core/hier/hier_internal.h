@@ -145,7 +145,8 @@ typedef struct hier_ctri {
  * hier_link).  An end is a cluster index c >= 0 or an element e as -1 - e.
  * It carries light both ways as G / A to every point of the receiver. */
 typedef struct hier_clink {
-    int a, b;              /* ends; a = INT_MIN marks a refined link */
+    int a, b;              /* ends; a = INT_MIN marks a refined link, or a new pair
+                              that carries nothing (refine_pass drops both) */
     double G;              /* estimated int_a int_b K V */
     double Fa, Fb;         /* bounds of the point form factor from any point of a
                               towards b, and of b towards a */

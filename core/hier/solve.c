@@ -504,7 +504,7 @@ static rad_status incidence(rad_hier *h)
     size_t ne = h->nel, nl = h->nln;
     if (!rad_sys_grow((void **)&h->inc_start, &h->inc_start_cap, 0, ne + 1, sizeof *h->inc_start,
                       1024) ||
-        !rad_sys_grow((void **)&h->inc, &h->inc_cap, 0, 2 * nl, sizeof *h->inc, 1024))
+        !rad_sys_grow_mapped((void **)&h->inc, &h->inc_cap, 0, 2 * nl, sizeof *h->inc, 1024))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the ends of %zu links", nl);
     hier_gather_touch(h, HIER_GATHER_INC_START, (ne + 1) * sizeof *h->inc_start);
     hier_gather_touch(h, HIER_GATHER_INC, 2 * nl * sizeof *h->inc);

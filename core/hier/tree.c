@@ -129,7 +129,7 @@ rad_status hier_grow_elems(rad_hier *h, size_t extra)
     if (h->nel + extra > h->capel &&
         (st = hier_memory_check(h, 0, 0, h->nel + extra - h->capel)) != RAD_OK)
         return st;
-    if (!rad_sys_grow((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+    if (!rad_sys_grow_mapped((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
 }
@@ -143,7 +143,8 @@ rad_status hier_reserve_links(rad_hier *h, size_t extra)
     rad_status st = hier_memory_check(h, extra, 0, 0);
     if (st != RAD_OK)
         return st;
-    if (!rad_sys_grow((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln, 256))
+    if (!rad_sys_grow_mapped((void **)&h->ln, &h->capln, h->nln, h->nln + extra, sizeof *h->ln,
+                             256))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu links", h->nln + extra);
     return RAD_OK;
 }
@@ -379,10 +380,10 @@ void rad_hier_destroy(rad_hier *h)
     free(h->tight_B);
     hier_cluster_destroy(h);
     hier_share_destroy(h);
-    free(h->el);
-    free(h->ln);
+    rad_sys_free_mapped(h->el, h->capel, sizeof *h->el);
+    rad_sys_free_mapped(h->ln, h->capln, sizeof *h->ln);
     free(h->inc_start);
-    free(h->inc);
+    rad_sys_free_mapped(h->inc, h->inc_cap, sizeof *h->inc);
     free(h->src);
     hier_accel_destroy(h);
     free(h);

@@ -91,6 +91,21 @@ void *rad_sys_calloc_huge(size_t count, size_t size);
  * with `used` 0 NULL and *cap 0), 1 otherwise. */
 int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first);
 
+/* rad_sys_grow for an array that grows large and is kept (hier's elements,
+ * links and incidence): past RAD_SYS_HUGE_PAGE bytes it lies on a mapping
+ * of its own, on huge pages where the kernel grants them, which grows by
+ * remapping its pages (Linux mremap) instead of copying them into a fresh
+ * block: no copy, and no page of the old block zeroed again by the kernel
+ * for the new one.  Below that, a small block by realloc.  The capacity
+ * doubles as rad_sys_grow's and the first `used` items are kept (with
+ * `used` 0 whatever the pages held is left: the caller writes them anew).
+ * 0 when the size overflows or memory runs out (*arr and *cap unchanged),
+ * 1 otherwise.  Free the array with rad_sys_free_mapped and the capacity
+ * this left in *cap. */
+int rad_sys_grow_mapped(void **arr, size_t *cap, size_t used, size_t need, size_t item,
+                        size_t first);
+void rad_sys_free_mapped(void *arr, size_t cap, size_t item);
+
 #ifdef __cplusplus
 }
 #endif

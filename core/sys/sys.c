@@ -1,4 +1,4 @@
-#define _DEFAULT_SOURCE /* madvise's MADV_HUGEPAGE */
+#define _GNU_SOURCE /* madvise's MADV_HUGEPAGE, mremap */
 #include "rad_sys.h"
 
 #include <stdint.h>
@@ -160,3 +160,113 @@ int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item,
     *cap = c;
     return 1;
 }
+
+/* ---- arrays on mappings of their own ------------------------------------ */
+
+#ifdef __linux__
+/* Whether an array of cap items of `item` bytes lies on a mapping (and the
+ * mapping's length, whole huge pages). */
+static int mapped(size_t cap, size_t item) { return cap * item >= RAD_SYS_HUGE_PAGE; }
+
+static size_t mapped_length(size_t cap, size_t item)
+{
+    return (cap * item + RAD_SYS_HUGE_PAGE - 1) / RAD_SYS_HUGE_PAGE * RAD_SYS_HUGE_PAGE;
+}
+
+/* A fresh mapping of `bytes` (whole huge pages) aligned to a huge page, so
+ * that the kernel may back it with them; NULL when out of memory. */
+static void *map_aligned(size_t bytes)
+{
+    size_t span = bytes + RAD_SYS_HUGE_PAGE;
+    char *p = mmap(NULL, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED)
+        return NULL;
+    uintptr_t a = ((uintptr_t)p + RAD_SYS_HUGE_PAGE - 1) / RAD_SYS_HUGE_PAGE * RAD_SYS_HUGE_PAGE;
+    size_t head = a - (uintptr_t)p, tail = span - head - bytes;
+    if (head)
+        munmap(p, head);
+    if (tail)
+        munmap((char *)a + bytes, tail);
+    (void)madvise((void *)a, bytes, MADV_HUGEPAGE);
+    return (void *)a;
+}
+
+/* Mapping old (old_bytes) made `bytes` long: in place where the addresses
+ * after it are free, else its pages moved onto a fresh aligned range (a
+ * move to an address off the huge-page grid would split its huge pages). */
+static void *remap_aligned(void *old, size_t old_bytes, size_t bytes)
+{
+    void *p = mremap(old, old_bytes, bytes, 0);
+    if (p == MAP_FAILED) {
+        void *dst = map_aligned(bytes);
+        if (!dst)
+            return NULL;
+        p = mremap(old, old_bytes, bytes, MREMAP_MAYMOVE | MREMAP_FIXED, dst);
+        if (p == MAP_FAILED) {
+            munmap(dst, bytes);
+            return NULL;
+        }
+    }
+    (void)madvise(p, bytes, MADV_HUGEPAGE);
+    return p;
+}
+
+int rad_sys_grow_mapped(void **arr, size_t *cap, size_t used, size_t need, size_t item,
+                        size_t first)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : (first ? first : 1);
+    while (c < need) {
+        if (c > SIZE_MAX / 2)
+            return 0;
+        c *= 2;
+    }
+    if (item == 0 || c > (SIZE_MAX - RAD_SYS_HUGE_PAGE) / item)
+        return 0;
+    if (!mapped(c, item)) {
+        void *n = realloc(*arr, c * item);
+        if (!n)
+            return 0;
+        *arr = n;
+        *cap = c;
+        return 1;
+    }
+    void *n;
+    if (*arr && mapped(*cap, item)) {
+        n = remap_aligned(*arr, mapped_length(*cap, item), mapped_length(c, item));
+    } else {
+        n = map_aligned(mapped_length(c, item));
+        if (n && *arr)
+            memcpy(n, *arr, used * item);
+        if (n)
+            free(*arr);
+    }
+    if (!n)
+        return 0;
+    *arr = n;
+    *cap = c;
+    return 1;
+}
+
+void rad_sys_free_mapped(void *arr, size_t cap, size_t item)
+{
+    if (arr && mapped(cap, item))
+        munmap(arr, mapped_length(cap, item));
+    else
+        free(arr);
+}
+#else
+int rad_sys_grow_mapped(void **arr, size_t *cap, size_t used, size_t need, size_t item,
+                        size_t first)
+{
+    return rad_sys_grow(arr, cap, used, need, item, first);
+}
+
+void rad_sys_free_mapped(void *arr, size_t cap, size_t item)
+{
+    (void)cap;
+    (void)item;
+    free(arr);
+}
+#endif
