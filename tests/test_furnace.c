@@ -558,7 +558,7 @@ static long faces_cut(const char *scene, double near_rel, double near_rel_large)
     long cut = -1;
     if (s && rad_mesh_split_contacts(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
                                      rad_scene_triangles(s), (size_t)rad_scene_triangle_count(s),
-                                     ep.contact_rel_tol, near_rel, near_rel_large,
+                                     ep.contact_rel_tol, near_rel, near_rel_large, 0,
                                      &m) == RAD_OK) {
         cut = (long)m.faces_split;
         rad_mesh_contacts_free(&m);

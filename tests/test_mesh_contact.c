@@ -166,7 +166,7 @@ TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
         floor2(&s);
         box(&s, 0.3, lift[h], fp);
         rad_mesh_contacts m;
-        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) ==
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, &m) ==
               RAD_OK);
         CHECK(m.faces_split == 2); /* the footprint straddles the floor's diagonal */
         /* the bottom edges of four side triangles: the two that cross the
@@ -185,7 +185,7 @@ TEST(contact_box_on_or_just_above_the_floor_cuts_it_along_its_footprint)
         rad_mesh_contacts_free(&m);
         if (h == 1) {
             CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.0,
-                                          0.0, &m) == RAD_OK);
+                                          0.0, 0, &m) == RAD_OK);
             CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
             rad_mesh_contacts_free(&m);
         }
@@ -206,7 +206,7 @@ TEST(contact_hovering_reaches_further_over_a_large_triangle)
         floor_of(&s, L);
         box_at(&s, 0.5 * L, 0.5 * L, 30.0, 0.3, 0.15, fp);
         rad_mesh_contacts m;
-        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.25,
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.25, 0,
                                       &m) == RAD_OK);
         CHECK_MSG(m.faces_split == (big ? 2u : 0u), "floor %g m: %zu cut", L, m.faces_split);
         if (big) {
@@ -214,7 +214,7 @@ TEST(contact_hovering_reaches_further_over_a_large_triangle)
             CHECK_NEAR(footprint_area(&m, m.nt - 10, fp), 0.36, 1e-12, 0.0);
         }
         rad_mesh_contacts_free(&m);
-        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.1,
+        CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.1, 0,
                                       &m) == RAD_OK);
         CHECK(m.faces_split == 0 && m.nt == (size_t)s.nt);
         rad_mesh_contacts_free(&m);
@@ -236,7 +236,7 @@ static void cut_floor_under_box(double x, double y, double deg, double h, size_t
     double fp[4][2];
     floor2(&s);
     box_at(&s, x, y, deg, h, 0.0, fp);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, m) ==
           RAD_OK);
     CHECK(m->faces_split == split);
     check_pieces(&s, m);
@@ -304,7 +304,7 @@ TEST(contact_nothing_to_cut_when_lifted_along_an_edge_coplanar_or_behind)
     for (int k = 0; k < 2; k++) {
         rad_mesh_contacts m;
         CHECK(rad_mesh_split_contacts(cases[k]->xyz, (size_t)cases[k]->nv, cases[k]->tri,
-                                      (size_t)cases[k]->nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
+                                      (size_t)cases[k]->nt, 1e-6, 1e-2, 1e-2, 0, &m) == RAD_OK);
         CHECK_MSG(m.faces_split == 0 && m.nt == (size_t)cases[k]->nt, "case %d: %zu cut", k,
                   m.faces_split);
         CHECK(memcmp(m.tri, cases[k]->tri, 3 * (size_t)cases[k]->nt * sizeof(int)) == 0);
@@ -321,7 +321,7 @@ TEST(contact_a_triangle_through_the_floor_cuts_nothing)
     int a = vert(&s, 0.5, 1.2, -0.5), b = vert(&s, 1.5, 1.2, -0.5), c = vert(&s, 1.0, 1.2, 0.5);
     face(&s, a, c, b);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 3);
     rad_mesh_contacts_free(&m);
 }
@@ -331,30 +331,30 @@ TEST(contact_refuses_bad_input)
     soup s = {0};
     floor2(&s);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, 1e-2, &m) != RAD_OK);
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, 1e-2, &m) !=
+    CHECK(rad_mesh_split_contacts(NULL, 4, s.tri, 2, 1e-6, 1e-2, 1e-2, 0, &m) != RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, -1.0, 1e-2, 1e-2, 0, &m) !=
           RAD_OK);
     /* the reach over a large triangle is at least the reach over any */
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.05, &m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 0.1, 0.05, 0, &m) ==
           RAD_EINVAL);
     /* tolerances must be finite, below 1 and not NaN (an infinite one would
        ask the candidate grid for no end of cells) */
     const double bad[3] = {INFINITY, NAN, 1.0};
     for (int k = 0; k < 3; k++) {
         CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, bad[k],
-                                      bad[k], &m) == RAD_EINVAL);
+                                      bad[k], 0, &m) == RAD_EINVAL);
         CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2,
-                                      bad[k], &m) == RAD_EINVAL);
+                                      bad[k], 0, &m) == RAD_EINVAL);
         CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, bad[k], 1e-2,
-                                      1e-2, &m) == RAD_EINVAL);
+                                      1e-2, 0, &m) == RAD_EINVAL);
     }
     s.tri[1] = 17;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) ==
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, &m) ==
           RAD_EINPUT);
     CHECK(m.xyz == NULL && m.nt == 0);
     /* a degenerate triangle (0, 0, 2) neither cuts nor is cut */
     s.tri[1] = 0;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
 }
@@ -372,7 +372,77 @@ TEST(contact_survives_tiny_triangles_far_apart)
     c = vert(&s, 1e200, 1e200 + 1e185, 1e200);
     face(&s, a, b, c);
     rad_mesh_contacts m;
-    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, &m) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(s.xyz, (size_t)s.nv, s.tri, (size_t)s.nt, 1e-6, 1e-2, 1e-2, 0, &m) == RAD_OK);
     CHECK(m.faces_split == 0 && m.nt == 2);
     rad_mesh_contacts_free(&m);
+}
+
+/* A floor of n x n unit squares with a box of half side 0.3 standing in
+ * every third square of every third row: enough cells that the candidate
+ * pairs are shared among threads. */
+static void crowded_floor(int n, double **xyz, size_t *nv, int **tri, size_t *nt)
+{
+    int boxes = ((n + 2) / 3) * ((n + 2) / 3);
+    *xyz = malloc(sizeof **xyz * 3 * (size_t)((n + 1) * (n + 1) + 8 * boxes));
+    *tri = malloc(sizeof **tri * 3 * (size_t)(2 * n * n + 10 * boxes));
+    CHECK(*xyz && *tri);
+    size_t v = 0, t = 0;
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++, v++) {
+            (*xyz)[3 * v] = i;
+            (*xyz)[3 * v + 1] = j;
+            (*xyz)[3 * v + 2] = 0.0;
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+            int q[6] = {a, b, c, a, c, d};
+            memcpy(*tri + 3 * t, q, sizeof q);
+            t += 2;
+        }
+    for (int j = 0; j < n; j += 3)
+        for (int i = 0; i < n; i += 3) {
+            double fp[4][2] = {
+                {i + 0.2, j + 0.2}, {i + 0.8, j + 0.2}, {i + 0.8, j + 0.8}, {i + 0.2, j + 0.8}};
+            int lo[4], hi[4];
+            for (int k = 0; k < 4; k++) {
+                lo[k] = (int)v;
+                double p[6] = {fp[k][0], fp[k][1], 0.0, fp[k][0], fp[k][1], 0.7};
+                memcpy(*xyz + 3 * v, p, sizeof p);
+                hi[k] = (int)v + 1;
+                v += 2;
+            }
+            for (int k = 0; k < 4; k++) {
+                int m = (k + 1) % 4, q[6] = {lo[k], lo[m], hi[m], lo[k], hi[m], hi[k]};
+                memcpy(*tri + 3 * t, q, sizeof q);
+                t += 2;
+            }
+            int top[6] = {hi[0], hi[1], hi[2], hi[0], hi[2], hi[3]};
+            memcpy(*tri + 3 * t, top, sizeof top);
+            t += 2;
+        }
+    *nv = v;
+    *nt = t;
+}
+
+TEST(contact_cut_is_the_same_on_one_thread_or_two)
+{
+    double *xyz = NULL;
+    int *tri = NULL;
+    size_t nv, nt;
+    crowded_floor(60, &xyz, &nv, &tri, &nt);
+    rad_mesh_contacts one, two;
+    CHECK(rad_mesh_split_contacts(xyz, nv, tri, nt, 1e-6, 0.1, 0.25, 1, &one) == RAD_OK);
+    CHECK(rad_mesh_split_contacts(xyz, nv, tri, nt, 1e-6, 0.1, 0.25, 2, &two) == RAD_OK);
+    /* every box cuts the floor triangles under its footprint */
+    CHECK(one.faces_split >= 2 * 20 * 20);
+    CHECK(one.nt == two.nt && one.nv == two.nv && one.faces_split == two.faces_split &&
+          one.segments == two.segments);
+    CHECK(one.nt == two.nt && memcmp(one.tri, two.tri, 3 * one.nt * sizeof *one.tri) == 0 &&
+          memcmp(one.parent, two.parent, one.nt * sizeof *one.parent) == 0);
+    CHECK(one.nv == two.nv && memcmp(one.xyz, two.xyz, 3 * one.nv * sizeof *one.xyz) == 0);
+    rad_mesh_contacts_free(&one);
+    rad_mesh_contacts_free(&two);
+    free(xyz);
+    free(tri);
 }

@@ -560,7 +560,7 @@ TEST(scene_effects_plan_keeps_its_contact_cut)
         CHECK(rad_mesh_split_contacts(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
                                       rad_scene_triangles(s),
                                       (size_t)rad_scene_triangle_count(s), ep.contact_rel_tol,
-                                      ep.contact_near_rel, ep.contact_near_rel_large, &direct) == RAD_OK);
+                                      ep.contact_near_rel, ep.contact_near_rel_large, 0, &direct) == RAD_OK);
         CHECK_MSG(kept.faces_split > 0 && plan.contact.on, "%s: %zu faces cut", scenes[k],
                   kept.faces_split);
         CHECK(kept.nt == direct.nt && kept.nv == direct.nv &&

@@ -42,7 +42,10 @@
 #include <climits>
 #include <cstring>
 #include <stdexcept>
+#include <new>
 #include <vector>
+
+#include <omp.h>
 
 #include "cdt.hpp"
 #include "mesh_internal.hpp"
@@ -299,7 +302,8 @@ extern "C" void rad_mesh_contacts_free(rad_mesh_contacts *c)
 
 extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri,
                                               size_t nt, double rel_tol, double near_rel,
-                                              double near_rel_large, rad_mesh_contacts *out)
+                                              double near_rel_large, int threads,
+                                              rad_mesh_contacts *out)
 {
     if (!out)
         return RAD_ERROR(RAD_EINVAL, "contacts: NULL argument");
@@ -418,11 +422,26 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                         entries.emplace_back((x * dim[1] + y) * dim[2] + z, (int)t);
         }
         std::sort(entries.begin(), entries.end());
-        std::vector<std::vector<Segment>> segs(nt);
-        for (size_t e0 = 0, e1; e0 < entries.size(); e0 = e1) {
+        // the cells' runs of entries, examined on every thread; each thread
+        // keeps what it finds and the segments go to their triangles after
+        std::vector<size_t> runs;
+        for (size_t e0 = 0; e0 < entries.size();) {
+            runs.push_back(e0);
             long cell = entries[e0].first;
-            for (e1 = e0; e1 < entries.size() && entries[e1].first == cell; e1++) {
-            }
+            while (e0 < entries.size() && entries[e0].first == cell)
+                e0++;
+        }
+        runs.push_back(entries.size());
+        const long nruns = (long)runs.size() - 1;
+        int nthreads = threads > 0 ? threads : omp_get_max_threads();
+        std::vector<std::vector<std::pair<int, Segment>>> found((size_t)nthreads);
+        bool short_of_memory = false; // an exception may not leave a parallel loop
+#pragma omp parallel for schedule(dynamic, 256) num_threads(nthreads) if (nruns > 4096)
+        for (long r = 0; r < nruns; r++) {
+            std::vector<std::pair<int, Segment>> &mine = found[(size_t)omp_get_thread_num()];
+            try {
+            size_t e0 = runs[(size_t)r], e1 = runs[(size_t)r + 1];
+            long cell = entries[e0].first;
             for (size_t ei = e0; ei < e1; ei++)
                 for (size_t ej = ei + 1; ej < e1; ej++) {
                     int ia = entries[ei].second, ib = entries[ej].second;
@@ -440,11 +459,21 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
                         continue;
                     Segment sg;
                     if (contact(A, B, tol, std::max(tol, hover(A, B) * B.size), &sg))
-                        segs[(size_t)ia].push_back(sg);
+                        mine.emplace_back(ia, sg);
                     if (contact(B, A, tol, std::max(tol, hover(B, A) * A.size), &sg))
-                        segs[(size_t)ib].push_back(sg);
+                        mine.emplace_back(ib, sg);
                 }
+            } catch (const std::bad_alloc &) {
+#pragma omp atomic write
+                short_of_memory = true;
+            }
         }
+        if (short_of_memory)
+            throw std::bad_alloc();
+        std::vector<std::vector<Segment>> segs(nt);
+        for (const auto &mine : found)
+            for (const auto &f : mine)
+                segs[(size_t)f.first].push_back(f.second);
         // a triangle's segments in one order, whatever found them first
         for (std::vector<Segment> &v : segs)
             std::sort(v.begin(), v.end(), [](const Segment &x, const Segment &y) {

@@ -2,3 +2,5 @@
 # It is C++, so the program links with $(CXX) and needs the C++ runtime.
 LDLIBS := -lgmp -lmpfr $(LDLIBS)
 PKGS   += libcgal-dev libgmp-dev libmpfr-dev
+# The contact cut examines its candidate pairs on every thread.
+CXXFLAGS += -fopenmp

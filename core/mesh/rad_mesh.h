@@ -158,7 +158,9 @@ rad_status rad_mesh_conform_leaves(const double *corners, size_t nleaves, double
  * triangle's orientation and names it in parent[]; a sliver that the
  * scene's degenerate test would refuse is dropped and counted; triangles
  * without contact are copied as they are, in order; a triangle without a
- * normal (degenerate, not finite) neither cuts nor is cut.  RAD_EINVAL for
+ * normal (degenerate, not finite) neither cuts nor is cut.  The candidate
+ * pairs are examined on `threads` OpenMP threads (0: OpenMP's default);
+ * the cut is the same for any count.  RAD_EINVAL for
  * a NULL argument, a tolerance outside [0, 1) (an infinite one would ask
  * the candidate grid for no end of cells) or near_rel_large below
  * near_rel; RAD_EINPUT for a bad index (naming its triangle); RAD_ENOMEM;
@@ -176,7 +178,7 @@ typedef struct rad_mesh_contacts {
 } rad_mesh_contacts;
 rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, const int *tri, size_t nt,
                                    double rel_tol, double near_rel, double near_rel_large,
-                                   rad_mesh_contacts *out);
+                                   int threads, rad_mesh_contacts *out);
 void rad_mesh_contacts_free(rad_mesh_contacts *c);
 
 /* OFF with full double precision. */

@@ -297,7 +297,8 @@ rad_status rad_scene_effects_plan_cut(const rad_scene *s, const rad_mesh *mesh,
     /* 7. contact */
     rad_status st = rad_mesh_split_contacts(s->xyz, (size_t)s->nv, s->tri, (size_t)s->nt,
                                             params->contact_rel_tol, params->contact_near_rel,
-                                            params->contact_near_rel_large, cut);
+                                            params->contact_near_rel_large, params->threads,
+                                            cut);
     if (st != RAD_OK)
         return st;
     const rad_mesh_contacts ct = *cut;

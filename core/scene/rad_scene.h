@@ -199,6 +199,7 @@ typedef struct rad_effects_params {
                                       wall sees mostly the patch its own shadow
                                       darkens, which the wall's elements, each
                                       much larger, average with the lit wall) */
+    int threads;              /* OpenMP threads of the contact cut; 0: OpenMP's default */
 } rad_effects_params;
 
 /* Everything automatic; clustering from 2.5e5 facing pairs among

@@ -879,6 +879,7 @@ rad_status rad_solve_run(const rad_scene *scene, const rad_solve_params *params,
         rad_solve_params_default(&s->used);
     s->method = s->used.method;
     s->faces = rad_scene_triangle_count(scene);
+    s->used.effects.threads = s->used.threads;
     prepared pr;
     rad_status st = prepare(scene, s, &pr);
     if (st == RAD_OK) {
