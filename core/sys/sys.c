@@ -116,17 +116,25 @@ static void release(void *p, size_t bytes)
         malloc_trim(0);
 }
 
-int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first)
+/* The capacity that holds need items, doubling cap (or first, from 0);
+ * 0 when it would overflow. */
+static size_t doubled(size_t cap, size_t need, size_t first)
 {
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : (first ? first : 1);
+    size_t c = cap ? cap : (first ? first : 1);
     while (c < need) {
         if (c > SIZE_MAX / 2)
             return 0;
         c *= 2;
     }
-    if (c > SIZE_MAX / item)
+    return c;
+}
+
+int rad_sys_grow(void **arr, size_t *cap, size_t used, size_t need, size_t item, size_t first)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = doubled(*cap, need, first);
+    if (c == 0 || c > SIZE_MAX / item)
         return 0;
     if (used == 0) {
         /* nothing to keep: the old block goes before the new one comes */
@@ -216,13 +224,8 @@ int rad_sys_grow_mapped(void **arr, size_t *cap, size_t used, size_t need, size_
 {
     if (need <= *cap)
         return 1;
-    size_t c = *cap ? *cap : (first ? first : 1);
-    while (c < need) {
-        if (c > SIZE_MAX / 2)
-            return 0;
-        c *= 2;
-    }
-    if (item == 0 || c > (SIZE_MAX - RAD_SYS_HUGE_PAGE) / item)
+    size_t c = doubled(*cap, need, first);
+    if (c == 0 || item == 0 || c > (SIZE_MAX - RAD_SYS_HUGE_PAGE) / item)
         return 0;
     if (!mapped(c, item)) {
         void *n = realloc(*arr, c * item);
