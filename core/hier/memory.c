@@ -26,7 +26,8 @@ void hier_gather_touch(rad_hier *h, int k, size_t bytes)
 /* What array k (cap bytes now) will add when it holds `bytes`: rebuilt
    within its capacity it writes over the pages it has touched; past it,
    rad_sys_grow frees the old block and hands its pages back before it
-   makes the new one, so again only what goes beyond them. */
+   makes the new one, and rad_sys_grow_mapped moves the pages it has into
+   the larger mapping, so again only what goes beyond them. */
 static double pending(const rad_hier *h, int k, double bytes)
 {
     return rad_dmax(0.0, bytes - h->gather_touched[k]);

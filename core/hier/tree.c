@@ -129,7 +129,8 @@ rad_status hier_grow_elems(rad_hier *h, size_t extra)
     if (h->nel + extra > h->capel &&
         (st = hier_memory_check(h, 0, 0, h->nel + extra - h->capel)) != RAD_OK)
         return st;
-    if (!rad_sys_grow_mapped((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el, 64))
+    if (!rad_sys_grow_mapped((void **)&h->el, &h->capel, h->nel, h->nel + extra, sizeof *h->el,
+                             64))
         return RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu elements", h->nel + extra);
     return RAD_OK;
 }
