@@ -84,6 +84,7 @@
 #include <limits.h>
 #include <math.h>
 #include <omp.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -912,6 +913,27 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
         for (long long k = (long long)begin; k < (long long)end; k++)
             dec[k - (long long)begin] = decide(hc, &hc->cln[k], target);
         for (size_t k = begin; k < end && st == RAD_OK; k++) {
+            /* split_link reads the ends' nodes, and the nodes of the split
+               end's children, all far apart: the ends of the link twice
+               HIER_PREFETCH_AHEAD places on are asked for, and the children
+               of the ends HIER_PREFETCH_AHEAD on (their nodes by then read) */
+            size_t far = k + 2 * HIER_PREFETCH_AHEAD, near = k + HIER_PREFETCH_AHEAD;
+            if (far < end && dec[far - begin]) {
+                const int ends[2] = {h->cln[far].a, h->cln[far].b};
+                for (int s = 0; s < 2; s++) {
+                    const char *x = ends[s] >= 0 ? (const char *)&h->cl[ends[s]]
+                                                 : (const char *)&h->el[-1 - ends[s]];
+                    __builtin_prefetch(x);
+                    __builtin_prefetch(x + (ends[s] >= 0 ? offsetof(hier_clus, child) : 64));
+                }
+            }
+            if (near < end && dec[near - begin]) {
+                const int ends[2] = {h->cln[near].a, h->cln[near].b};
+                for (int s = 0; s < 2; s++)
+                    if (ends[s] >= 0 && h->cl[ends[s]].root < 0)
+                        for (int c = 0; c < 2; c++)
+                            __builtin_prefetch(&h->cl[h->cl[ends[s]].child[c]].root);
+            }
             if (!dec[k - begin])
                 continue;
             st = split_link(h, k, dec[k - begin] - 2, &cj, &sj);
