@@ -440,29 +440,29 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         for (long r = 0; r < nruns; r++) {
             std::vector<std::pair<int, Segment>> &mine = found[(size_t)omp_get_thread_num()];
             try {
-            size_t e0 = runs[(size_t)r], e1 = runs[(size_t)r + 1];
-            long cell = entries[e0].first;
-            for (size_t ei = e0; ei < e1; ei++)
-                for (size_t ej = ei + 1; ej < e1; ej++) {
-                    int ia = entries[ei].second, ib = entries[ej].second;
-                    const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
-                    double tol = rel_tol * std::max(A.size, B.size);
-                    double ga = grow[(size_t)ia], gb = grow[(size_t)ib];
-                    bool overlap = true;
-                    long home = 0;
-                    for (int i = 0; i < 3; i++) {
-                        overlap = overlap && B.lo[i] - gb <= A.hi[i] + ga &&
-                                  A.lo[i] - ga <= B.hi[i] + gb;
-                        home = home * dim[i] + cell_of(i, std::max(A.lo[i] - ga, B.lo[i] - gb));
+                size_t e0 = runs[(size_t)r], e1 = runs[(size_t)r + 1];
+                long cell = entries[e0].first;
+                for (size_t ei = e0; ei < e1; ei++)
+                    for (size_t ej = ei + 1; ej < e1; ej++) {
+                        int ia = entries[ei].second, ib = entries[ej].second;
+                        const Tri &A = T[(size_t)ia], &B = T[(size_t)ib];
+                        double tol = rel_tol * std::max(A.size, B.size);
+                        double ga = grow[(size_t)ia], gb = grow[(size_t)ib];
+                        bool overlap = true;
+                        long home = 0;
+                        for (int i = 0; i < 3; i++) {
+                            overlap = overlap && B.lo[i] - gb <= A.hi[i] + ga &&
+                                      A.lo[i] - ga <= B.hi[i] + gb;
+                            home = home * dim[i] + cell_of(i, std::max(A.lo[i] - ga, B.lo[i] - gb));
+                        }
+                        if (!overlap || home != cell)
+                            continue;
+                        Segment sg;
+                        if (contact(A, B, tol, std::max(tol, hover(A, B) * B.size), &sg))
+                            mine.emplace_back(ia, sg);
+                        if (contact(B, A, tol, std::max(tol, hover(B, A) * A.size), &sg))
+                            mine.emplace_back(ib, sg);
                     }
-                    if (!overlap || home != cell)
-                        continue;
-                    Segment sg;
-                    if (contact(A, B, tol, std::max(tol, hover(A, B) * B.size), &sg))
-                        mine.emplace_back(ia, sg);
-                    if (contact(B, A, tol, std::max(tol, hover(B, A) * A.size), &sg))
-                        mine.emplace_back(ib, sg);
-                }
             } catch (const std::bad_alloc &) {
 #pragma omp atomic write
                 short_of_memory = true;
