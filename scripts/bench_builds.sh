@@ -1,6 +1,6 @@
 #!/bin/sh
-# scripts/bench_builds.sh OLD NEW: two builds of radkit side by side on issue 17's
-# goal (1.2M triangles: 100 000 boxes at eps 3, --max-tighten 0), their runs
+# scripts/bench_builds.sh OLD NEW: two builds of radkit side by side on the
+# clustering goal's run (1.2M triangles: 100 000 boxes at eps 3, --max-tighten 0), their runs
 # alternated RUNS times (default 2), so that both meet the same state of a
 # shared host; a table row is one run.  Build OLD from a commit in a scratch
 # worktree (git worktree add /tmp/old COMMIT && make -C /tmp/old

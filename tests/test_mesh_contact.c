@@ -378,8 +378,9 @@ TEST(contact_survives_tiny_triangles_far_apart)
 }
 
 /* A floor of n x n unit squares with a box of half side 0.3 standing in
- * every third square of every third row: enough cells that the candidate
- * pairs are shared among threads. */
+ * every third square of every third row: at n = 60 the grid has 625
+ * occupied cells, enough that the candidate pairs are shared among
+ * threads (from 64 cells). */
 static void crowded_floor(int n, double **xyz, size_t *nv, int **tri, size_t *nt)
 {
     int boxes = ((n + 2) / 3) * ((n + 2) / 3);

@@ -99,7 +99,7 @@ TEST(sys_grow_keeps_what_is_used)
  * turn, and a page mapped right after the first's mapping once it has one,
  * so that it cannot grow in place and its pages must move), each large one
  * on a huge page's boundary; with none in use the whole new capacity is
- * writable; a size past SIZE_MAX is refused with the array left as it was. */
+ * writable; a size past SIZE_MAX is refused and the array kept unchanged. */
 TEST(sys_grow_mapped_keeps_what_is_used)
 {
     double *a[2] = {NULL, NULL};

@@ -436,7 +436,7 @@ extern "C" rad_status rad_mesh_split_contacts(const double *xyz, size_t nv, cons
         int nthreads = threads > 0 ? threads : omp_get_max_threads();
         std::vector<std::vector<std::pair<int, Segment>>> found((size_t)nthreads);
         bool short_of_memory = false; // an exception may not leave a parallel loop
-#pragma omp parallel for schedule(dynamic, 256) num_threads(nthreads) if (nruns > 4096)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(nthreads) if (nruns > 64)
         for (long r = 0; r < nruns; r++) {
             std::vector<std::pair<int, Segment>> &mine = found[(size_t)omp_get_thread_num()];
             try {
