@@ -108,13 +108,13 @@ static rad_cluster_tree *soup_tree(size_t n, unsigned seed, int leaf, double **x
     *tri = malloc(3 * n * sizeof **tri);
     random_soup(n, seed, *xyz, *tri);
     rad_cluster_tree *t = NULL;
-    CHECK(rad_cluster_build(*xyz, 3 * n, *tri, n, leaf, &t) == RAD_OK);
+    CHECK(rad_cluster_build(*xyz, 3 * n, *tri, n, leaf, 1, &t) == RAD_OK);
     return t;
 }
 
 TEST(cluster_hierarchy_invariants_on_random_soups)
 {
-    const size_t sizes[3] = {1, 37, 5000};
+    const size_t sizes[3] = {1, 37, 100000};
     const int leaves[3] = {1, 1, 4};
     for (int c = 0; c < 3; c++) {
         size_t n = sizes[c];
@@ -123,9 +123,11 @@ TEST(cluster_hierarchy_invariants_on_random_soups)
         rad_cluster_tree *t = soup_tree(n, (unsigned)c + 1, leaves[c], &xyz, &tri);
         if (t)
             check_tree(t, xyz, tri, n, leaves[c]);
-        /* the same input gives the same tree */
+        /* the same input gives the same tree, on one thread or two (100 000
+           triangles: enough tasks at once that two subtrees sharing a
+           buffer would show it) */
         rad_cluster_tree *u = NULL;
-        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], &u) == RAD_OK);
+        CHECK(rad_cluster_build(xyz, 3 * n, tri, n, leaves[c], 2, &u) == RAD_OK);
         if (t && u) {
             CHECK(rad_cluster_node_count(t) == rad_cluster_node_count(u));
             CHECK(memcmp(rad_cluster_order(t), rad_cluster_order(u), n * sizeof(int)) == 0);
@@ -146,7 +148,7 @@ static rad_cluster_tree *scene_tree(const rad_scene *s)
     size_t n = (size_t)rad_scene_triangle_count(s);
     rad_cluster_tree *t = NULL;
     CHECK(rad_cluster_build(rad_scene_vertices(s), (size_t)rad_scene_vertex_count(s),
-                            rad_scene_triangles(s), n, 1, &t) == RAD_OK);
+                            rad_scene_triangles(s), n, 1, 1, &t) == RAD_OK);
     if (t)
         check_tree(t, rad_scene_vertices(s), rad_scene_triangles(s), n, 1);
     return t;
@@ -328,12 +330,33 @@ TEST(cluster_bad_input_refused)
     double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     int tri[3] = {0, 1, 2}, bad[3] = {0, 1, 3}, same[3] = {0, 1, 1};
     rad_cluster_tree *t = (rad_cluster_tree *)1;
-    CHECK(rad_cluster_build(xyz, 3, tri, 0, 1, &t) == RAD_EINVAL && t == NULL);
-    CHECK(rad_cluster_build(xyz, 3, tri, 1, 0, &t) == RAD_EINVAL);
-    CHECK(rad_cluster_build(xyz, 3, bad, 1, 1, &t) == RAD_EINVAL);
+    CHECK(rad_cluster_build(xyz, 3, tri, 0, 1, 1, &t) == RAD_EINVAL && t == NULL);
+    CHECK(rad_cluster_build(xyz, 3, tri, 1, 0, 1, &t) == RAD_EINVAL);
+    CHECK(rad_cluster_build(xyz, 3, bad, 1, 1, 1, &t) == RAD_EINVAL);
     CHECK(strstr(rad_error_message(), "vertex index 3") != NULL);
-    CHECK(rad_cluster_build(xyz, 3, same, 1, 1, &t) == RAD_EINPUT);
+    CHECK(rad_cluster_build(xyz, 3, same, 1, 1, 1, &t) == RAD_EINPUT);
     xyz[4] = NAN;
-    CHECK(rad_cluster_build(xyz, 3, tri, 1, 1, &t) == RAD_EINPUT);
-    CHECK(rad_cluster_build(NULL, 3, tri, 1, 1, &t) == RAD_EINVAL);
+    CHECK(rad_cluster_build(xyz, 3, tri, 1, 1, 1, &t) == RAD_EINPUT);
+    CHECK(rad_cluster_build(NULL, 3, tri, 1, 1, 1, &t) == RAD_EINVAL);
+    /* among many, on two threads, the first bad triangle is the one named */
+    size_t n = 100000;
+    double *many = malloc(9 * n * sizeof *many);
+    int *idx = malloc(3 * n * sizeof *idx);
+    if (!many || !idx) {
+        free(many);
+        free(idx);
+        CHECK(0);
+        return;
+    }
+    random_soup(n, 7, many, idx);
+    idx[3 * 90000 + 2] = idx[3 * 90000];         /* degenerate, in the second thread's half */
+    many[3 * (size_t)idx[3 * 30000 + 1]] = NAN; /* not finite, in the first's */
+    CHECK(rad_cluster_build(many, 3 * n, idx, n, 1, 2, &t) == RAD_EINPUT);
+    CHECK_MSG(strstr(rad_error_message(), "triangle 30000 ") != NULL, "%s", rad_error_message());
+    many[3 * (size_t)idx[3 * 30000 + 1]] = 0.5;
+    CHECK(rad_cluster_build(many, 3 * n, idx, n, 1, 2, &t) == RAD_EINPUT);
+    CHECK_MSG(strstr(rad_error_message(), "triangle 90000 is degenerate") != NULL, "%s",
+              rad_error_message());
+    free(many);
+    free(idx);
 }

@@ -146,8 +146,9 @@ static int split_at(const tri_info *ti, const int *cen, const int *lo, const int
 /* The builder's state: ord[3 k + a] holds the triangles ordered along axis a
  * by centroid (k = 0), by their boxes' low end (1) and high end (2), each
  * node's triangles a contiguous range of each; left marks the side of a
- * split, tmp its partition's buffer. */
-enum { ORDERS = 9 };
+ * split, tmp its partition's buffer (a node uses its own range of it).
+ * BUILD_TASK_MIN: the smallest subtree made as a task of its own. */
+enum { ORDERS = 9, BUILD_TASK_MIN = 1024 };
 typedef struct build_ctx {
     rad_cluster_tree *t;
     const tri_info *ti;
@@ -157,25 +158,32 @@ typedef struct build_ctx {
     int leaf_size;
 } build_ctx;
 
-/* Sort the nine orders (ties by triangle index); 0 when out of memory. */
-static int sort_orders(build_ctx *bc, size_t n)
+/* Sort the nine orders (ties by triangle index), on threads threads; 0 when
+ * out of memory. */
+static int sort_orders(build_ctx *bc, size_t n, int threads)
 {
-    keyed *a = malloc(2 * n * sizeof *a);
-    if (!a)
-        return 0;
     int ok = 1;
-    for (int o = 0; o < ORDERS && ok; o++) {
-        int kind = o / 3, axis = o % 3;
-        for (size_t i = 0; i < n; i++) {
-            const tri_info *x = &bc->ti[i];
-            a[i].key = kind == 0 ? axis_of(x->c, axis) : kind == 1 ? x->lo[axis] : x->hi[axis];
-            a[i].tri = (int)i;
+#pragma omp parallel num_threads(threads) if (n > 65536) reduction(&& : ok)
+    {
+        keyed *a = malloc(2 * n * sizeof *a);
+        ok = a != NULL;
+#pragma omp for schedule(dynamic, 1)
+        for (int o = 0; o < ORDERS; o++) {
+            int kind = o / 3, axis = o % 3;
+            for (size_t i = 0; a && i < n; i++) {
+                const tri_info *x = &bc->ti[i];
+                a[i].key = kind == 0 ? axis_of(x->c, axis) : kind == 1 ? x->lo[axis] : x->hi[axis];
+                a[i].tri = (int)i;
+            }
+            if (!a || !sort_keyed(a, a + n, n)) {
+                ok = 0;
+                continue;
+            }
+            for (size_t i = 0; i < n; i++)
+                bc->ord[o][i] = a[i].tri;
         }
-        ok = sort_keyed(a, a + n, n);
-        for (size_t i = 0; ok && i < n; i++)
-            bc->ord[o][i] = a[i].tri;
+        free(a);
     }
-    free(a);
     return ok;
 }
 
@@ -192,34 +200,30 @@ static void partition(build_ctx *bc, int first, int count, int skip)
             if (bc->left[r[i]])
                 r[nl++] = r[i];
             else
-                bc->tmp[nr++] = r[i];
+                bc->tmp[first + nr++] = r[i];
         }
-        memcpy(r + nl, bc->tmp, (size_t)nr * sizeof *r);
+        memcpy(r + nl, bc->tmp + first, (size_t)nr * sizeof *r);
     }
 }
 
-static rad_status add_node(rad_cluster_tree *t, int *index)
-{
-    if (!rad_sys_grow((void **)&t->node, &t->cap, t->nnodes, t->nnodes + 1, sizeof *t->node, 64))
-        return RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", t->nnodes + 1);
-    *index = (int)t->nnodes++;
-    return RAD_OK;
-}
+/* The nodes a subtree of count triangles may hold at most (leaves of one
+ * triangle): where each subtree's nodes start is known before its sibling's
+ * are made, so the two are made at once. */
+static size_t most_nodes(int count) { return 2 * (size_t)count - 1; }
 
-/* Node for the triangles [first, first + count) of every order; they are
- * summed in the order their parent split them (by (from) = the centroid
- * order along its axis; the input order at the root), as sorting them there
- * left them. */
-static rad_status build(build_ctx *bc, const int *by, int first, int count, int parent, int depth,
-                        int *out)
+/* Node k for the triangles [first, first + count) of every order, its left
+ * subtree from k + 1 and its right one from k + 1 + most_nodes(left's
+ * count) (slots a subtree does not use stay empty: count 0); they are
+ * summed in the order their parent split them (by = the centroid order
+ * along its axis; the input order at the root), as sorting them there left
+ * them.  A large subtree's left half is a task of its own: the two halves
+ * touch disjoint ranges of every order, of tmp and of the nodes, and
+ * disjoint triangles' marks. */
+static void build(build_ctx *bc, const int *by, int first, int count, size_t k, int parent,
+                  int depth)
 {
     rad_cluster_tree *t = bc->t;
     const tri_info *ti = bc->ti;
-    int k = -1;
-    rad_status st = add_node(t, &k);
-    if (st != RAD_OK)
-        return st;
-    *out = k;
     rad_cluster_node *nd = &t->node[k];
     summarize(nd, ti, by, first, count);
     nd->first = first;
@@ -227,12 +231,10 @@ static rad_status build(build_ctx *bc, const int *by, int first, int count, int 
     nd->parent = parent;
     nd->depth = depth;
     nd->child[0] = nd->child[1] = -1;
-    if (depth > t->max_depth)
-        t->max_depth = depth;
     if (count <= bc->leaf_size) {
         if (by != t->order)
             memcpy(t->order + first, by + first, (size_t)count * sizeof *t->order);
-        return RAD_OK;
+        return;
     }
     /* the longest axis of the centroids' box, then the median centroid */
     int axis = 0;
@@ -245,89 +247,144 @@ static rad_status build(build_ctx *bc, const int *by, int first, int count, int 
         if (extent[a] > extent[axis])
             axis = a;
     const int *cen = bc->ord[axis] + first;
-    int half = split_at(ti, cen, bc->ord[3 + axis] + first, bc->ord[6 + axis] + first, count, axis),
-        left, right;
+    int half = split_at(ti, cen, bc->ord[3 + axis] + first, bc->ord[6 + axis] + first, count, axis);
     for (int i = 0; i < count; i++)
         bc->left[cen[i]] = i < half;
     partition(bc, first, count, axis);
-    if ((st = build(bc, bc->ord[axis], first, half, k, depth + 1, &left)) != RAD_OK ||
-        (st = build(bc, bc->ord[axis], first + half, count - half, k, depth + 1, &right)) != RAD_OK)
-        return st;
-    t->node[k].child[0] = left; /* t->node may have moved: index, never keep nd */
-    t->node[k].child[1] = right;
-    return RAD_OK;
+    size_t left = k + 1, right = left + most_nodes(half);
+    nd->child[0] = (int)left;
+    nd->child[1] = (int)right;
+#pragma omp task if (half > BUILD_TASK_MIN) default(none) firstprivate(bc, axis, first, half, left, k, depth)
+    build(bc, bc->ord[axis], first, half, left, (int)k, depth + 1);
+    build(bc, bc->ord[axis], first + half, count - half, right, (int)k, depth + 1);
+#pragma omp taskwait
+}
+
+/* Close the gaps build left (leaf_size > 1), keeping the nodes' order, and
+ * find the depth. */
+static void compact(rad_cluster_tree *t, size_t slots, int *index)
+{
+    size_t used = 0;
+    for (size_t k = 0; k < slots; k++)
+        index[k] = t->node[k].count > 0 ? (int)used++ : -1;
+    t->max_depth = 0;
+    for (size_t k = 0; k < slots; k++) {
+        if (index[k] < 0)
+            continue;
+        rad_cluster_node nd = t->node[k];
+        for (int c = 0; c < 2; c++)
+            if (nd.child[c] >= 0)
+                nd.child[c] = index[nd.child[c]];
+        if (nd.parent >= 0)
+            nd.parent = index[nd.parent];
+        if (nd.depth > t->max_depth)
+            t->max_depth = nd.depth;
+        t->node[index[k]] = nd;
+    }
+    t->nnodes = used;
+}
+
+/* Triangle k's tri_info into *x: 0, or what is wrong with it (1: a vertex
+ * index out of range, 2: a coordinate not finite, 3: no area). */
+static int tri_fill(const double *xyz, size_t nverts, const int *tri, size_t k, tri_info *x)
+{
+    rad_vec3 p[3];
+    for (int v = 0; v < 3; v++) {
+        int i = tri[3 * k + (size_t)v];
+        if (i < 0 || (size_t)i >= nverts)
+            return 1;
+        p[v] = rad_vec3_make(xyz[3 * (size_t)i], xyz[3 * (size_t)i + 1], xyz[3 * (size_t)i + 2]);
+        if (!rad_vec3_is_finite(p[v]))
+            return 2;
+    }
+    x->area = rad_geom_triangle_area(p[0], p[1], p[2]);
+    if (!(x->area > 0.0))
+        return 3;
+    x->n = rad_geom_triangle_normal(p[0], p[1], p[2]);
+    x->c = rad_geom_triangle_centroid(p[0], p[1], p[2]);
+    for (int a = 0; a < 3; a++) {
+        x->lo[a] = rad_dmin(axis_of(p[0], a), rad_dmin(axis_of(p[1], a), axis_of(p[2], a)));
+        x->hi[a] = rad_dmax(axis_of(p[0], a), rad_dmax(axis_of(p[1], a), axis_of(p[2], a)));
+    }
+    return 0;
 }
 
 rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, size_t ntris,
-                             int leaf_size, rad_cluster_tree **out)
+                             int leaf_size, int threads, rad_cluster_tree **out)
 {
     if (out)
         *out = NULL;
     if (!xyz || !tri || !out || ntris == 0 || ntris > (size_t)1 << 30 || leaf_size < 1)
         return RAD_ERROR(RAD_EINVAL, "cluster: bad arguments (%zu triangles, leaf size %d)",
                          ntris, leaf_size);
+    threads = threads > 1 ? threads : 1;
+    size_t slots = most_nodes((int)ntris);
     /* on huge pages: a large block's 4 KB pages fault on their first touch */
     tri_info *ti = rad_sys_alloc_huge(ntris * sizeof *ti);
     int *work = rad_sys_alloc_huge((ORDERS + 1) * ntris * sizeof *work + ntris);
+    int *index = malloc(slots * sizeof *index);
     rad_cluster_tree *t = calloc(1, sizeof *t);
     if (t)
         t->order = rad_sys_alloc_huge(ntris * sizeof *t->order);
     rad_status st = RAD_OK;
-    if (!ti || !work || !t || !t->order) {
+    if (!ti || !work || !index || !t || !t->order) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu triangles", ntris);
         goto fail;
     }
+    /* the first triangle with a problem is the one named, on any thread count */
+    size_t bad = ntris;
+#pragma omp parallel for schedule(static) num_threads(threads) if (ntris > 65536) reduction(min : bad)
     for (size_t k = 0; k < ntris; k++) {
-        rad_vec3 p[3];
-        for (int v = 0; v < 3; v++) {
-            int i = tri[3 * k + (size_t)v];
-            if (i < 0 || (size_t)i >= nverts) {
-                st = RAD_ERROR(RAD_EINVAL, "cluster: triangle %zu has vertex index %d, outside "
-                                           "0..%zu", k, i, nverts - 1);
-                goto fail;
-            }
-            p[v] = rad_vec3_make(xyz[3 * (size_t)i], xyz[3 * (size_t)i + 1], xyz[3 * (size_t)i + 2]);
-            if (!rad_vec3_is_finite(p[v])) {
-                st = RAD_ERROR(RAD_EINPUT, "cluster: triangle %zu has a non-finite coordinate", k);
-                goto fail;
-            }
-        }
-        tri_info *x = &ti[k];
-        x->area = rad_geom_triangle_area(p[0], p[1], p[2]);
-        if (!(x->area > 0.0)) {
-            st = RAD_ERROR(RAD_EINPUT, "cluster: triangle %zu is degenerate (zero area)", k);
-            goto fail;
-        }
-        x->n = rad_geom_triangle_normal(p[0], p[1], p[2]);
-        x->c = rad_geom_triangle_centroid(p[0], p[1], p[2]);
-        for (int a = 0; a < 3; a++) {
-            x->lo[a] = rad_dmin(axis_of(p[0], a), rad_dmin(axis_of(p[1], a), axis_of(p[2], a)));
-            x->hi[a] = rad_dmax(axis_of(p[0], a), rad_dmax(axis_of(p[1], a), axis_of(p[2], a)));
-        }
+        if (tri_fill(xyz, nverts, tri, k, &ti[k]) && k < bad)
+            bad = k;
         t->order[k] = (int)k;
+    }
+    if (bad < ntris) {
+        int i = -1;
+        switch (tri_fill(xyz, nverts, tri, bad, &ti[bad])) {
+        case 1:
+            for (int v = 0; v < 3; v++)
+                if (tri[3 * bad + (size_t)v] < 0 || (size_t)tri[3 * bad + (size_t)v] >= nverts)
+                    i = i < 0 ? tri[3 * bad + (size_t)v] : i;
+            st = RAD_ERROR(RAD_EINVAL, "cluster: triangle %zu has vertex index %d, outside "
+                                       "0..%zu", bad, i, nverts - 1);
+            break;
+        case 2:
+            st = RAD_ERROR(RAD_EINPUT, "cluster: triangle %zu has a non-finite coordinate", bad);
+            break;
+        default:
+            st = RAD_ERROR(RAD_EINPUT, "cluster: triangle %zu is degenerate (zero area)", bad);
+        }
+        goto fail;
     }
     build_ctx bc = {t, ti, {NULL}, work + ORDERS * ntris, (unsigned char *)(work + (ORDERS + 1) * ntris),
                     leaf_size};
     for (int o = 0; o < ORDERS; o++)
         bc.ord[o] = work + (size_t)o * ntris;
-    int root = -1;
     /* a binary tree over n triangles has at most 2 n - 1 nodes: held from
        the start, so that no node is ever copied into a grown block */
-    if (!rad_sys_grow((void **)&t->node, &t->cap, 0, 2 * ntris - 1, sizeof *t->node, 64)) {
-        st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", 2 * ntris - 1);
+    if (!rad_sys_grow((void **)&t->node, &t->cap, 0, slots, sizeof *t->node, 64)) {
+        st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory for %zu nodes", slots);
         goto fail;
     }
-    if (!sort_orders(&bc, ntris)) {
+    if (leaf_size > 1) /* slots a subtree leaves unused are known by their count */
+        for (size_t k = 0; k < slots; k++)
+            t->node[k].count = 0;
+    if (!sort_orders(&bc, ntris, threads)) {
         st = RAD_ERROR(RAD_ENOMEM, "cluster: no memory to sort %zu triangles", ntris);
         goto fail;
     }
-    if ((st = build(&bc, t->order, 0, (int)ntris, -1, 0, &root)) != RAD_OK)
-        goto fail;
+#pragma omp parallel num_threads(threads) if (ntris > BUILD_TASK_MIN)
+#pragma omp single
+    build(&bc, t->order, 0, (int)ntris, 0, -1, 0);
+    compact(t, slots, index);
+    free(index);
     free(ti);
     free(work);
     *out = t;
     return RAD_OK;
 fail:
+    free(index);
     free(ti);
     free(work);
     rad_cluster_destroy(t);

@@ -47,12 +47,13 @@ typedef struct rad_cluster_node {
 typedef struct rad_cluster_tree rad_cluster_tree;
 
 /* The hierarchy over triangles tri[3k..3k+2] (k < ntris) of vertices xyz;
- * leaves hold at most leaf_size >= 1 triangles.  RAD_EINVAL for no
+ * leaves hold at most leaf_size >= 1 triangles; built on `threads` OpenMP
+ * threads (the same tree for any count).  RAD_EINVAL for no
  * triangles, a bad leaf size or an index out of range (nverts), RAD_EINPUT
  * for a non-finite coordinate or a degenerate (zero-area) triangle, naming
  * it; RAD_ENOMEM. */
 rad_status rad_cluster_build(const double *xyz, size_t nverts, const int *tri, size_t ntris,
-                             int leaf_size, rad_cluster_tree **out);
+                             int leaf_size, int threads, rad_cluster_tree **out);
 void rad_cluster_destroy(rad_cluster_tree *t);
 
 size_t rad_cluster_node_count(const rad_cluster_tree *t);

@@ -1069,7 +1069,7 @@ rad_status hier_cluster_create(rad_hier *h)
             xyz[9 * t + 3 * (size_t)v + 2] = p.z;
             tri[3 * t + (size_t)v] = (int)(3 * t + (size_t)v);
         }
-    if ((st = rad_cluster_build(xyz, 3 * n, tri, n, 1, &tree)) != RAD_OK)
+    if ((st = rad_cluster_build(xyz, 3 * n, tri, n, 1, hier_threads(h), &tree)) != RAD_OK)
         goto done;
     h->ncl = rad_cluster_node_count(tree);
     /* on huge pages: the nodes alone are about 1 kB a triangle, and a
