@@ -697,8 +697,7 @@ static double carried(const hier_elem *e, int carry, int c)
 }
 
 /* Channel c of the source moments of cluster i: its row of cmom, or, where
- * it has none, summed over its triangles from the compact rows in cluster
- * order (ctri's area and normal, cemit's carried values). */
+ * it has none, summed over its rows of cemit (its triangle's, a leaf's). */
 static void child_moments(const rad_hier *h, int i, size_t nch, int c, hier_dir *g)
 {
     const hier_clus *x = &h->cl[i];
@@ -707,10 +706,9 @@ static void child_moments(const rad_hier *h, int i, size_t nch, int c, hier_dir 
         return;
     }
     memset(g, 0, sizeof *g);
-    for (int m = x->first; m < x->first + x->count; m++) {
-        const hier_ctri *t = &h->ctri[m];
-        dir_add(g, t->area * h->cemit[6 * (size_t)m + 3 + (size_t)c], t->n);
-    }
+    int first = x->root >= 0 ? x->first : x->grp, rows = x->root >= 0 ? 1 : x->ngrp;
+    for (const double *m = h->cemit + 6 * (size_t)first; rows-- > 0; m += 6)
+        dir_add(g, m[3 + c], rad_vec3_make(m[0], m[1], m[2]));
 }
 
 /* Cluster i's source moments of what is carried (B, T or 1), if it keeps a
@@ -1045,6 +1043,98 @@ static struct hier_cleaf leaf_of(const rad_hier *h, int i)
     return (struct hier_cleaf){x->first, row};
 }
 
+/* The groups of small cluster i's triangles with equal unit normals, in
+ * the order their first triangles come, into set (may be NULL); their
+ * count. */
+static int groups_of(const rad_hier *h, size_t i, struct hier_cgrp *set)
+{
+    const hier_clus *x = &h->cl[i];
+    int first[CLUSTER_SMALL], ng = 0;
+    for (int k = 0; k < x->count; k++) {
+        rad_vec3 n = h->ctri[x->first + k].n;
+        int g = 0;
+        for (; g < ng; g++) {
+            rad_vec3 m = h->ctri[x->first + first[g]].n;
+            if (n.x == m.x && n.y == m.y && n.z == m.z)
+                break;
+        }
+        if (g == ng) {
+            first[ng++] = k;
+            if (set)
+                set[g] = (struct hier_cgrp){x->first, 0u};
+        }
+        if (set)
+            set[g].mask |= 1u << k;
+    }
+    return ng;
+}
+
+/* Every small cluster's rows of cemit (its triangles' own where their
+ * normals all differ, else its groups'), cemit made for them and the
+ * groups' normals written once; 0 when out of memory. */
+static int make_groups(rad_hier *h)
+{
+    int threads = hier_threads(h);
+    size_t n = h->nroots;
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        x->ngrp = x->root < 0 && x->count <= CLUSTER_SMALL ? groups_of(h, (size_t)i, NULL) : 0;
+    }
+    size_t total = 0;
+    for (size_t i = 0; i < h->ncl; i++) {
+        hier_clus *x = &h->cl[i];
+        if (x->ngrp == x->count || x->ngrp == 0) {
+            x->grp = x->first;
+            x->ngrp = x->ngrp ? x->count : 0;
+        } else {
+            x->grp = (int)(n + total);
+            total += (size_t)x->ngrp;
+        }
+    }
+    h->ngrp = total;
+    h->cemit = rad_sys_alloc_huge(6 * (n + total) * sizeof *h->cemit);
+    h->cgrp_set = rad_sys_alloc_huge((total ? total : 1) * sizeof *h->cgrp_set);
+    if (!h->cemit || !h->cgrp_set)
+        return 0;
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
+        const hier_clus *x = &h->cl[i];
+        if ((size_t)x->grp < n)
+            continue;
+        struct hier_cgrp *set = h->cgrp_set + ((size_t)x->grp - n);
+        groups_of(h, (size_t)i, set);
+        for (int g = 0; g < x->ngrp; g++) {
+            rad_vec3 v = h->ctri[set[g].first + __builtin_ctz(set[g].mask)].n;
+            double *row = h->cemit + 6 * ((size_t)x->grp + (size_t)g);
+            row[0] = v.x;
+            row[1] = v.y;
+            row[2] = v.z;
+        }
+    }
+    return 1;
+}
+
+void hier_cluster_fill_groups(rad_hier *h)
+{
+    size_t n = h->nroots;
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (h->ngrp > 65536)
+    for (long long g = 0; g < (long long)h->ngrp; g++) {
+        const struct hier_cgrp *set = &h->cgrp_set[g];
+        double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+        for (unsigned m = set->mask; m; m &= m - 1) {
+            const double *v = h->cemit + 6 * ((size_t)set->first + (size_t)__builtin_ctz(m)) + 3;
+            s0 += v[0];
+            s1 += v[1];
+            s2 += v[2];
+        }
+        double *row = h->cemit + 6 * (n + (size_t)g);
+        row[3] = s0;
+        row[4] = s1;
+        row[5] = s2;
+    }
+}
+
 rad_status hier_cluster_create(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -1079,7 +1169,6 @@ rad_status hier_cluster_create(rad_hier *h)
     int threads = hier_threads(h);
     h->cl = rad_sys_alloc_huge(h->ncl * sizeof *h->cl);
     h->corder = rad_sys_alloc_huge(n * sizeof *h->corder);
-    h->cemit = rad_sys_alloc_huge(6 * n * sizeof *h->cemit);
     h->crecv = calloc(3 * n, sizeof *h->crecv);
     const rad_cluster_node *nd = rad_cluster_nodes(tree);
     if (h->cl) {
@@ -1092,7 +1181,7 @@ rad_status hier_cluster_create(rad_hier *h)
         h->cl[i].mom = reads_moments(h, nd[i].count) ? (int)nmom++ : -1;
     h->cmom = rad_sys_alloc_huge(3 * (nmom ? nmom : 1) * sizeof *h->cmom);
     h->cgot = rad_sys_alloc_huge(3 * (nmom ? nmom : 1) * sizeof *h->cgot);
-    if (!h->cl || !h->corder || !h->cemit || !h->crecv || !h->cmom || !h->cgot) {
+    if (!h->cl || !h->corder || !h->crecv || !h->cmom || !h->cgot) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
@@ -1167,7 +1256,7 @@ rad_status hier_cluster_create(rad_hier *h)
                                      : rad_dmax(h->cl[x->child[0]].rho[c],
                                                 h->cl[x->child[1]].rho[c]);
     }
-    if (!tree_cut(h) || !moment_runs(h, nmom))
+    if (!tree_cut(h) || !moment_runs(h, nmom) || !make_groups(h))
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
     h->cchannels = 1;
     for (size_t t = 0; t < n; t++)
@@ -1211,6 +1300,7 @@ void hier_cluster_destroy(rad_hier *h)
     free(h->csub_mom);
     rad_sys_free_mapped(h->cln, h->capcln, sizeof *h->cln);
     free(h->cemit);
+    free(h->cgrp_set);
     free(h->crecv);
     free(h->cmom);
     free(h->cgot);
@@ -1277,10 +1367,10 @@ static void intensity(const rad_hier *h, size_t i, int carry, double p[3])
             p[c] = dir_eval_at(&g[c], u, q, &err);
         return;
     }
-    /* the gather's innermost loop: the sums stay in registers, and max(d, 0)
-       is taken without a branch, (d + |d|) / 2, exact for a finite d (a
-       small cluster's triangles face the direction or not in no pattern a
-       branch predictor could follow) */
+    /* the gather's innermost loop, over the groups of equal normals: the
+       sums stay in registers, and max(d, 0) is taken without a branch,
+       (d + |d|) / 2, exact for a finite d (a small cluster's faces face the
+       direction or not in no pattern a branch predictor could follow) */
     const double *m = h->cemit + 6 * (size_t)x->src;
     double p0 = 0.0, p1 = 0.0, p2 = 0.0;
     for (int j = 0; j < x->kind; j++, m += 6) {
@@ -1302,8 +1392,8 @@ static hier_cinc source_of(const rad_hier *h, int id)
         x.src = -1 - id;
         x.kind = HIER_CINC_ELEMENT;
     } else if (h->p.cluster_model != RAD_HIER_CLUSTER_ISO && h->cl[id].count <= CLUSTER_SMALL) {
-        x.src = h->cl[id].first;
-        x.kind = h->cl[id].count;
+        x.src = h->cl[id].grp;
+        x.kind = h->cl[id].ngrp;
     } else {
         x.src = h->cl[id].mom;
     }

@@ -120,6 +120,9 @@ typedef struct hier_clus {
     int above;             /* a small cluster's (oriented) nearest ancestor that
                               is not small, whose g its triangles receive (-1:
                               none); its own g is never written */
+    int grp, ngrp;         /* a small cluster's (not a leaf) rows of cemit: what
+                              it emits, its triangles' own rows or, where some
+                              share a normal, rows of the groups */
     double rho[3];         /* the largest reflectance below */
     double scale;          /* the smallest threshold scale (face_scale) below */
     double B[3], var[3];   /* area-mean radiosity of its triangles, and how far a leaf
@@ -187,9 +190,9 @@ typedef struct hier_cinc {
     rad_vec3 dir;
     double kv;
     int src;  /* the other end's source row: an element's (src), a small
-                 cluster's first triangle (cemit) or a cluster's moments (cmom) */
+                 cluster's first (cemit) or a cluster's moments (cmom) */
     int kind; /* HIER_CINC_ELEMENT, HIER_CINC_MOMENTS, or the small cluster's
-                 triangle count (1 .. 16) */
+                 count of rows (1 .. 16) */
 } hier_cinc;
 enum { HIER_CINC_ELEMENT = -1, HIER_CINC_MOMENTS = 0 };
 
@@ -277,10 +280,21 @@ struct rad_hier {
        reflectance and emission are the same in the three channels (they then
        stay equal bit for bit, and channel 0 serves all three), else 3 */
     int cchannels;
-    /* what each input triangle emits, in cluster order (6 doubles each: area
-       x unit normal, then the three channels carried), filled at each gather
-       so that a small cluster's intensity reads one contiguous run */
+    /* what each input triangle emits, in cluster order (6 doubles each: its
+       unit normal, then area x the three channels carried), filled at each
+       gather so that a small cluster's intensity reads one contiguous run;
+       then, for each small cluster (not a leaf) some of whose triangles
+       share a normal, a row per group of equal normals, in the order their
+       first triangles come (the normal, then the sums of the group's
+       rows): a gather reads a box's six faces, not its twelve triangles.
+       cgrp_set: each of those ngrp groups' triangles, a bit each over its
+       cluster's run in cluster order (bit k: the run's k-th) */
     double *cemit;
+    struct hier_cgrp {
+        int first;
+        unsigned mask;
+    } *cgrp_set;
+    size_t ngrp;
     /* what each input triangle received through the links of the small
        clusters above it (3 channels each, in cluster order): a small
        cluster hands each of its triangles its own share, max(n.w, 0) per
@@ -431,6 +445,8 @@ enum { CARRY_B, CARRY_T };
  * carry: CLUSTER_B, CLUSTER_T or CLUSTER_ONE (CARRY_B and CARRY_T are the
  * first two), in one pass over the elements. */
 rad_status hier_fill_sources(rad_hier *h, int carry);
+/* The rows of cemit's groups, from its triangles' rows (cluster.c). */
+void hier_cluster_fill_groups(rad_hier *h);
 /* The shared gather (params.exchange.split_gather): 1 when it is on.  Its
  * plan (which input triangles this process owns, the links that end in
  * them, the elements in process order) is rebuilt when h->version moved. */

@@ -619,14 +619,15 @@ rad_status hier_fill_sources(rad_hier *h, int carry)
         if (h->ncl && (size_t)e < h->nroots) {
             /* a small cluster's triangles as it emits them, in cluster order */
             double *m = h->cemit + 6 * (size_t)h->cleaf[e].first;
-            rad_vec3 an = rad_vec3_scale(n, x->area);
-            m[0] = an.x;
-            m[1] = an.y;
-            m[2] = an.z;
+            m[0] = n.x;
+            m[1] = n.y;
+            m[2] = n.z;
             for (int c = 0; c < 3; c++)
-                m[3 + c] = s[4 + c];
+                m[3 + c] = x->area * s[4 + c];
         }
     }
+    if (h->ncl)
+        hier_cluster_fill_groups(h);
     return RAD_OK;
 }
 
