@@ -1384,3 +1384,58 @@ TEST(vis_pair_blockers_give_both_answers_of_one_walk)
     free(two);
     cornell_close(&cb);
 }
+
+/* A room of many triangles (each face of the unit cube a 60 x 60 grid, wound
+ * inwards): more triangles than the plane budget lets be tested against
+ * every vertex, but six distinct planes, each with the whole scene in
+ * front: the scene is unoccluded.  (The planes are counted with a hash set
+ * that stops past the budget; a count that overshot would call it
+ * occluded.) */
+TEST(vis_finely_cut_convex_room_is_unoccluded)
+{
+    enum { K = 60, NV = 6 * (K + 1) * (K + 1), NT = 6 * 2 * K * K };
+    double *xyz = malloc(3 * NV * sizeof *xyz);
+    int *tri = malloc(3 * NT * sizeof *tri);
+    if (!xyz || !tri) {
+        free(xyz);
+        free(tri);
+        CHECK(0);
+        return;
+    }
+    int nv = 0, nt = 0;
+    for (int f = 0; f < 6; f++) {
+        int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3, base = nv;
+        for (int i = 0; i <= K; i++)
+            for (int j = 0; j <= K; j++, nv++) {
+                xyz[3 * nv + a] = f % 2;
+                xyz[3 * nv + b] = (double)i / K;
+                xyz[3 * nv + c] = (double)j / K;
+            }
+        for (int i = 0; i < K; i++)
+            for (int j = 0; j < K; j++) {
+                int v00 = base + i * (K + 1) + j, v10 = v00 + K + 1, q[2][3] = {
+                    {v00, v10, v10 + 1}, {v00, v10 + 1, v00 + 1}};
+                for (int k = 0; k < 2; k++, nt++) {
+                    /* b x c is +a: wound so at the side at 0, flipped at 1 */
+                    int flip = f % 2;
+                    tri[3 * nt] = q[k][0];
+                    tri[3 * nt + 1] = q[k][flip ? 2 : 1];
+                    tri[3 * nt + 2] = q[k][flip ? 1 : 2];
+                }
+            }
+    }
+    CHECK(nv == NV && nt == NT);
+    /* the normals point inwards */
+    rad_vec3 p0 = rad_vec3_make(xyz[3 * tri[0]], xyz[3 * tri[0] + 1], xyz[3 * tri[0] + 2]);
+    rad_vec3 p1 = rad_vec3_make(xyz[3 * tri[1]], xyz[3 * tri[1] + 1], xyz[3 * tri[1] + 2]);
+    rad_vec3 p2 = rad_vec3_make(xyz[3 * tri[2]], xyz[3 * tri[2] + 1], xyz[3 * tri[2] + 2]);
+    CHECK(rad_geom_triangle_normal(p0, p1, p2).x > 0.5);
+    rad_vis *vis = NULL;
+    CHECK(rad_vis_create(xyz, NV, tri, NT, NULL, &vis) == RAD_OK);
+    CHECK(vis && rad_vis_is_unoccluded(vis));
+    /* two facing wall triangles: nothing can block them */
+    CHECK(vis && !rad_vis_pair_can_block(vis, 0, 2 * K * K));
+    rad_vis_destroy(vis);
+    free(xyz);
+    free(tri);
+}

@@ -248,6 +248,42 @@ static int cmp_plane(const void *a, const void *b)
     return 0;
 }
 
+/* Whether the m planes pl (5 doubles each, cmp_plane's 4 first) hold more
+ * than `most` distinct ones, found with a hash set that stops there: a
+ * large scene has far more planes than the budget lets it test, and need
+ * not sort them to learn it.  -1 when out of memory. */
+static int planes_exceed(const double *pl, size_t m, size_t most)
+{
+    size_t cap = 16;
+    while (cap < 2 * (most + 1))
+        cap *= 2;
+    size_t *slot = malloc(cap * sizeof *slot); /* index + 1 into pl, 0: empty */
+    if (!slot)
+        return -1;
+    memset(slot, 0, cap * sizeof *slot);
+    size_t distinct = 0;
+    int over = 0;
+    for (size_t k = 0; k < m && !over; k++) {
+        const double *x = pl + 5 * k;
+        uint64_t hash = 0;
+        for (int c = 0; c < 4; c++) {
+            double v = x[c] + 0.0; /* -0 as +0: cmp_plane takes them as equal */
+            uint64_t bits;
+            memcpy(&bits, &v, sizeof bits);
+            hash = rad_sys_mix64(hash ^ bits);
+        }
+        size_t i = (size_t)hash & (cap - 1);
+        while (slot[i] && cmp_plane(pl + 5 * (slot[i] - 1), x) != 0)
+            i = (i + 1) & (cap - 1);
+        if (!slot[i]) {
+            slot[i] = k + 1;
+            over = ++distinct > most;
+        }
+    }
+    free(slot);
+    return over;
+}
+
 /* Mark never_blocks[t] for triangles on a supporting plane of the scene, and
  * set vis->unoccluded when every plane has the whole scene in front.  Returns 0
  * on allocation failure. */
@@ -278,16 +314,20 @@ static int classify_planes(rad_vis *vis, unsigned char *never_blocks)
         pl[5 * m + 4] = (double)t;
         m++;
     }
-    qsort(pl, m, 5 * sizeof *pl, cmp_plane);
-    size_t distinct = 0;
-    for (size_t k = 0; k < m; k++)
-        distinct += k == 0 || cmp_plane(pl + 5 * k, pl + 5 * (k - 1)) != 0;
     const double budget = 4e8; /* plane-vertex tests we are willing to spend */
-    if ((double)distinct * (double)vis->nverts > budget) {
+    /* the most distinct planes the budget tests against every vertex */
+    double most = vis->nverts ? floor(budget / (double)vis->nverts) : (double)m;
+    int over = most < (double)m ? planes_exceed(pl, m, (size_t)most) : 0;
+    if (over < 0) {
+        free(pl);
+        return 0;
+    }
+    if (over) {
         vis->unoccluded = 0;
         free(pl);
         return 1;
     }
+    qsort(pl, m, 5 * sizeof *pl, cmp_plane);
     /* The rounded plane is within ~1e-9 L of the true one, far inside 1e3 tol. */
     double slack = vis->tol + 4.0 * quantum * vis->scale;
     for (size_t k = 0; k < m;) {
