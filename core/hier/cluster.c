@@ -1135,6 +1135,23 @@ void hier_cluster_fill_groups(rad_hier *h)
     }
 }
 
+/* Cluster i's area moments and largest reflectance, from its children's
+ * (or its triangle's). */
+static void below(rad_hier *h, size_t i)
+{
+    size_t n = h->nroots;
+    hier_clus *x = &h->cl[i];
+    if (x->root >= 0) {
+        dir_one(&x->geo, x->area, h->normal[x->root]);
+    } else {
+        x->geo = h->cl[x->child[0]].geo;
+        dir_sum(&x->geo, &h->cl[x->child[1]].geo);
+    }
+    for (int c = 0; c < 3; c++)
+        x->rho[c] = x->root >= 0 ? h->rho[(size_t)x->root + (size_t)c * n]
+                                 : rad_dmax(h->cl[x->child[0]].rho[c], h->cl[x->child[1]].rho[c]);
+}
+
 rad_status hier_cluster_create(rad_hier *h)
 {
     size_t n = h->nroots;
@@ -1151,6 +1168,7 @@ rad_status hier_cluster_create(rad_hier *h)
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for the cluster hierarchy");
         goto done;
     }
+#pragma omp parallel for schedule(static) num_threads(hier_threads(h)) if (n > 65536)
     for (size_t t = 0; t < n; t++)
         for (int v = 0; v < 3; v++) {
             rad_vec3 p = h->el[t].p[v];
@@ -1224,39 +1242,33 @@ rad_status hier_cluster_create(rad_hier *h)
         x->count = m->count;
         x->root = m->child[0] < 0 ? h->corder[m->first] : -1;
     }
-    /* each small cluster's nearest ancestor that is not small (parents
-       come first) */
-    for (size_t i = 0; i < h->ncl; i++) {
-        hier_clus *x = &h->cl[i];
-        if (i == 0)
-            x->above = -1;
-        for (int k = 0; k < 2 && x->root < 0; k++)
-            h->cl[x->child[k]].above = x->count > CLUSTER_SMALL ? (int)i : x->above;
+    /* each cluster's nearest ancestor that is not small */
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++) {
+        int up = nd[i].parent;
+        while (up >= 0 && h->cl[up].count <= CLUSTER_SMALL)
+            up = nd[up].parent;
+        h->cl[i].above = up;
     }
     h->cleaf = rad_sys_alloc_huge(n * sizeof *h->cleaf);
-    if (!h->cleaf) {
+    if (!h->cleaf || !tree_cut(h)) {
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
         goto done;
     }
-    for (size_t i = 0; i < h->ncl; i++)
+#pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
+    for (long long i = 0; i < (long long)h->ncl; i++)
         if (h->cl[i].root >= 0)
             h->cleaf[h->cl[i].root] = leaf_of(h, (int)i);
-    /* the largest reflectance below each cluster and its area moments
-       (children follow parents) */
-    for (size_t i = h->ncl; i-- > 0;) {
-        hier_clus *x = &h->cl[i];
-        if (x->root >= 0) {
-            dir_one(&x->geo, x->area, h->normal[x->root]);
-        } else {
-            x->geo = h->cl[x->child[0]].geo;
-            dir_sum(&x->geo, &h->cl[x->child[1]].geo);
-        }
-        for (int c = 0; c < 3; c++)
-            x->rho[c] = x->root >= 0 ? h->rho[(size_t)x->root + (size_t)c * n]
-                                     : rad_dmax(h->cl[x->child[0]].rho[c],
-                                                h->cl[x->child[1]].rho[c]);
-    }
-    if (!tree_cut(h) || !moment_runs(h, nmom) || !make_groups(h))
+    /* the largest reflectance below each cluster and its area moments,
+       children before parents: the subtrees on every thread, then the
+       nodes above them */
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (size_t k = 0; k < h->ncsub; k++)
+        for (size_t i = (size_t)h->csub_end[k]; i-- > (size_t)h->csub[k];)
+            below(h, i);
+    for (size_t k = h->nctop; k-- > 0;)
+        below(h, (size_t)h->ctop[k]);
+    if (!moment_runs(h, nmom) || !make_groups(h))
         st = RAD_ERROR(RAD_ENOMEM, "hier: out of memory for %zu clusters", h->ncl);
     h->cchannels = 1;
     for (size_t t = 0; t < n; t++)
