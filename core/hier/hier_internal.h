@@ -10,6 +10,10 @@
 #include "rad_geom.h"
 #include "rad_hier.h"
 
+/* The fields a solve step reads at every leaf come together after the
+ * geometry (B, Hn and gB, which the gain's pass and the sources' rows read,
+ * in the third and fourth cache lines), so that a pass over the elements
+ * reads few lines of each. */
 typedef struct hier_elem {
     rad_vec3 p[3];
     rad_vec3 c;              /* centroid */
@@ -22,6 +26,10 @@ typedef struct hier_elem {
     double Hn[3];            /* leaf, sealed: the step's normalized irradiance (what its
                                 element and cluster links brought, each times its
                                 scale from solve.c's row_scales), before the gain */
+    rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
+                                the gathered gradient (the variation P0 leaves
+                                unresolved); on an inner element, the linear fit of its
+                                children plus their mean gradient */
     double Bg[3];            /* irradiance gathered by its own element links, at the
                                 centroid ... */
     rad_vec3 Gg[3];          /* ... and its gradient: a linear function over the element */
@@ -30,10 +38,11 @@ typedef struct hier_elem {
                                 apart from Bg and Tg because it is the estimated part,
                                 onto which a leaf's row excess goes (solve.c's
                                 row_scales) */
-    rad_vec3 gB[3];          /* the gradient of B over the element: on a leaf, rho times
-                                the gathered gradient (the variation P0 leaves
-                                unresolved); on an inner element, the linear fit of its
-                                children plus their mean gradient */
+    double cap;              /* leaf: the row ceiling (rad_hier_row_ceiling) over its row
+                                sum where that exceeds it (sealed: always), else 1 */
+    double row0;             /* leaf: its row sum (the push of B = 1) at the centroid ... */
+    rad_vec3 rowg;           /* ... and its gradient */
+    double rowc;             /* leaf: the part of row0 the cluster links bring */
     double var[3];           /* how far B strays from its mean over the element, set
                                 by hier_inner_spread for the oracle and the bound,
                                 which alone read it (a step leaves it as it was): on
@@ -42,11 +51,6 @@ typedef struct hier_elem {
                                 ancestors, r their linear fits' largest residuals);
                                 on an inner element, the farthest leaf below, that
                                 leaf's var included */
-    double cap;              /* leaf: the row ceiling (rad_hier_row_ceiling) over its row
-                                sum where that exceeds it (sealed: always), else 1 */
-    double row0;             /* leaf: its row sum (the push of B = 1) at the centroid ... */
-    rad_vec3 rowg;           /* ... and its gradient */
-    double rowc;             /* leaf: the part of row0 the cluster links bring */
     double q[3], d[3], dr[3];/* local error bounds gathered by its own links:
                                 q: F's own error (conservation); d (squared): the
                                 sources' variation; dr: the linear fits'
