@@ -908,8 +908,27 @@ static rad_status refine_pass(rad_hier *h, double target, long long *count)
         }
         const rad_hier *hc = h;
 #pragma omp parallel for schedule(static) num_threads(threads) if (end - begin > 4096)
-        for (long long k = (long long)begin; k < (long long)end; k++)
+        for (long long k = (long long)begin; k < (long long)end; k++) {
+            /* the ends' values lie at random: those of the link
+               HIER_PREFETCH_AHEAD on are asked for (values() reads) */
+            if (target > 0.0 && k + HIER_PREFETCH_AHEAD < (long long)end) {
+                const hier_clink *f = &hc->cln[k + HIER_PREFETCH_AHEAD];
+                const int ends[2] = {f->a, f->b};
+                for (int s = 0; s < 2 && f->a != INT_MIN; s++) {
+                    if (ends[s] >= 0) {
+                        const hier_clus *x = &hc->cl[ends[s]];
+                        __builtin_prefetch(&x->rho);
+                        __builtin_prefetch(&x->var);
+                    } else {
+                        const hier_elem *x = &hc->el[-1 - ends[s]];
+                        __builtin_prefetch(&x->face);
+                        __builtin_prefetch(&x->B);
+                        __builtin_prefetch(&x->var);
+                    }
+                }
+            }
             dec[k - (long long)begin] = decide(hc, &hc->cln[k], target);
+        }
         for (size_t k = begin; k < end && st == RAD_OK; k++) {
             /* split_link reads the ends' nodes, and the nodes of the split
                end's children, all far apart: the ends of the link twice
