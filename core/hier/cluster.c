@@ -571,9 +571,24 @@ static rad_status estimate_batch(rad_hier *h, const hier_job *jobs, size_t n, do
     size_t first, step;
     hier_share(h, &first, &step);
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : rays) if (n / step > 64) num_threads(threads)
-    for (long long k = (long long)first; k < (long long)n; k += (long long)step)
+    for (long long k = (long long)first; k < (long long)n; k += (long long)step) {
+        /* the ends lie at random: those of the job HIER_PREFETCH_AHEAD on
+           are asked for (what view() and values() read) */
+        long long f = k + HIER_PREFETCH_AHEAD * (long long)step;
+        if (f < (long long)n) {
+            const int ends[2] = {jobs[f].a, jobs[f].b};
+            for (int s = 0; s < 2; s++) {
+                const char *x = ends[s] >= 0 ? (const char *)&hc->cl[ends[s]]
+                                             : (const char *)&hc->el[-1 - ends[s]];
+                __builtin_prefetch(x);
+                __builtin_prefetch(x + 64);
+                __builtin_prefetch(x + 128);
+                __builtin_prefetch(x + 192);
+            }
+        }
         if (!estimate(hc, jobs[k].a, jobs[k].b, target, &out[k], &rays))
             out[k].a = INT_MIN;
+    }
     if (hier_shared(h)) {
         long long evals = 0;
         rad_status st;
