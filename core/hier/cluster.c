@@ -412,6 +412,15 @@ static double sampled_visibility(const rad_hier *h, const end_view *x, const end
     if (!h->use_vis)
         return 1.0;
     rad_vec3 mw = rad_vec3_scale(w, -1.0);
+    /* a larger cluster's samples try triangles spread over its run at
+       places known now: asked for at once, not one wait after another */
+    const end_view *ends[2] = {x, y};
+    for (int s = 0; s < 2; s++)
+        if (ends[s]->elem < 0 && ends[s]->cl->count > CLUSTER_SMALL)
+            for (int m = 0; m < CLUSTER_RAYS * CLUSTER_TRIES; m++)
+                __builtin_prefetch(&h->ctri[ends[s]->cl->first +
+                                            (m * ends[s]->cl->count) /
+                                                (CLUSTER_RAYS * CLUSTER_TRIES)]);
     facing_set fx, fy;
     facing_of(h, x, w, &fx);
     facing_of(h, y, mw, &fy);
