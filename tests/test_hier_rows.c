@@ -2,8 +2,8 @@
  * row is scaled up to the ceiling, 1, but not a row that is no more than
  * what rounding leaves of cancelling terms (1e-20 at some leaves of a large
  * room's first hierarchy, where every link at them comes from clusters they
- * turn away from): scaled by 1e20, that noise became a whole irradiance
- * and flipped the leaf's B from step to step.  Here the facing squares'
+ * turn away from): scaled by 1e20, that noise would be a whole irradiance
+ * and flip the leaf's B from step to step.  Here the facing squares'
  * links are scaled so that one leaf's row is 1e-20 and another's 1e-6: the
  * first keeps a cap of 1, the second is scaled to the ceiling. */
 #include <math.h>

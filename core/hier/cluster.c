@@ -1113,16 +1113,20 @@ static int groups_of(const rad_hier *h, size_t i, struct hier_cgrp *set)
 }
 
 /* Every small cluster's rows of cemit (its triangles' own where their
- * normals all differ, else its groups'), cemit made for them and the
+ * normals all differ, else its groups'; the isotropic model, whose gathers
+ * read moments only, keeps no groups), cemit made for them and the
  * groups' normals written once; 0 when out of memory. */
 static int make_groups(rad_hier *h)
 {
     int threads = hier_threads(h);
     size_t n = h->nroots;
+    int grouped = h->p.cluster_model != RAD_HIER_CLUSTER_ISO;
 #pragma omp parallel for schedule(static) num_threads(threads) if (h->ncl > 65536)
     for (long long i = 0; i < (long long)h->ncl; i++) {
         hier_clus *x = &h->cl[i];
-        x->ngrp = x->root < 0 && x->count <= CLUSTER_SMALL ? groups_of(h, (size_t)i, NULL) : 0;
+        x->ngrp = x->root >= 0 || x->count > CLUSTER_SMALL ? 0
+                  : grouped                                ? groups_of(h, (size_t)i, NULL)
+                                                           : x->count;
     }
     size_t total = 0;
     for (size_t i = 0; i < h->ncl; i++) {
